@@ -1,0 +1,536 @@
+"""Wheel-rail contact geometry: where a wheel of a displaced, rolled and yawed wheelset touches its rail.
+
+Method (exact for a prismatic rail). The rail is a prism along the track, so every wheel surface point can
+be projected along x onto the track cross-section, and the wheel touches the rail where the vertical gap
+between the lower envelope of that projection and the rail profile is smallest. The envelope is traced by
+the wheel's *contact trace line*: on each circle of the wheel (profile point y_p, radius r) the point whose
+surface normal has no component along the rail, which is where the rail's own normal (always in the
+cross-section) can be met. For a wheelset yawed by psi and rolled by phi (rotation Rz(psi) Rx(phi)) the
+angular position theta of that point solves
+
+    cos(psi) sin(theta) - sin(psi) sin(phi) cos(theta) = -r'(y_p) sin(psi) cos(phi),
+
+(r' = dr/dy_p, the profile slope), solved in closed form below. At large yaw and steep flange slopes the
+trace point leads the axle by tens of millimetres and sits higher than the bottom of the wheel, which is
+what makes flange contact depend on the angle of attack (Wang 1984; Shabana, Zaazaa & Sugiyama,
+*Railroad Vehicle Dynamics*, 2008, ch. 5).
+
+The gap g(y_p) = Z_wheel - Z_rail(Y) is evaluated along the trace line on the wheel profile grid.
+Contact patches are the connected runs where g < 0 (interpenetration: the normal contact is elastic); each
+run is one patch (two runs = two-point contact, e.g. tread and flange), located at its deepest point,
+refined by a parabola. A wheel with g > 0 everywhere is lifted: it has no patch and its smallest gap is
+reported. No single-point or rigid-contact assumption is made in the dynamics; rigid contact (for tables,
+Delta-r and conicity) is the special case solved by `rigid_contact`.
+
+Only the left wheel is computed here; the right wheel is the left wheel of the wheelset mirrored about the
+track's x-z plane (y, roll and yaw change sign), so both rails use the same left-rail table and mirror
+symmetry holds by construction.
+
+Frames and the packed array `cg` are described in `pack_contact_geometry`.
+"""
+import math
+
+import numba
+import numpy as np
+
+# Header of the packed contact-geometry array cg.
+H_NW, H_WY0, H_DW = 0, 1, 2          # wheel grid: points, first y_p (m), step (m)
+H_NR, H_RY0, H_DR = 3, 4, 5          # rail grid (track frame, left rail): points, first Y (m), step (m)
+H_R0 = 6                             # nominal rolling radius (m)
+H_LW = 7                             # lateral distance from wheelset centre to the nominal rolling circle (m)
+H_RAIL_TOP_Y = 8                     # track-frame Y of the rail's highest point (m)
+H_RAIL_AXIS_Y = 9                    # track-frame Y of the rail head's axis at its top (m)
+H_FLANGE_HEIGHT = 10                 # flange height above the nominal rolling circle (m)
+H_FLANGE_TIP_YP = 11                 # profile y_p of the flange tip (m)
+H_RAIL_HEAD_WIDTH = 12               # rail head width at the gauge-measuring depth (m)
+H_GAUGE_Y = 13                       # track-frame Y of the gauge point (m)
+H_SIZE = 16
+
+# One patch found by the search: columns of the `patches` array.
+P_Y, P_Z, P_X = 0, 1, 2              # contact point on the rail, track frame (left-wheel form), m
+P_GAP = 3                            # vertical gap at the deepest point (m, negative = interpenetration)
+P_SLOPE = 4                          # rail slope dZ/dY at the contact (tan of the contact angle)
+P_YP = 5                             # wheel profile coordinate of the contact (m)
+P_RADIUS = 6                         # wheel radius at the contact (m)
+P_B = 7                              # half the relative lateral curvature (1/m), Hertz "B"
+P_A = 8                              # half the relative longitudinal curvature (1/m), Hertz "A"
+P_J0, P_J1 = 9, 10                   # first and last wheel grid index of the interpenetration run
+P_COLS = 11
+MAX_PATCHES = 3
+COARSE_STRIDE = 8                    # coarse search every 8th wheel grid point (1 mm on the 0.125 mm grid)
+COARSE_WINDOW_GAP = 3.0e-4           # m; coarse minima below this are searched on the fine grid
+NO_RAIL_GAP = 1.0                    # m; gap reported where there is no rail under the wheel
+TRACK_GAP = 1.0e-3                   # m; near-contacts below this are followed during a time step
+MAX_CANDIDATES = 6
+
+
+def pack_contact_geometry(wheel, rail, nominal_radius, rolling_circle_half_distance, gauge, gauge_depth,
+                          rail_inclination, rail_step=1.0e-4):
+    """Pack wheel and rail tables into the array used by the numba core.
+
+    `wheel` and `rail` are objects with uniform-grid arrays `y0`, `dy`, `z`, `slope`, `curvature`
+    (a `ProfileTable`, in the profile frames of `railderail_sim.profiles`). The rail is inclined by
+    `rail_inclination` (rad, top turned toward the track centre), its gauge point (the gauge-side point
+    `gauge_depth` below the crown) is placed at Y = gauge / 2 and its highest point at Z = 0.
+    """
+    # Rail: dense sample of the un-inclined profile, rotated (field side up for the left rail), placed.
+    y_fine = np.linspace(rail.y0, rail.y0 + (len(rail.z) - 1) * rail.dy, 20 * len(rail.z))
+    z_fine = np.interp(y_fine, rail.y0 + rail.dy * np.arange(len(rail.z)), rail.z)
+    ang_fine = np.arctan(np.interp(y_fine, rail.y0 + rail.dy * np.arange(len(rail.z)), rail.slope))
+    kap_fine = np.interp(y_fine, rail.y0 + rail.dy * np.arange(len(rail.z)), rail.curvature)
+    cb, sb = math.cos(rail_inclination), math.sin(rail_inclination)
+    yr = y_fine * cb - z_fine * sb
+    zr = y_fine * sb + z_fine * cb
+    if np.any(np.diff(yr) <= 0):
+        raise ValueError("rail profile is not single-valued after inclination; its side faces are too steep")
+    top = int(np.argmax(zr))
+    z_top = zr[top]
+    zr = zr - z_top
+    # gauge point: gauge-side (left of the top) point gauge_depth below the top
+    gauge_side = slice(0, top + 1)
+    y_gauge_local = np.interp(-gauge_depth, zr[gauge_side], yr[gauge_side])
+    shift = 0.5 * gauge - y_gauge_local
+    yr = yr + shift
+    axis_y = shift  # the head axis (profile y = 0) passes through the rotated origin at the crown
+    y_uniform = np.arange(yr[0], yr[-1], rail_step)
+    z_uniform = np.interp(y_uniform, yr, zr)
+    slope_uniform = np.tan(np.interp(y_uniform, yr, ang_fine + rail_inclination))
+    kap_uniform = np.interp(y_uniform, yr, kap_fine)
+    head_width = _head_width(rail, gauge_depth)
+
+    nw = len(wheel.z)
+    cg = np.zeros(H_SIZE + 3 * nw + 3 * len(y_uniform))
+    cg[H_NW], cg[H_WY0], cg[H_DW] = nw, wheel.y0, wheel.dy
+    cg[H_NR], cg[H_RY0], cg[H_DR] = len(y_uniform), y_uniform[0], rail_step
+    cg[H_R0] = nominal_radius
+    cg[H_LW] = rolling_circle_half_distance
+    cg[H_RAIL_TOP_Y] = yr[top]
+    cg[H_RAIL_AXIS_Y] = axis_y
+    i0 = int(round(-wheel.y0 / wheel.dy))
+    tip = int(np.argmax(wheel.z))
+    cg[H_FLANGE_HEIGHT] = wheel.z[tip] - wheel.z[i0]
+    cg[H_FLANGE_TIP_YP] = wheel.y0 + tip * wheel.dy
+    cg[H_RAIL_HEAD_WIDTH] = head_width
+    cg[H_GAUGE_Y] = 0.5 * gauge
+    o = H_SIZE
+    cg[o:o + nw] = wheel.z
+    cg[o + nw:o + 2 * nw] = wheel.slope
+    cg[o + 2 * nw:o + 3 * nw] = wheel.curvature
+    o += 3 * nw
+    nr = len(y_uniform)
+    cg[o:o + nr] = z_uniform
+    cg[o + nr:o + 2 * nr] = slope_uniform
+    cg[o + 2 * nr:o + 3 * nr] = kap_uniform
+    return cg
+
+
+def _head_width(rail, depth):
+    """Width of the un-inclined rail head `depth` below its crown (m)."""
+    y = rail.y0 + rail.dy * np.arange(len(rail.z))
+    z = rail.z - rail.z.max()
+    top = int(np.argmax(z))
+    left = np.interp(-depth, z[:top + 1], y[:top + 1])
+    right = np.interp(-depth, z[top:][::-1], y[top:][::-1])
+    return right - left
+
+
+@numba.njit(cache=True)
+def rail_height(cg, Y):
+    """Left-rail surface height Z (m) and slope dZ/dY at track-frame Y; -1 m (no rail) outside the head.
+
+    Cubic Hermite interpolation of the tabulated height and slope, so the gap's curvature is not spoiled
+    by the table step.
+    """
+    nw = int(cg[H_NW])
+    nr = int(cg[H_NR])
+    y0 = cg[H_RY0]
+    h = cg[H_DR]
+    u = (Y - y0) / h
+    if u < 0.0 or u >= nr - 1:
+        return -1.0, 0.0
+    i = int(u)
+    t = u - i
+    o = H_SIZE + 3 * nw
+    z0 = cg[o + i]
+    z1 = cg[o + i + 1]
+    m0 = cg[o + nr + i] * h
+    m1 = cg[o + nr + i + 1] * h
+    t2 = t * t
+    t3 = t2 * t
+    z = (2 * t3 - 3 * t2 + 1) * z0 + (t3 - 2 * t2 + t) * m0 + (-2 * t3 + 3 * t2) * z1 + (t3 - t2) * m1
+    dz = ((6 * t2 - 6 * t) * z0 + (3 * t2 - 4 * t + 1) * m0 + (-6 * t2 + 6 * t) * z1 + (3 * t2 - 2 * t) * m1) / h
+    return z, dz
+
+
+@numba.njit(cache=True)
+def _rail_curvature(cg, Y):
+    nw = int(cg[H_NW])
+    nr = int(cg[H_NR])
+    u = (Y - cg[H_RY0]) / cg[H_DR]
+    if u < 0.0 or u >= nr - 1:
+        return 0.0
+    i = int(u)
+    t = u - i
+    o = H_SIZE + 3 * nw + 2 * nr
+    return (1.0 - t) * cg[o + i] + t * cg[o + i + 1]
+
+
+@numba.njit(cache=True)
+def _wheel_at(cg, yp):
+    """Wheel radius increase z_w, slope and curvature at profile coordinate yp (linear interpolation)."""
+    nw = int(cg[H_NW])
+    u = (yp - cg[H_WY0]) / cg[H_DW]
+    if u < 0.0:
+        u = 0.0
+    if u > nw - 1.000001:
+        u = nw - 1.000001
+    i = int(u)
+    t = u - i
+    o = H_SIZE
+    z = (1.0 - t) * cg[o + i] + t * cg[o + i + 1]
+    s = (1.0 - t) * cg[o + nw + i] + t * cg[o + nw + i + 1]
+    k = (1.0 - t) * cg[o + 2 * nw + i] + t * cg[o + 2 * nw + i + 1]
+    return z, s, k
+
+
+@numba.njit(cache=True)
+def pose_constants(cg, y, z, phi, psi):
+    """Per-wheel constants of the trace-line transform for a left-wheel pose (see `trace_gap`)."""
+    cphi = math.cos(phi)
+    sphi = math.sin(phi)
+    cpsi = math.cos(psi)
+    spsi = math.sin(psi)
+    inv_rho = 1.0 / math.sqrt(cpsi * cpsi + spsi * spsi * sphi * sphi)
+    return (y, cg[H_R0] + z, cphi, sphi, cpsi, spsi, cpsi * inv_rho, spsi * sphi * inv_rho,
+            -spsi * cphi * inv_rho)
+
+
+@numba.njit(cache=True)
+def _scan(cg, pose, j0, j1, stride, gap, ys):
+    """Vertical gap along the contact trace line at wheel grid points j0, j0+stride, ... < j1.
+
+    For wheel profile point y_p (radius r, slope r') the trace angle theta has
+    sin(theta) = bn cos(b) + an sin(b), cos(theta) = an cos(b) - bn sin(b), sin(b) = r' k1 (closed form of
+    the trace-line equation in the module docstring; an, bn, k1 from `pose_constants`). The rail height
+    is a cubic Hermite interpolation of the tabulated height and slope.
+    """
+    nw = int(cg[H_NW])
+    wy0 = cg[H_WY0]
+    dw = cg[H_DW]
+    nr = int(cg[H_NR])
+    ry0 = cg[H_RY0]
+    dr = cg[H_DR]
+    r0 = cg[H_R0]
+    lw = cg[H_LW]
+    y, zc, cphi, sphi, cpsi, spsi, an, bn, k1 = pose
+    inv_dr = 1.0 / dr
+    ow = H_SIZE
+    oz = H_SIZE + 3 * nw
+    osl = oz + nr
+    umax = nr - 1.0
+    for j in range(j0, j1, stride):
+        eta = lw + wy0 + j * dw
+        r = r0 + cg[ow + j]
+        c = min(1.0, max(-1.0, cg[ow + nw + j] * k1))
+        cb = math.sqrt(1.0 - c * c)
+        rct = r * (an * cb - bn * c)
+        qx = r * (bn * cb + an * c)
+        qy = eta * cphi + rct * sphi
+        qz = eta * sphi - rct * cphi
+        Y = y + spsi * qx + cpsi * qy
+        u = (Y - ry0) * inv_dr
+        if u < 0.0 or u >= umax:
+            gap[j] = NO_RAIL_GAP
+        else:
+            i = int(u)
+            t = u - i
+            z0 = cg[oz + i]
+            d = cg[oz + i + 1] - z0
+            m0 = cg[osl + i] * dr
+            m1 = cg[osl + i + 1] * dr
+            zr = z0 + t * (m0 + t * (3.0 * d - 2.0 * m0 - m1 + t * (m0 + m1 - 2.0 * d)))
+            gap[j] = zc + qz - zr
+        ys[j] = Y
+
+
+@numba.njit(cache=True)
+def _trace_point(cg, pose, yp):
+    """Trace-line point (X, Y, Z) of the wheel at continuous profile coordinate yp, with its wheel data."""
+    y, zc, cphi, sphi, cpsi, spsi, an, bn, k1 = pose
+    zw, sw, kw = _wheel_at(cg, yp)
+    r = cg[H_R0] + zw
+    eta = cg[H_LW] + yp
+    c = min(1.0, max(-1.0, sw * k1))
+    cb = math.sqrt(1.0 - c * c)
+    rct = r * (an * cb - bn * c)
+    qx = r * (bn * cb + an * c)
+    qy = eta * cphi + rct * sphi
+    qz = eta * sphi - rct * cphi
+    return cpsi * qx - spsi * qy, y + spsi * qx + cpsi * qy, zc + qz, r, sw, kw
+
+
+@numba.njit(cache=True)
+def wheel_range(cg, pose):
+    """Wheel grid indices [j0, j1) that can lie over the rail head (3 mm margin)."""
+    y, zc, cphi, sphi, cpsi, spsi, an, bn, k1 = pose
+    dw = cg[H_DW]
+    ry0 = cg[H_RY0]
+    ry1 = ry0 + (cg[H_NR] - 1) * cg[H_DR]
+    base = y + cg[H_LW] * cphi + cg[H_R0] * sphi + cg[H_WY0]
+    j0 = int(math.floor((ry0 - base) / (dw * cphi) - 3e-3 / dw))
+    j1 = int(math.ceil((ry1 - base) / (dw * cphi) + 3e-3 / dw)) + 1
+    return max(j0, 0), min(j1, int(cg[H_NW]))
+
+
+@numba.njit(cache=True)
+def trace_gap(cg, y, z, phi, psi, gap, ys):
+    """Gap along the whole trace line of the left wheel (every grid point over the rail).
+
+    y, z: lateral (+ left) and vertical displacement of the wheelset centre from its nominal position
+    (centre at height r0 above the rail-top plane); phi, psi: roll and yaw relative to the track (rad).
+    Fills gap[j] and the trace point's track-frame Y in ys[j] for j0 <= j < j1; returns (j0, j1).
+    """
+    pose = pose_constants(cg, y, z, phi, psi)
+    j0, j1 = wheel_range(cg, pose)
+    _scan(cg, pose, j0, j1, 1, gap, ys)
+    return j0, j1
+
+
+@numba.njit(cache=True)
+def find_patches(cg, y, z, phi, psi, gap, ys, patches, cand):
+    """Interpenetration patches of the left wheel; returns (count, smallest coarse gap).
+
+    Coarse-to-fine search: the gap is sampled every COARSE_STRIDE grid points; around each coarse local
+    minimum below COARSE_WINDOW_GAP the fine grid is searched for the true local minimum (the threshold
+    covers the dip that can hide between two coarse samples on these profiles). Minima with a negative gap
+    are patches; minima in one connected interpenetration run are one patch (the deepest), so a wide
+    conformal contact is not counted twice. Each patch row gets the contact point, its gap, rail slope,
+    wheel profile coordinate and radius, the Hertz half relative curvatures A and B, and the fine grid
+    index of its minimum.
+
+    `cand` receives the fine minima worth following within the next integration step (patches and
+    near-contacts below TRACK_GAP): cand[0] = count, cand[1:] = grid indices (see `track_patches`).
+    """
+    pose = pose_constants(cg, y, z, phi, psi)
+    j0, j1 = wheel_range(cg, pose)
+    S = COARSE_STRIDE
+    _scan(cg, pose, j0, j1, S, gap, ys)
+    jl = j0 + ((j1 - 1 - j0) // S) * S   # last coarse point
+    gmin = NO_RAIL_GAP
+    count = 0
+    ncand = 0
+    prev_min = -1                        # fine index of the previous patch
+    j = j0
+    while j <= jl:
+        g = gap[j]
+        if g < gmin:
+            gmin = g
+        left = gap[j - S] if j - S >= j0 else NO_RAIL_GAP
+        right = gap[j + S] if j + S <= jl else NO_RAIL_GAP
+        if g < COARSE_WINDOW_GAP and g <= left and g < right:
+            jm = _fine_minimum(cg, pose, j, j0, j1, gap, ys)
+            if gap[jm] < 0.0:
+                if prev_min >= 0 and _same_run(cg, pose, prev_min, jm, gap, ys):
+                    if gap[jm] < patches[count - 1, P_GAP]:
+                        _fill_patch(cg, pose, jm, j0, j1, gap, patches, count - 1)
+                        cand[ncand] = jm     # replaces the previous patch's entry
+                        prev_min = jm
+                elif count < MAX_PATCHES:
+                    _fill_patch(cg, pose, jm, j0, j1, gap, patches, count)
+                    count += 1
+                    prev_min = jm
+                    if ncand < MAX_CANDIDATES:
+                        ncand += 1
+                        cand[ncand] = jm
+            elif gap[jm] < TRACK_GAP and ncand < MAX_CANDIDATES:
+                ncand += 1
+                cand[ncand] = jm
+        j += S
+    cand[0] = ncand
+    return count, gmin
+
+
+@numba.njit(cache=True)
+def track_patches(cg, y, z, phi, psi, gap, ys, patches, cand):
+    """Patches near the minima listed in `cand` by the last `find_patches` (a cheap local search).
+
+    Used inside one integration step, where the wheelset moves by a fraction of a millimetre: each
+    listed minimum is followed downhill on the fine grid and refined as in `find_patches`; minima that
+    meet are counted once.
+    """
+    pose = pose_constants(cg, y, z, phi, psi)
+    j0, j1 = wheel_range(cg, pose)
+    count = 0
+    prev = -10
+    for c in range(int(cand[0])):
+        jc = int(cand[c + 1])
+        if jc < j0 or jc >= j1:
+            continue
+        a = max(jc - 2, j0)
+        b = min(jc + 3, j1)
+        _scan(cg, pose, a, b, 1, gap, ys)
+        jm = a
+        for k in range(a, b):
+            if gap[k] < gap[jm]:
+                jm = k
+        while jm == a and a > j0:
+            a -= 1
+            _scan(cg, pose, a, a + 1, 1, gap, ys)
+            if gap[a] < gap[jm]:
+                jm = a
+            else:
+                break
+        while jm == b - 1 and b < j1:
+            _scan(cg, pose, b, b + 1, 1, gap, ys)
+            if gap[b] < gap[jm]:
+                jm = b
+                b += 1
+            else:
+                break
+        if gap[jm] < 0.0 and abs(jm - prev) > 1 and count < MAX_PATCHES:
+            _fill_patch(cg, pose, jm, j0, j1, gap, patches, count)
+            count += 1
+            prev = jm
+    return count
+
+
+@numba.njit(cache=True)
+def _fine_minimum(cg, pose, jc, j0, j1, gap, ys):
+    """Fine-grid local minimum near coarse point jc (walks downhill beyond the window if needed)."""
+    S = COARSE_STRIDE
+    a = max(jc - S, j0)
+    b = min(jc + S + 1, j1)
+    _scan(cg, pose, a, b, 1, gap, ys)
+    jm = a
+    for k in range(a, b):
+        if gap[k] < gap[jm]:
+            jm = k
+    while jm == a and a > j0:
+        a -= 1
+        _scan(cg, pose, a, a + 1, 1, gap, ys)
+        if gap[a] < gap[jm]:
+            jm = a
+        else:
+            break
+    while jm == b - 1 and b < j1:
+        _scan(cg, pose, b, b + 1, 1, gap, ys)
+        if gap[b] < gap[jm]:
+            jm = b
+            b += 1
+        else:
+            break
+    # make sure both fine neighbours exist for the parabola
+    if jm - 1 >= j0:
+        _scan(cg, pose, jm - 1, jm, 1, gap, ys)
+    if jm + 1 < j1:
+        _scan(cg, pose, jm + 1, jm + 2, 1, gap, ys)
+    return jm
+
+
+@numba.njit(cache=True)
+def _same_run(cg, pose, ja, jb, gap, ys):
+    """True if the gap stays negative on the coarse-and-fine samples between fine minima ja < jb."""
+    S = COARSE_STRIDE
+    k = ja + 1
+    while k < jb:
+        _scan(cg, pose, k, k + 1, 1, gap, ys)
+        if gap[k] >= 0.0:
+            return False
+        k += S if jb - k > S else 1
+    return True
+
+
+@numba.njit(cache=True)
+def run_bounds(cg, y, z, phi, psi, jm, gap, ys):
+    """Fine-grid interpenetration run [ja, jb] around the patch minimum jm (fills gap/ys on it)."""
+    pose = pose_constants(cg, y, z, phi, psi)
+    j0, j1 = wheel_range(cg, pose)
+    ja = jm
+    while ja - 1 >= j0:
+        _scan(cg, pose, ja - 1, ja, 1, gap, ys)
+        if gap[ja - 1] >= 0.0:
+            break
+        ja -= 1
+    jb = jm
+    while jb + 1 < j1:
+        _scan(cg, pose, jb + 1, jb + 2, 1, gap, ys)
+        if gap[jb + 1] >= 0.0:
+            break
+        jb += 1
+    _scan(cg, pose, ja, jb + 1, 1, gap, ys)
+    return ja, jb
+
+
+@numba.njit(cache=True)
+def _fill_patch(cg, pose, jm, j0, j1, gap, patches, slot):
+    """Refine the deepest grid point of a run by a parabola and fill one patch row."""
+    t = 0.0
+    g = gap[jm]
+    if jm > j0 and jm < j1 - 1:
+        gl = gap[jm - 1]
+        gr = gap[jm + 1]
+        den = gl - 2.0 * g + gr
+        if den > 0.0:
+            t = min(0.5, max(-0.5, 0.5 * (gl - gr) / den))
+            g = g - 0.125 * (gl - gr) * (gl - gr) / den
+    yp = cg[H_WY0] + (jm + t) * cg[H_DW]
+    X, Y, Z, radius, sw, kw = _trace_point(cg, pose, yp)
+    _, slope = rail_height(cg, Y)
+    kr = _rail_curvature(cg, Y)
+    patches[slot, P_Y] = Y
+    patches[slot, P_Z] = Z
+    patches[slot, P_X] = X
+    patches[slot, P_GAP] = g
+    patches[slot, P_SLOPE] = slope
+    patches[slot, P_YP] = yp
+    patches[slot, P_RADIUS] = radius
+    # relative lateral curvature: the wheel surface seen from the rail has curvature -kw
+    patches[slot, P_B] = 0.5 * (-kw - kr)
+    patches[slot, P_A] = 0.5 / (radius * math.sqrt(1.0 + sw * sw))
+    patches[slot, P_J0] = jm
+    patches[slot, P_J1] = jm
+
+
+@numba.njit(cache=True)
+def wheel_lift(cg, z, phi):
+    """The paper's hp for the left wheel: height of the lowest point of the nominal rolling circle above
+    the rail's highest point (m). Right wheel: call with the mirrored pose (-phi)."""
+    r0 = cg[H_R0]
+    lw = cg[H_LW]
+    return r0 + z + lw * math.sin(phi) - r0 * math.cos(phi)
+
+
+@numba.njit(cache=True)
+def min_gap(cg, y, z, phi, psi, gap, ys):
+    """Smallest gap of the left wheel (m) on the fine grid and the index where it occurs."""
+    j0, j1 = trace_gap(cg, y, z, phi, psi, gap, ys)
+    jm = j0
+    for j in range(j0, j1):
+        if gap[j] < gap[jm]:
+            jm = j
+    return gap[jm], jm
+
+
+@numba.njit(cache=True)
+def rigid_contact(cg, y, psi, gap, ys):
+    """Rigid (zero-penetration) contact of both wheels for lateral displacement y and yaw psi.
+
+    Solves for the wheelset's vertical displacement z and roll phi at which the smallest gap of each wheel
+    is zero (Newton with the exact kinematic Jacobian of a rigid wheelset). Returns (z, phi, jl, jr):
+    jl, jr are the wheel grid indices of the left and right contact points.
+    """
+    lw = cg[H_LW]
+    z = 0.0
+    phi = 0.0
+    jl = 0
+    jr = 0
+    for _ in range(60):
+        gl, jl = min_gap(cg, y, z, phi, psi, gap, ys)
+        gr, jr = min_gap(cg, -y, z, -phi, -psi, gap, ys)
+        dz = -0.5 * (gl + gr)
+        dphi = 0.5 * (gr - gl) / lw
+        z += dz
+        phi += dphi
+        if abs(dz) < 1e-12 and abs(dphi) < 1e-12:
+            break
+    return z, phi, jl, jr

@@ -1,0 +1,270 @@
+"""Every vehicle, track, contact and material value of the model, with its unit and its source.
+
+No value is written anywhere else. Each field carries `unit`, `source` (a key of SOURCES) and `sure`:
+  V  verified in the cited source for this vehicle (Yu et al. 2022) or a standard,
+  S  documented for a stand-in vehicle of the same geometry (not published for CRH3),
+  A  our assumption or reconstruction (no source found), shown in the report's sensitivity table.
+No value was chosen or adjusted to reproduce a published result.
+
+Vehicle parameter sets (selectable by name, `vehicle_parameters(name)`):
+  "hs19"  default. Masses and main dimensions of Yu 2022 Table 1. Suspension of the generic Chinese
+          high-speed car of Math. Probl. Eng. 2019 (HS19): the only public set with the same
+          17.5 m / 2.5 m geometry that gives the whole lateral suspension (primary, air springs,
+          lateral and two-stage yaw dampers with series stiffness). Elements HS19 does not give (anti-roll
+          bar, bump stop, absolute heights) come from one other set, the CRH380A file (A380), never
+          mixing two sources inside one subsystem.
+  "a380"  the CRH380A parameter file's suspension throughout (swing-arm node stiffness, nonlinear
+          lateral and yaw dampers), Yu's masses and dimensions.
+  "zhai"  the "high-speed passenger car" preset of Zhai's Vehicle-Track Coupled Dynamics appendix as
+          republished in public code, Yu's masses and dimensions.
+Inertias: for each set, the set's radii of gyration applied to Yu's masses (I = m k^2); where a set gives
+no value the HS19 radius of gyration is used and marked A.
+"""
+from dataclasses import dataclass, field, fields, replace
+import math
+
+SOURCES = {
+    "Yu2022": "Yu R., Ma H., Zhang J., Niu Y., A Method of Predicting Critical Derailment Speed and "
+              "Analysis of Derailment Process, Appl. Sci. 2022, 12, 11199, Tables 1-2",
+    "HS19": "Numerical Investigation into the Critical Speed and Frequency of the Hunting Motion in Railway "
+            "Vehicle System, Math. Probl. Eng. 2019, art. 7163732, Table 2",
+    "A380": "CRH380A parameter file Par_Vehicle_CRH380A_v6 (public MATLAB code, header: SIMPACK model "
+            "CRH2-380), as listed in shared/reference/vehicle-and-profiles.md section 3.2",
+    "Zhai": "Zhai W., Vehicle-Track Coupled Dynamics, appendix 'high-speed passenger car' preset, as "
+            "republished in public vehicle-track code (vehicle-and-profiles.md section 3.2 notes)",
+    "EN13674": "EN 13674-1 (60E1 = UIC60 rail head), EN 13715 (S1002); 1:40 rail inclination and 1435 mm "
+               "gauge at 14 mm below the rail top as on Chinese lines (Ye et al., Rail. Eng. Sci. 30 (2022) "
+               "96-116, Table 2)",
+    "EN13803": "EN 13803 (track alignment design): cant related to 1500 mm between rail centres for "
+               "standard gauge",
+    "TB449": "TB/T 449 LM wheel; wheelset back-to-back 1353 mm and rolling circles 1493 mm apart "
+             "(Adv. Civ. Eng. 2020, art. 4515319, Table 1)",
+    "Johnson": "Johnson K.L., Contact Mechanics, Cambridge 1985 (E, nu of steel; Hertz)",
+    "Iwnicki": "Iwnicki S. (ed.), Handbook of Railway Vehicle Dynamics, CRC 2006 (friction 0.3 dry rail)",
+    "HuntCrossley": "Hunt K.H., Crossley F.R.E., Coefficient of restitution interpreted as damping in "
+                    "vibroimpact, J. Appl. Mech. 42 (1975) 440-445",
+    "model": "modelling choice of this project, explained in docs/vehicle-model.md",
+}
+
+
+def _p(value, unit, source, sure, note=""):
+    return field(default=value, metadata={"unit": unit, "source": source, "sure": sure, "note": note})
+
+
+@dataclass(frozen=True)
+class VehicleParameters:
+    """CRH3 car (body, two bogie frames, four wheelsets) with its primary and secondary suspension."""
+    name: str = "hs19"
+    # --- masses (Yu 2022 Table 1)
+    car_body_mass: float = _p(32000.0, "kg", "Yu2022", "V")
+    bogie_frame_mass: float = _p(3300.0, "kg", "Yu2022", "V")
+    wheelset_mass: float = _p(1780.0, "kg", "Yu2022", "V")
+    # --- inertias: radii of gyration of the set applied to Yu's masses
+    car_body_roll_inertia: float = _p(32000.0 * 84560.0 / 28000.0, "kg m^2", "HS19", "S",
+                                      "HS19 Ixx 84,560 kg m^2 for 28 t, scaled to 32 t")
+    car_body_pitch_inertia: float = _p(32000.0 * 1102730.0 / 28000.0, "kg m^2", "HS19", "A",
+                                       "HS19 gives no Iyy; taken equal to Izz (long slender body)")
+    car_body_yaw_inertia: float = _p(32000.0 * 1102730.0 / 28000.0, "kg m^2", "HS19", "S",
+                                     "HS19 Izz 1,102,730 kg m^2 for 28 t, scaled to 32 t")
+    bogie_frame_roll_inertia: float = _p(3300.0 * 2106.0 / 3000.0, "kg m^2", "HS19", "S",
+                                         "HS19 2,106 kg m^2 for 3.0 t, scaled to 3.3 t")
+    bogie_frame_pitch_inertia: float = _p(3300.0 * 2600.0 / 3000.0, "kg m^2", "HS19", "A",
+                                          "HS19 gives no Iyy; taken equal to Izz")
+    bogie_frame_yaw_inertia: float = _p(3300.0 * 2600.0 / 3000.0, "kg m^2", "HS19", "S",
+                                        "HS19 2,600 kg m^2 for 3.0 t, scaled to 3.3 t")
+    wheelset_roll_inertia: float = _p(1780.0 * 1029.0 / 2400.0, "kg m^2", "HS19", "S",
+                                      "HS19 Izz 1,029 kg m^2 for 2.4 t, scaled; roll taken equal to yaw")
+    wheelset_yaw_inertia: float = _p(1780.0 * 1029.0 / 2400.0, "kg m^2", "HS19", "S",
+                                     "HS19 1,029 kg m^2 for 2.4 t, scaled to 1.78 t")
+    wheelset_spin_inertia: float = _p(1780.0 * 76.0 / 1902.0, "kg m^2", "A380", "S",
+                                      "A380 Iyy 76 kg m^2 for 1,902 kg, scaled (gyroscopic terms only)")
+    # --- main dimensions (Yu 2022 Table 1)
+    bogie_semi_distance: float = _p(8.75, "m", "Yu2022", "V", "half of 17.5 m")
+    wheelbase_semi: float = _p(1.25, "m", "Yu2022", "V", "half of 2.5 m")
+    rolling_radius: float = _p(0.46, "m", "Yu2022", "V")
+    # --- heights above the rail top
+    car_body_cog_height: float = _p(1.52, "m", "A380", "S")
+    bogie_frame_cog_height: float = _p(0.46 + 0.148, "m", "HS19", "S", "HS19: 0.148 m above the axle")
+    secondary_height: float = _p(0.90, "m", "A380", "S", "middle of the air spring, bottom 0.80 / top 1.00")
+    yaw_damper_height: float = _p(0.415, "m", "A380", "S")
+    lateral_damper_height: float = _p(0.60, "m", "model", "A", "not found in any set")
+    bump_stop_height: float = _p(0.60, "m", "model", "A", "not found in any set")
+    # --- lateral spacings (semi-distances from the vehicle centre line)
+    primary_semi_spacing: float = _p(1.0, "m", "HS19", "S")
+    air_spring_semi_spacing: float = _p(1.23, "m", "HS19", "S")
+    secondary_vertical_damper_semi_spacing: float = _p(1.323, "m", "HS19", "S")
+    yaw_damper_semi_spacing: float = _p(1.35, "m", "HS19", "S")
+    yaw_damper_length: float = _p(0.50, "m", "model", "A",
+                                  "longitudinal length between end fittings; enters only through geometry")
+    # --- primary suspension, per axle box
+    primary_longitudinal_stiffness: float = _p(85.0e6, "N/m", "HS19", "S", "basis (per box) assumed")
+    primary_lateral_stiffness: float = _p(15.0e6, "N/m", "HS19", "S", "basis (per box) assumed")
+    primary_vertical_stiffness: float = _p(1.1e6, "N/m", "HS19", "S")
+    primary_vertical_damping: float = _p(20.0e3, "N s/m", "HS19", "S")
+    primary_lateral_damping: float = _p(10.0e3, "N s/m", "HS19", "S")
+    # --- secondary suspension, per air spring (two per bogie)
+    secondary_longitudinal_stiffness: float = _p(0.2e6, "N/m", "HS19", "S")
+    secondary_lateral_stiffness: float = _p(0.2e6, "N/m", "HS19", "S")
+    secondary_vertical_stiffness: float = _p(0.2e6, "N/m", "HS19", "S")
+    secondary_vertical_damping: float = _p(10.0e3, "N s/m", "HS19", "S", "per side")
+    anti_roll_stiffness: float = _p(1.0e6, "N m/rad", "A380", "S", "per bogie")
+    # --- secondary lateral damper, one per bogie: force-velocity law (piecewise linear) + series spring
+    lateral_damper_knee_velocity: float = _p(1.0, "m/s", "HS19", "S", "linear: knee beyond use")
+    lateral_damper_damping: float = _p(30.0e3, "N s/m", "HS19", "S")
+    lateral_damper_damping_after_knee: float = _p(30.0e3, "N s/m", "HS19", "S")
+    lateral_damper_series_stiffness: float = _p(0.0, "N/m", "HS19", "S", "0 = rigid end fittings")
+    # --- yaw dampers, one per bogie side: two-stage (blow-off) law with series stiffness
+    yaw_damper_knee_velocity: float = _p(0.01, "m/s", "HS19", "S", "blow-off 3 kN at 0.01 m/s")
+    yaw_damper_damping: float = _p(300.0e3, "N s/m", "HS19", "S")
+    yaw_damper_damping_after_knee: float = _p(20.0e3, "N s/m", "HS19", "S")
+    yaw_damper_series_stiffness: float = _p(10.0e6, "N/m", "HS19", "S")
+    # --- secondary lateral bump stop (per bogie, between frame and body)
+    bump_stop_clearance: float = _p(0.020, "m", "A380", "S")
+    bump_stop_travel: tuple = _p((0.026, 0.032, 0.038, 0.044, 0.048), "m", "A380", "S",
+                                 "deflection points of the force law (zero force at the clearance); "
+                                 "beyond the last point the last slope continues")
+    bump_stop_force: tuple = _p((2.0e3, 5.0e3, 11.0e3, 25.5e3, 49.0e3), "N", "A380", "S")
+
+    def describe(self):
+        """Rows (name, value, unit, source, sure, note) for reports."""
+        rows = []
+        for f in fields(self):
+            if f.name == "name":
+                continue
+            m = f.metadata
+            rows.append((f.name, getattr(self, f.name), m["unit"], m["source"], m["sure"], m["note"]))
+        return rows
+
+
+_A380_OVERRIDES = dict(
+    name="a380",
+    car_body_roll_inertia=32000.0 * 110200.0 / 40840.0,
+    car_body_pitch_inertia=32000.0 * 1666000.0 / 40840.0,
+    car_body_yaw_inertia=32000.0 * 1572200.0 / 40840.0,
+    bogie_frame_roll_inertia=3300.0 * 1847.0 / 2280.0,
+    bogie_frame_pitch_inertia=3300.0 * 1249.0 / 2280.0,
+    bogie_frame_yaw_inertia=3300.0 * 2280.0 / 2280.0,
+    wheelset_roll_inertia=1780.0 * 685.0 / 1902.0,
+    wheelset_yaw_inertia=1780.0 * 685.0 / 1902.0,
+    bogie_frame_cog_height=0.46 + (0.51 - 0.43),
+    primary_semi_spacing=1.0,
+    air_spring_semi_spacing=1.23,
+    yaw_damper_semi_spacing=1.35,
+    # swing-arm guidance: coil spring shear and arm rubber node act in parallel
+    primary_longitudinal_stiffness=0.98e6 + 13.72e6,
+    primary_lateral_stiffness=0.98e6 + 5.52e6,
+    primary_vertical_stiffness=1.176e6,
+    primary_vertical_damping=19.6e3,
+    primary_lateral_damping=0.0,
+    secondary_longitudinal_stiffness=0.1689e6,
+    secondary_lateral_stiffness=0.1689e6,
+    secondary_vertical_stiffness=0.26e6,
+    secondary_vertical_damping=40.0e3,
+    lateral_damper_knee_velocity=0.1,
+    lateral_damper_damping=58.8e3,
+    lateral_damper_damping_after_knee=24.6e3,
+    lateral_damper_series_stiffness=17.15e6,
+    yaw_damper_knee_velocity=0.004,
+    yaw_damper_damping=2452.5e3,
+    yaw_damper_damping_after_knee=49.95e3,
+    yaw_damper_series_stiffness=8.82e6,
+)
+
+_ZHAI_OVERRIDES = dict(
+    name="zhai",
+    car_body_roll_inertia=32000.0 * 7.506e4 / 34000.0,
+    car_body_pitch_inertia=32000.0 * 2.277e6 / 34000.0,
+    car_body_yaw_inertia=32000.0 * 2.086e6 / 34000.0,
+    bogie_frame_roll_inertia=3300.0 * 2260.0 / 3000.0,
+    bogie_frame_pitch_inertia=3300.0 * 2710.0 / 3000.0,
+    bogie_frame_yaw_inertia=3300.0 * 3160.0 / 3000.0,
+    wheelset_roll_inertia=1780.0 * 915.0 / 1400.0,
+    wheelset_yaw_inertia=1780.0 * 915.0 / 1400.0,
+    wheelset_spin_inertia=1780.0 * 140.0 / 1400.0,
+    primary_longitudinal_stiffness=10.0e6,
+    primary_lateral_stiffness=5.0e6,
+    primary_vertical_stiffness=0.55e6,
+    primary_vertical_damping=6.0e3,
+    primary_lateral_damping=0.0,
+    secondary_longitudinal_stiffness=0.15e6,
+    secondary_lateral_stiffness=0.15e6,
+    secondary_vertical_stiffness=0.4e6,
+    secondary_vertical_damping=80.0e3,
+    lateral_damper_knee_velocity=1.0,
+    lateral_damper_damping=60.0e3,
+    lateral_damper_damping_after_knee=60.0e3,
+    lateral_damper_series_stiffness=0.0,
+    # force-velocity points 13.2 kN @ 0.01, 20.5 kN @ 0.03, 25.75 kN @ 0.2 m/s: two-stage fit through
+    # the first two points' secant (knee at 0.01 m/s), then the secant to 0.2 m/s
+    yaw_damper_knee_velocity=0.01,
+    yaw_damper_damping=1320.0e3,
+    yaw_damper_damping_after_knee=(25.75e3 - 13.2e3) / 0.19,
+    yaw_damper_series_stiffness=4.0e6,
+    yaw_damper_semi_spacing=1.3,
+)
+
+VEHICLE_SETS = ("hs19", "a380", "zhai")
+
+
+def vehicle_parameters(name="hs19", **changes):
+    """The named parameter set, with optional field changes (for sensitivity studies)."""
+    if name not in VEHICLE_SETS:
+        raise ValueError(f"vehicle parameter set {name!r} is unknown; choose one of {', '.join(VEHICLE_SETS)}")
+    base = VehicleParameters()
+    if name == "a380":
+        base = replace(base, **_A380_OVERRIDES)
+    elif name == "zhai":
+        base = replace(base, **_ZHAI_OVERRIDES)
+    unknown = set(changes) - {f.name for f in fields(VehicleParameters)}
+    if unknown:
+        raise ValueError(f"unknown vehicle parameter(s): {', '.join(sorted(unknown))}")
+    return replace(base, **changes)
+
+
+@dataclass(frozen=True)
+class TrackParameters:
+    """Ideal track (Yu 2022 Table 2) and the rail placement."""
+    straight_in: float = _p(200.0, "m", "Yu2022", "V")
+    transition_in: float = _p(200.0, "m", "Yu2022", "V")
+    curve_length: float = _p(1000.0, "m", "Yu2022", "V")
+    transition_out: float = _p(200.0, "m", "Yu2022", "V")
+    straight_out: float = _p(200.0, "m", "Yu2022", "V")
+    radius: float = _p(1000.0, "m", "Yu2022", "V", "800-1800 m in the paper")
+    cant_height: float = _p(0.175, "m", "Yu2022", "V")
+    direction: int = _p(1, "-", "model", "A", "+1 curve to the left, -1 to the right")
+    rail_spacing: float = _p(1.500, "m", "EN13803", "V", "distance between rail centres for the cant angle")
+    gauge: float = _p(1.435, "m", "EN13674", "V")
+    gauge_depth: float = _p(0.014, "m", "EN13674", "V", "gauge measured 14 mm below the rail top")
+    rail_inclination: float = _p(math.atan(1.0 / 40.0), "rad", "EN13674", "V", "1:40")
+    rail_profile: str = _p("uic60", "-", "Yu2022", "V")
+    excitation_start: float = _p(50.0, "m", "model", "A", "lateral alignment defect (limit cycle only)")
+    excitation_length: float = _p(20.0, "m", "model", "A")
+    excitation_amplitude: float = _p(0.0, "m", "model", "A", "0 = none; the limit cycle uses 0.010 m")
+
+
+@dataclass(frozen=True)
+class ContactParameters:
+    """Wheel profile, wheelset placement, materials, friction and the contact models."""
+    wheel_profile: str = _p("lm", "-", "Yu2022", "V")
+    back_to_back: float = _p(1.353, "m", "TB449", "S")
+    rolling_circle_from_back: float = _p(0.070, "m", "TB449", "S")
+    youngs_modulus: float = _p(2.1e11, "Pa", "Johnson", "V", "steel, wheel and rail")
+    poisson_ratio: float = _p(0.28, "-", "Johnson", "V")
+    friction_coefficient: float = _p(0.3, "-", "Iwnicki", "S", "dry rail")
+    contact_damping: float = _p(2.0, "s/m", "HuntCrossley", "A",
+                                "N = C d^1.5 (1 + chi d'); chi gives about 5 % damping of the wheelset "
+                                "bounce on the rigid track, standing in for the dissipation of the track")
+    normal_model: str = _p("hertz", "-", "model", "A", "hertz | discrete")
+    creep_model: str = _p("she", "-", "model", "A", "she (Shen-Hedrick-Elkins) | polach | fastsim | linear")
+
+    @property
+    def rolling_circle_half_distance(self):
+        """Lateral distance from the wheelset centre to each nominal rolling circle (m)."""
+        return 0.5 * self.back_to_back + self.rolling_circle_from_back
+
+    @property
+    def shear_modulus(self):
+        return self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
+
+
+GRAVITY = 9.81  # m/s^2, standard value used throughout
