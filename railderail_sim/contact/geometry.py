@@ -54,11 +54,12 @@ P_YP = 5                             # wheel profile coordinate of the contact (
 P_RADIUS = 6                         # wheel radius at the contact (m)
 P_B = 7                              # half the relative lateral curvature (1/m), Hertz "B"
 P_A = 8                              # half the relative longitudinal curvature (1/m), Hertz "A"
-P_J0, P_J1 = 9, 10                   # first and last wheel grid index of the interpenetration run
-P_COLS = 11
+P_JM = 9                             # fine wheel grid index of the deepest point
+P_COLS = 10
 MAX_PATCHES = 3
 COARSE_STRIDE = 8                    # coarse search every 8th wheel grid point (1 mm on the 0.125 mm grid)
-COARSE_WINDOW_GAP = 3.0e-4           # m; coarse minima below this are searched on the fine grid
+COARSE_WINDOW_GAP = 1.5e-3           # m; coarse minima below this are searched on the fine grid (the
+                                     # vertical gap can dip ~0.5 mm between coarse samples on a steep flange)
 NO_RAIL_GAP = 1.0                    # m; gap reported where there is no rail under the wheel
 TRACK_GAP = 1.0e-3                   # m; near-contacts below this are followed during a time step
 MAX_CANDIDATES = 6
@@ -306,7 +307,7 @@ def find_patches(cg, y, z, phi, psi, gap, ys, patches, cand):
     are patches; minima in one connected interpenetration run are one patch (the deepest), so a wide
     conformal contact is not counted twice. Each patch row gets the contact point, its gap, rail slope,
     wheel profile coordinate and radius, the Hertz half relative curvatures A and B, and the fine grid
-    index of its minimum.
+    index of its minimum (P_JM).
 
     `cand` receives the fine minima worth following within the next integration step (patches and
     near-contacts below TRACK_GAP): cand[0] = count, cand[1:] = grid indices (see `track_patches`).
@@ -429,14 +430,11 @@ def _fine_minimum(cg, pose, jc, j0, j1, gap, ys):
 
 @numba.njit(cache=True)
 def _same_run(cg, pose, ja, jb, gap, ys):
-    """True if the gap stays negative on the coarse-and-fine samples between fine minima ja < jb."""
-    S = COARSE_STRIDE
-    k = ja + 1
-    while k < jb:
-        _scan(cg, pose, k, k + 1, 1, gap, ys)
+    """True if the gap stays negative on every fine sample between fine minima ja < jb."""
+    _scan(cg, pose, ja + 1, jb, 1, gap, ys)
+    for k in range(ja + 1, jb):
         if gap[k] >= 0.0:
             return False
-        k += S if jb - k > S else 1
     return True
 
 
@@ -487,8 +485,7 @@ def _fill_patch(cg, pose, jm, j0, j1, gap, patches, slot):
     # relative lateral curvature: the wheel surface seen from the rail has curvature -kw
     patches[slot, P_B] = 0.5 * (-kw - kr)
     patches[slot, P_A] = 0.5 / (radius * math.sqrt(1.0 + sw * sw))
-    patches[slot, P_J0] = jm
-    patches[slot, P_J1] = jm
+    patches[slot, P_JM] = jm
 
 
 @numba.njit(cache=True)

@@ -1,0 +1,444 @@
+"""Kik-Piotrowski (KP) non-elliptic normal contact and strip-FASTSIM creep forces (numba core).
+
+Model (Kik & Piotrowski 1996; Piotrowski & Kik 2008)
+----------------------------------------------------
+Input is the undeformed normal separation ``gap(y)`` of wheel and rail along the lateral (tangent)
+coordinate ``y = s`` of the contact, on a uniform grid, with min 0 at the point of first contact,
+plus the wheel's longitudinal radius ``R(y)`` (rolling radius seen in the contact plane; the rail is
+straight along x). The bodies approach by ``delta`` (rigid normal approach).
+
+1. Patches. Strips are the grid cells (width ds, centred at the grid points). A *patch* is a
+   contiguous run of strips with geometric interpenetration ``gap < delta``; runs separated by at
+   least one strip with ``gap >= delta`` are separate patches (two-point contact, e.g. tread and
+   flange). Each patch k has its own deepest point y0_k (min gap g_k) and local approach
+   ``delta_k = delta - g_k``; patches do not interact elastically (as in KP).
+2. Virtual penetration. The contact area is the interpenetration region of the undeformed
+   profiles for the *reduced* approach ``eps * delta_k`` (Piotrowski & Kik 2008: the elastic
+   surface displacement outside the loaded area makes the real patch smaller than the geometric
+   overlap; for a sphere on a plane the overlap at approach delta has radius sqrt(2 R delta) while
+   Hertz gives sqrt(R delta), i.e. eps = 0.5 exactly; KP recommend eps ~ 0.55 as a compromise over
+   elliptic shapes, default ``EPS_DEFAULT = 0.55``). Interpenetration function
+   ``f(y) = eps delta_k - (gap(y) - g_k)``, ``f > 0`` inside; the longitudinal half-length of each
+   strip follows from the wheel's longitudinal curvature: ``x_L(y) = sqrt(2 R(y) f(y))``.
+3. Pressure: semi-elliptic along x in every strip, proportional to the strip half-length:
+   ``p(x, y) = p0 sqrt(x_L(y)^2 - x^2) / x_L0`` with x_L0 = x_L(y0) (Hertz's distribution when
+   the region is an ellipse and R is constant).
+4. Normal force (closed form, no iteration): the normal surface displacement of both bodies at
+   the deepest point (x = 0, y = y0), computed with Boussinesq's solution, must equal ``delta_k``:
+
+       delta_k = 1/(pi E*) int int p(x, y) / sqrt(x^2 + (y - y0)^2) dx dy,   E* = E/(2(1-nu^2))
+
+   (identical materials), hence
+   ``N_k = pi E* delta_k I_S / I_R`` with ``I_S = int int sqrt(x_L^2 - x^2) dA = sum pi x_L^2/2 ds``
+   and ``I_R = int int sqrt(x_L^2 - x^2)/r dA``. The x-integral is closed form,
+   ``int_{-L}^{L} sqrt(L^2 - x^2)/sqrt(x^2 + eta^2) dx = 2 c (K(k) - E(k))``, c = sqrt(L^2 + eta^2),
+   k = L/c (derivation: x = L sin t), with K, E the complete elliptic integrals (``hertz.ellip_ke``,
+   computed with k and k' = |eta|/c so that eta -> 0 is accurate). Over each strip (x_L constant)
+   the y-integral is done by Gauss-Legendre (2 points far from y0, 4 points within two strips of
+   y0); near y0 the logarithmic singularity 2c(K - E) ~ 2L(ln(4L/|eta|) - 1) is subtracted and
+   integrated analytically. ``p0 = N_k x_L0 / I_S``.
+   Check: for a sphere on a plane with eps = 0.5 this is Hertz exactly (N = 4/3 E* a^3/R).
+5. Inverse: ``kp_delta_for_force`` finds delta for a total normal load by a safeguarded secant
+   iteration on ln N(ln delta) (N ~ delta^1.5), bracketed, ~5-8 evaluations.
+
+Tangential problem (``kp_creep_forces``): FASTSIM (``fastsim.fastsim_strip``) strip by strip over
+the KP patch, with the traction bound ``mu p(x, y)`` of the KP pressure (semi-elliptic in x) and
+one set of flexibilities L1, L2, L3 (Kalker 1982) for the whole patch, taken from an *equivalent
+ellipse*: a_eq/b_eq = (max length)/(width) of the patch and pi a_eq b_eq = patch area; Kalker's
+C11, C22, C23 at a_eq/b_eq (``creep.kalker_coefficients``). This follows Piotrowski & Kik's
+proposal to run FASTSIM on the non-elliptic patch with flexibilities from an equivalent ellipse;
+the choice of the equivalent ellipse (length/width ratio and area) is ours and documented in
+docs/contact-models.md. For an elliptic KP patch it reduces to FASTSIM on that ellipse (with a
+semi-elliptic instead of parabolic bound) and to Kalker's linear theory at small creepage. The
+spin term uses y measured from the patch's deepest point y0 (the contact reference point at which
+the creepages must be given).
+
+Limits: half-space theory (small patch compared with the profile radii is *not* needed laterally,
+but the bodies must be locally flat on the patch scale), identical elastic constants for wheel and
+rail, frictionless normal problem, no elastic interaction between separate patches, eps is an
+empirical constant.
+
+Data layout (allocation-free cores; the caller allocates):
+``xl`` (n,) strip half-lengths [m] (0 outside patches), ``pid`` (n,) int patch index or -1,
+``patches`` (max_patches, NPROP) float rows indexed by the ``P_*`` constants below.
+``kp_patches`` is a Python convenience wrapper that allocates and returns a list of dicts.
+
+References
+----------
+Kik, W., Piotrowski, J. (1996) A fast, approximate method to calculate normal load at contact
+between wheel and rail and creep forces during rolling. In: Zobory, I. (ed.) Proc. 2nd Mini
+Conference on Contact Mechanics and Wear of Rail/Wheel Systems, Budapest, 52-61.
+Piotrowski, J., Kik, W. (2008) A simplified model of wheel/rail contact mechanics for non-Hertzian
+problems and its application in rail vehicle dynamic simulations. Vehicle System Dynamics 46
+(1-2), 27-48.
+Johnson, K.L. (1985) Contact Mechanics, §3.2 (Boussinesq point load).
+Kalker, J.J. (1982) Vehicle System Dynamics 11, 1-13 (FASTSIM).
+"""
+import math
+
+import numba
+import numpy as np
+
+from .creep import kalker_coefficients
+from .fastsim import BOUND_ELLIPTIC, NX_DEFAULT, fastsim_strip, flexibilities
+from .hertz import ellip_ke
+
+EPS_DEFAULT = 0.55
+
+# patch property columns
+P_N = 0          # normal load of the patch [N]
+P_YMIN = 1       # lateral extent of the patch (interpolated zero of f) [m]
+P_YMAX = 2
+P_LENGTH = 3     # 2 max x_L [m]
+P_WIDTH = 4      # P_YMAX - P_YMIN [m]
+P_AREA = 5       # sum 2 x_L ds [m^2]
+P_YC = 6         # pressure-weighted centroid y [m]
+P_PMAX = 7       # maximum pressure [Pa]
+P_DELTA = 8      # local approach delta_k = delta - gap_min [m]
+P_Y0 = 9         # y of the deepest point (reference point for creepages) [m]
+P_XL0 = 10       # x_L at y0 [m]
+P_P0 = 11        # pressure at (0, y0) [Pa]
+P_AEQ = 12       # equivalent-ellipse semi-axes (x, y) [m]
+P_BEQ = 13
+P_J0 = 14        # strip index range [j0, j1) of the patch run (as floats)
+P_J1 = 15
+P_JM = 16        # strip index of the deepest point
+NPROP = 17
+
+# Gauss-Legendre nodes/weights on [-1, 1]
+_G2X = 0.5773502691896257
+_G4X1 = 0.3399810435848563
+_G4X2 = 0.8611363115940526
+_G4W1 = 0.6521451548625461
+_G4W2 = 0.3478548451374538
+
+
+@numba.njit(cache=True)
+def _kernel(L, eta):
+    """int_{-L}^{L} sqrt(L^2 - x^2)/sqrt(x^2 + eta^2) dx = 2 c (K(k) - E(k)); eta != 0."""
+    c = math.sqrt(L * L + eta * eta)
+    k = L / c
+    kc = abs(eta) / c
+    K, E, KmE = ellip_ke(k, kc)
+    return 2.0 * c * KmE
+
+
+@numba.njit(cache=True)
+def _glog(eta):
+    """Antiderivative of ln|eta|: eta (ln|eta| - 1), 0 at eta = 0."""
+    if eta == 0.0:
+        return 0.0
+    return eta * (math.log(abs(eta)) - 1.0)
+
+
+@numba.njit(cache=True)
+def _strip_IR(L, e1, e2, near):
+    """int_{e1}^{e2} 2c(K-E) d eta for one strip of half-length L, eta relative to y0."""
+    hm = 0.5 * (e2 - e1)
+    cm = 0.5 * (e2 + e1)
+    if not near:
+        return hm * (_kernel(L, cm - hm * _G2X) + _kernel(L, cm + hm * _G2X))
+    # subtract the log singularity -2L ln|eta| and integrate it exactly
+    tot = -2.0 * L * (_glog(e2) - _glog(e1))
+    s = 0.0
+    for i in range(4):
+        if i == 0:
+            t, w = -_G4X2, _G4W2
+        elif i == 1:
+            t, w = -_G4X1, _G4W1
+        elif i == 2:
+            t, w = _G4X1, _G4W1
+        else:
+            t, w = _G4X2, _G4W2
+        eta = cm + hm * t
+        s += w * (_kernel(L, eta) + 2.0 * L * math.log(abs(eta)))
+    return tot + hm * s
+
+
+@numba.njit(cache=True)
+def _run_end(gap, delta, r0, n):
+    """End (exclusive) of the run of strips with gap < delta starting at r0."""
+    r1 = r0
+    while r1 < n and gap[r1] < delta:
+        r1 += 1
+    return r1
+
+
+@numba.njit(cache=True)
+def _run_force(s0, ds, gap, R_long, r0, r1, delta, eps, Estar):
+    """Normal load and integrals of one patch run [r0, r1). Returns (N, IS, jm, dk, xl0)."""
+    jm = r0
+    for j in range(r0 + 1, r1):
+        if gap[j] < gap[jm]:
+            jm = j
+    gmin = gap[jm]
+    dk = delta - gmin
+    h = eps * dk
+    IS = 0.0
+    IR = 0.0
+    y0 = s0 + jm * ds
+    for j in range(r0, r1):
+        f = h - (gap[j] - gmin)
+        if f <= 0.0:
+            continue
+        L = math.sqrt(2.0 * R_long[j] * f)
+        IS += 0.5 * math.pi * L * L * ds
+        yj = s0 + j * ds - y0
+        IR += _strip_IR(L, yj - 0.5 * ds, yj + 0.5 * ds, abs(j - jm) <= 2)
+    xl0 = math.sqrt(2.0 * R_long[jm] * h)
+    if IR <= 0.0:
+        return 0.0, IS, jm, dk, xl0
+    N = math.pi * Estar * dk * IS / IR
+    return N, IS, jm, dk, xl0
+
+
+@numba.njit(cache=True)
+def _check_inputs(s, gap, R_long, E, nu, eps):
+    n = s.shape[0]
+    if n < 2 or gap.shape[0] != n or R_long.shape[0] != n:
+        raise ValueError("kik_piotrowski: s, gap, R_long must have the same length >= 2")
+    if not (E > 0.0) or not (nu >= 0.0 and nu < 0.5):
+        raise ValueError("kik_piotrowski: need E > 0 and 0 <= nu < 0.5")
+    if not (eps > 0.0 and eps <= 1.0):
+        raise ValueError("kik_piotrowski: eps must be within (0, 1]")
+
+
+@numba.njit(cache=True)
+def kp_normal_force(s, gap, R_long, delta, E, nu, eps):
+    """Total KP normal load [N] for approach delta [m] (sum over patches); allocation-free."""
+    _check_inputs(s, gap, R_long, E, nu, eps)
+    if not (delta > 0.0):
+        return 0.0
+    n = s.shape[0]
+    ds = s[1] - s[0]
+    Estar = E / (2.0 * (1.0 - nu * nu))
+    Ntot = 0.0
+    j = 0
+    while j < n:
+        if gap[j] < delta:
+            r1 = _run_end(gap, delta, j, n)
+            N, IS, jm, dk, xl0 = _run_force(s[0], ds, gap, R_long, j, r1, delta, eps, Estar)
+            Ntot += N
+            j = r1
+        else:
+            j += 1
+    return Ntot
+
+
+@numba.njit(cache=True)
+def kp_normal(s, gap, R_long, delta, E, nu, eps, xl, pid, patches):
+    """KP normal contact for approach delta: fills xl, pid, patches; returns the number of patches.
+
+    s (n,) uniform lateral grid [m]; gap (n,) undeformed normal separation [m] (min 0); R_long (n,)
+    wheel longitudinal radius [m]; delta [m]; E [Pa], nu; eps virtual-penetration factor.
+    Outputs (caller-allocated): xl (n,) half-lengths, pid (n,) int patch index (-1 outside),
+    patches (maxp, NPROP) rows (see P_* constants). Patches beyond maxp are ignored (their strips
+    keep pid = -1 and xl = 0); the return value counts the stored patches.
+    """
+    _check_inputs(s, gap, R_long, E, nu, eps)
+    n = s.shape[0]
+    maxp = patches.shape[0]
+    for j in range(n):
+        xl[j] = 0.0
+        pid[j] = -1
+    for k in range(maxp):
+        for c in range(patches.shape[1]):
+            patches[k, c] = 0.0
+    if not (delta > 0.0):
+        return 0
+    ds = s[1] - s[0]
+    s0 = s[0]
+    Estar = E / (2.0 * (1.0 - nu * nu))
+    np_ = 0
+    j = 0
+    while j < n and np_ < maxp:
+        if not (gap[j] < delta):
+            j += 1
+            continue
+        r0 = j
+        r1 = _run_end(gap, delta, r0, n)
+        j = r1
+        N, IS, jm, dk, xl0 = _run_force(s0, ds, gap, R_long, r0, r1, delta, eps, Estar)
+        if IS <= 0.0:
+            continue
+        gmin = gap[jm]
+        h = eps * dk
+        area = 0.0
+        xlmax = 0.0
+        ymom = 0.0
+        jfirst = -1
+        jlast = -1
+        for i in range(r0, r1):
+            f = h - (gap[i] - gmin)
+            if f > 0.0:
+                L = math.sqrt(2.0 * R_long[i] * f)
+                xl[i] = L
+                pid[i] = np_
+                area += 2.0 * L * ds
+                ymom += (s0 + i * ds) * 0.5 * math.pi * L * L * ds
+                if L > xlmax:
+                    xlmax = L
+                if jfirst < 0:
+                    jfirst = i
+                jlast = i
+        # lateral extent: linear interpolation of f to its zero beyond the first/last inner strip
+        f_in = h - (gap[jfirst] - gmin)
+        if jfirst > 0:
+            f_out = h - (gap[jfirst - 1] - gmin)
+            ymin = s0 + jfirst * ds - ds * f_in / (f_in - f_out)
+        else:
+            ymin = s0 - 0.5 * ds
+        f_in = h - (gap[jlast] - gmin)
+        if jlast < n - 1:
+            f_out = h - (gap[jlast + 1] - gmin)
+            ymax = s0 + jlast * ds + ds * f_in / (f_in - f_out)
+        else:
+            ymax = s0 + (n - 1) * ds + 0.5 * ds
+        width = ymax - ymin
+        p0 = N * xl0 / IS
+        row = patches[np_]
+        row[P_N] = N
+        row[P_YMIN] = ymin
+        row[P_YMAX] = ymax
+        row[P_LENGTH] = 2.0 * xlmax
+        row[P_WIDTH] = width
+        row[P_AREA] = area
+        row[P_YC] = ymom / IS
+        row[P_PMAX] = p0 * xlmax / xl0
+        row[P_DELTA] = dk
+        row[P_Y0] = s0 + jm * ds
+        row[P_XL0] = xl0
+        row[P_P0] = p0
+        ratio = xlmax / (0.5 * width)
+        row[P_AEQ] = math.sqrt(area / math.pi * ratio)
+        row[P_BEQ] = math.sqrt(area / (math.pi * ratio))
+        row[P_J0] = r0
+        row[P_J1] = r1
+        row[P_JM] = jm
+        np_ += 1
+    return np_
+
+
+@numba.njit(cache=True)
+def kp_delta_for_force(s, gap, R_long, N_target, E, nu, eps):
+    """Approach delta [m] at which the total KP normal load equals N_target [N] (0 if N <= 0).
+
+    Safeguarded secant on ln N versus ln delta (N ~ delta^1.5), relative tolerance 1e-10 on N.
+    """
+    _check_inputs(s, gap, R_long, E, nu, eps)
+    if not (N_target > 0.0):
+        return 0.0
+    lt = math.log(N_target)
+    # first guess: 0.1 mm, then the power law N ~ delta^1.5 to build a bracket
+    d1 = 1e-4
+    N1 = kp_normal_force(s, gap, R_long, d1, E, nu, eps)
+    for _ in range(60):
+        if N1 > 0.0:
+            break
+        d1 *= 4.0
+        N1 = kp_normal_force(s, gap, R_long, d1, E, nu, eps)
+    if not (N1 > 0.0):
+        raise ValueError("kp_delta_for_force: no contact found (check gap has min 0)")
+    x1 = math.log(d1)
+    f1 = math.log(N1) - lt
+    x2 = x1 - f1 / 1.5
+    N2 = kp_normal_force(s, gap, R_long, math.exp(x2), E, nu, eps)
+    f2 = math.log(N2) - lt if N2 > 0.0 else -1e3
+    lo, flo, hi, fhi = x1, f1, x2, f2
+    if f1 > f2:
+        lo, flo, hi, fhi = x2, f2, x1, f1
+    # expand to a bracket flo < 0 < fhi
+    for _ in range(60):
+        if flo < 0.0:
+            break
+        lo -= 1.0
+        Nl = kp_normal_force(s, gap, R_long, math.exp(lo), E, nu, eps)
+        flo = math.log(Nl) - lt if Nl > 0.0 else -1e3
+    for _ in range(60):
+        if fhi > 0.0:
+            break
+        hi += 1.0
+        fhi = math.log(kp_normal_force(s, gap, R_long, math.exp(hi), E, nu, eps)) - lt
+    # Illinois regula falsi
+    side = 0
+    x = 0.5 * (lo + hi)
+    for _ in range(100):
+        x = (lo * fhi - hi * flo) / (fhi - flo)
+        if not (lo < x < hi):
+            x = 0.5 * (lo + hi)
+        Nx = kp_normal_force(s, gap, R_long, math.exp(x), E, nu, eps)
+        fx = math.log(Nx) - lt if Nx > 0.0 else -1e3
+        if abs(fx) < 1e-10 or hi - lo < 1e-13:
+            return math.exp(x)
+        if fx < 0.0:
+            lo, flo = x, fx
+            if side == -1:
+                fhi *= 0.5
+            side = -1
+        else:
+            hi, fhi = x, fx
+            if side == 1:
+                flo *= 0.5
+            side = 1
+    return math.exp(x)
+
+
+@numba.njit(cache=True)
+def kp_creep_forces(s, xl, patches, k, xi_x, xi_y, phi, mu, G, nu, nx):
+    """Creep forces (Fx, Fy) on the wheel for KP patch k by strip-wise FASTSIM.
+
+    s (n,) grid, xl (n,) and patches from ``kp_normal``; creepages xi_x, xi_y [-] and spin phi
+    [1/m] at the patch's reference point y0 = patches[k, P_Y0]; mu friction coefficient; G [Pa]
+    shear modulus; nu Poisson's ratio; nx elements per strip (e.g. fastsim.NX_DEFAULT). Sign
+    convention as creep.py (forces oppose the creepage).
+    """
+    row = patches[k]
+    N = row[P_N]
+    if not (N > 0.0):
+        return 0.0, 0.0
+    ds = s[1] - s[0]
+    s0 = s[0]
+    aeq = row[P_AEQ]
+    beq = row[P_BEQ]
+    C11, C22, C23, C33 = kalker_coefficients(aeq / beq, nu)
+    L1, L2, L3 = flexibilities(aeq, beq, G, C11, C22, C23)
+    p0 = row[P_P0]
+    xl0 = row[P_XL0]
+    y0 = row[P_Y0]
+    j0 = int(row[P_J0])
+    j1 = int(row[P_J1])
+    Fx = 0.0
+    Fy = 0.0
+    for j in range(j0, j1):
+        L = xl[j]
+        if L <= 0.0:
+            continue
+        y = s0 + j * ds - y0
+        fx, fy, mz = fastsim_strip(xi_x, xi_y, phi, y, L, nx, mu, p0 * L / xl0,
+                                   BOUND_ELLIPTIC, L1, L2, L3)
+        Fx += fx * ds
+        Fy += fy * ds
+    return Fx, Fy
+
+
+def kp_patches(s, gap, R_long, delta, E, nu, eps=EPS_DEFAULT, max_patches=4):
+    """Python convenience wrapper (allocates): returns (xl, pid, list of patch dicts, patches)."""
+    s = np.ascontiguousarray(s, dtype=np.float64)
+    gap = np.ascontiguousarray(gap, dtype=np.float64)
+    R_long = np.ascontiguousarray(R_long, dtype=np.float64)
+    n = s.shape[0]
+    xl = np.zeros(n)
+    pid = np.full(n, -1, dtype=np.int64)
+    patches = np.zeros((int(max_patches), NPROP))
+    m = kp_normal(s, gap, R_long, float(delta), float(E), float(nu), float(eps), xl, pid, patches)
+    names = {"N": P_N, "y_min": P_YMIN, "y_max": P_YMAX, "length": P_LENGTH, "width": P_WIDTH,
+             "area": P_AREA, "y_centroid": P_YC, "p_max": P_PMAX, "delta_local": P_DELTA,
+             "y0": P_Y0, "xl0": P_XL0, "p0": P_P0, "a_eq": P_AEQ, "b_eq": P_BEQ}
+    out = []
+    for k in range(m):
+        d = {key: float(patches[k, c]) for key, c in names.items()}
+        d["j0"] = int(patches[k, P_J0])
+        d["j1"] = int(patches[k, P_J1])
+        d["jm"] = int(patches[k, P_JM])
+        out.append(d)
+    return xl, pid, out, patches

@@ -1,0 +1,232 @@
+"""Wheel-rail forces of one wheel from the wheelset's pose and velocities (numba core).
+
+For each interpenetration patch found by `geometry.find_patches`:
+  - normal: the normal approach d = -gap cos(delta) (delta the contact angle); equivalent-elliptic Hertz
+    N = C d^1.5 from the patch's principal relative curvatures (`hertz.hertz_shape`), or the discrete
+    non-elliptic Kik-Piotrowski patch from the gap along the patch (`kik_piotrowski`); Hunt-Crossley
+    damping multiplies the elastic force by (1 + chi d'), and N >= 0 (no adhesion);
+  - creepages from the velocity of the wheel material point at the contact (translation, rotation and
+    spin of the wheelset, the rail being fixed): longitudinal and lateral along the contact plane,
+    spin about the contact normal, each divided by the forward speed;
+  - creep forces by the selected law (`creep.creep_forces`) on the Hertz ellipse (or the discrete
+    patch's equivalent ellipse).
+The force and its moment about the wheelset centre are returned in the wheelset's track axes.
+
+Only the left wheel is written out; `wheel_forces` mirrors the pose for the right wheel.
+"""
+import math
+
+import numba
+import numpy as np
+
+from . import geometry as geo
+from .creep import creep_forces
+from .hertz import hertz_shape
+from . import kik_piotrowski as kp
+
+# Contact parameter array cp
+C_ESTAR, C_G, C_NU, C_MU, C_CHI, C_NORMAL, C_CREEP = 0, 1, 2, 3, 4, 5, 6
+C_SIZE = 7
+NORMAL_HERTZ, NORMAL_DISCRETE = 0, 1
+
+# Per-wheel output record
+W_LIFT = 0            # wheel lift hp (m)
+W_Q = 1               # lateral force on the rail, + toward the rail's field side (N)
+W_P = 2               # vertical force on the rail, + down (N)
+W_FX = 3              # longitudinal force on the rail (N)
+W_QP = 4              # derailment coefficient Q/P (0 when unloaded)
+W_CPOS = 5            # main patch: lateral position on the rail from the head axis, + field side (m)
+W_CANGLE = 6          # main patch contact angle (rad)
+W_LEN = 7             # main patch length 2a (m)
+W_WID = 8             # main patch width 2b (m)
+W_COUNT = 9           # number of patches
+W_GAP = 10            # smallest wheel-rail gap (m, negative when in contact)
+W_PATCH0 = 11         # per patch: lateral position, lead x, length, width, normal force, contact angle
+W_PATCH_COLS = 6
+W_SIZE = W_PATCH0 + geo.MAX_PATCHES * W_PATCH_COLS
+
+
+@numba.njit(cache=True)
+def left_wheel(cg, cp, y, z, phi, psi, vel, omega, spin, speed, gap, ys, patches, cand, tracked, kpbuf,
+               kpid, kprow, force, moment, rec):
+    """Contact forces of the left wheel of a wheelset.
+
+    y, z, phi, psi: pose relative to the rails (m, rad); vel: absolute velocity of the wheelset centre,
+    omega: absolute angular velocity without spin (track axes); spin: rolling angular speed (rad/s) about
+    the axle; speed: forward speed for the creepages (m/s). Adds the force on the wheel and its moment
+    about the wheelset centre (track axes) into `force`, `moment`; fills the output record `rec`.
+    `tracked`: follow the minima listed in `cand` by the last full search (inside a time step) instead of
+    searching the whole profile (`geometry.track_patches`).
+    """
+    if tracked:
+        count = geo.track_patches(cg, y, z, phi, psi, gap, ys, patches, cand)
+        gmin = 0.0
+        for k in range(count):
+            gmin = min(gmin, patches[k, geo.P_GAP])
+    else:
+        count, gmin = geo.find_patches(cg, y, z, phi, psi, gap, ys, patches, cand)
+    r0 = cg[geo.H_R0]
+    cphi = math.cos(phi)
+    sphi = math.sin(phi)
+    cpsi = math.cos(psi)
+    spsi = math.sin(psi)
+    # axle direction (track axes) and total angular velocity of the wheel
+    ax_x = -spsi * cphi
+    ax_y = cpsi * cphi
+    ax_z = sphi
+    wx = omega[0] + spin * ax_x
+    wy = omega[1] + spin * ax_y
+    wz = omega[2] + spin * ax_z
+    estar = cp[C_ESTAR]
+    shear = cp[C_G]
+    nu = cp[C_NU]
+    mu = cp[C_MU]
+    chi = cp[C_CHI]
+    model = int(cp[C_CREEP])
+    fy_tot = 0.0
+    fz_tot = 0.0
+    fx_tot = 0.0
+    nmax = -1.0
+    for q in range(rec.shape[0]):
+        rec[q] = 0.0
+    rec[W_LIFT] = geo.wheel_lift(cg, z, phi)
+    rec[W_GAP] = gmin
+    rec[W_COUNT] = count
+    for k in range(count):
+        slope = patches[k, geo.P_SLOPE]
+        cd = 1.0 / math.sqrt(1.0 + slope * slope)
+        sd = slope * cd
+        d = -patches[k, geo.P_GAP] * cd
+        if d <= 0.0:
+            continue
+        # contact frame: normal n (rail into wheel), lateral tangent t, longitudinal e_x
+        nY, nZ = -sd, cd
+        tY, tZ = cd, sd
+        rx = patches[k, geo.P_X]
+        ry = patches[k, geo.P_Y] - y
+        rz = patches[k, geo.P_Z] - (r0 + z)
+        # velocity of the wheel material point at the contact
+        vx = vel[0] + wy * rz - wz * ry
+        vy = vel[1] + wz * rx - wx * rz
+        vz = vel[2] + wx * ry - wy * rx
+        approach_rate = -(vy * nY + vz * nZ)
+        if int(cp[C_NORMAL]) == NORMAL_DISCRETE:
+            n_el, a, b, a_eq, b_eq = _discrete_normal(cg, y, z, phi, psi, int(patches[k, geo.P_JM]),
+                                                      patches[k, geo.P_GAP], cd, gap, ys, kpbuf, kpid,
+                                                      kprow, cp[C_ESTAR], nu)
+        else:
+            ac, bc, stiff = hertz_shape(patches[k, geo.P_A], patches[k, geo.P_B], estar)
+            n_el = stiff * d * math.sqrt(d)
+            a = ac * n_el ** (1.0 / 3.0)
+            b = bc * n_el ** (1.0 / 3.0)
+            a_eq = a
+            b_eq = b
+        # Hunt-Crossley damping scales the load; the patch is the elastic one
+        normal = n_el * (1.0 + chi * approach_rate)
+        if normal <= 0.0:
+            continue
+        xi_x = vx / speed
+        xi_y = (vy * tY + vz * tZ) / speed
+        phi_s = (wy * nY + wz * nZ) / speed
+        fx, ft, mz = creep_forces(model, xi_x, xi_y, phi_s, a_eq, b_eq, normal, mu, shear, nu)
+        Fx = fx
+        Fy = normal * nY + ft * tY
+        Fz = normal * nZ + ft * tZ
+        force[0] += Fx
+        force[1] += Fy
+        force[2] += Fz
+        # moment of the force about the wheelset centre, plus the spin moment about the normal
+        moment[0] += ry * Fz - rz * Fy
+        moment[1] += rz * Fx - rx * Fz + mz * nY
+        moment[2] += rx * Fy - ry * Fx + mz * nZ
+        fx_tot += Fx
+        fy_tot += Fy
+        fz_tot += Fz
+        if k < geo.MAX_PATCHES:
+            o = W_PATCH0 + k * W_PATCH_COLS
+            rec[o] = patches[k, geo.P_Y] - cg[geo.H_RAIL_AXIS_Y]
+            rec[o + 1] = rx
+            rec[o + 2] = 2.0 * a
+            rec[o + 3] = 2.0 * b
+            rec[o + 4] = normal
+            rec[o + 5] = math.atan(slope)
+        if normal > nmax:
+            nmax = normal
+            rec[W_CPOS] = patches[k, geo.P_Y] - cg[geo.H_RAIL_AXIS_Y]
+            rec[W_CANGLE] = math.atan(slope)
+            rec[W_LEN] = 2.0 * a
+            rec[W_WID] = 2.0 * b
+    # forces on the rail: Q toward the left rail's field side (+Y), P downward
+    rec[W_Q] = -fy_tot
+    rec[W_P] = fz_tot
+    rec[W_FX] = -fx_tot
+    rec[W_QP] = rec[W_Q] / rec[W_P] if rec[W_P] > 1.0 else 0.0
+
+
+@numba.njit(cache=True)
+def _discrete_normal(cg, y, z, phi, psi, jm, gmin, cos_angle, gap, ys, kpbuf, kpid, kprow, estar, nu):
+    """Kik-Piotrowski normal load of one patch from the gap along its interpenetration run.
+
+    The vertical gap along the trace line is turned into the normal separation (times cos of the contact
+    angle) on the lateral tangent coordinate (Y / cos), assuming a locally plane contact; the wheel's
+    longitudinal radius in the contact plane is r sqrt(1 + r'^2). Returns (N, a, b, a_eq, b_eq): half
+    the patch's length and width, and the semi-axes of its equivalent ellipse for the creep forces.
+    """
+    ja, jb = geo.run_bounds(cg, y, z, phi, psi, jm, gap, ys)
+    n = jb - ja + 1
+    if n < 2:
+        return 0.0, 0.0, 0.0, 0.0, 0.0
+    nw = int(cg[geo.H_NW])
+    ds = (ys[jb] - ys[ja]) / ((n - 1) * cos_angle) if n > 1 else cg[geo.H_DW]
+    ds = abs(ds)
+    r0 = cg[geo.H_R0]
+    for i in range(n):
+        j = ja + i
+        kpbuf[0, i] = i * ds
+        kpbuf[1, i] = (gap[j] - gmin) * cos_angle
+        sw = cg[geo.H_SIZE + nw + j]
+        kpbuf[2, i] = (r0 + cg[geo.H_SIZE + j]) * math.sqrt(1.0 + sw * sw)
+    # E from E* for identical materials (E* = E / (2 (1 - nu^2)))
+    E = estar * 2.0 * (1.0 - nu * nu)
+    count = kp.kp_normal(kpbuf[0, :n], kpbuf[1, :n], kpbuf[2, :n], -gmin * cos_angle, E, nu, kp.EPS_DEFAULT,
+                         kpbuf[3, :n], kpid[:n], kprow)
+    if count == 0:
+        return 0.0, 0.0, 0.0, 0.0, 0.0
+    return (kprow[0, kp.P_N], 0.5 * kprow[0, kp.P_LENGTH], 0.5 * kprow[0, kp.P_WIDTH], kprow[0, kp.P_AEQ],
+            kprow[0, kp.P_BEQ])
+
+
+@numba.njit(cache=True)
+def wheel_forces(cg, cp, side, y, z, phi, psi, vel, omega, spin, speed, gap, ys, patches, cand, tracked,
+                 kpbuf, kpid, kprow, force, moment, rec, scratch):
+    """Contact forces of wheel `side` (0 left, 1 right): adds to force/moment (track axes).
+
+    The right wheel is the left wheel of the wheelset mirrored in the x-z plane: y, phi, psi, the lateral
+    velocity and the x and z angular velocities change sign; the resulting lateral force and the x and z
+    moments change sign back.
+    """
+    if side == 0:
+        left_wheel(cg, cp, y, z, phi, psi, vel, omega, spin, speed, gap, ys, patches, cand, tracked, kpbuf,
+                   kpid, kprow, force, moment, rec)
+        return
+    mvel = scratch[0:3]
+    mom = scratch[3:6]
+    f = scratch[6:9]
+    m = scratch[9:12]
+    mvel[0] = vel[0]
+    mvel[1] = -vel[1]
+    mvel[2] = vel[2]
+    mom[0] = -omega[0]
+    mom[1] = omega[1]
+    mom[2] = -omega[2]
+    for i in range(3):
+        f[i] = 0.0
+        m[i] = 0.0
+    left_wheel(cg, cp, -y, z, -phi, -psi, mvel, mom, spin, speed, gap, ys, patches, cand, tracked, kpbuf, kpid,
+               kprow, f, m, rec)
+    force[0] += f[0]
+    force[1] -= f[1]
+    force[2] += f[2]
+    moment[0] -= m[0]
+    moment[1] += m[1]
+    moment[2] -= m[2]

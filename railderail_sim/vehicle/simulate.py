@@ -1,0 +1,344 @@
+"""Friendly API over the vehicle core: scenarios, speed profiles, the stepper object and `simulate`.
+
+    from railderail_sim.vehicle import Scenario, simulate
+    result = simulate(Scenario(radius=1000.0, speed_kmh=300.0))
+    result.summary()
+
+`Simulation` is the stepper: `Simulation(scenario).advance(duration)` runs the numba core for a given
+simulated time into preallocated buffers; `simulate` is the same stepper run to the end of the line.
+"""
+from dataclasses import dataclass, field, replace
+import json
+import math
+import os
+import tempfile
+
+import numpy as np
+
+from ..contact import geometry as geo
+from ..contact import wheelset as ws
+from ..contact.hertz import hertz_shape
+from ..parameters import ContactParameters, TrackParameters, VehicleParameters, vehicle_parameters
+from ..track import alignment
+from . import integrator as itg
+from . import layout as L
+from .assemble import build_model
+
+KMH = 1.0 / 3.6
+RADIUS_RANGE = (300.0, 20000.0)          # m; curves tighter than 300 m are outside the profile tables' use
+SPEED_RANGE_KMH = (30.0, 600.0)          # creepage normalisation and step size are set for this range
+RTOL = 1.0e-7                            # relative error per step; see docs/vehicle-model.md (tolerance study)
+ATOL_DISPLACEMENT = 1.0e-8               # m and rad per step; velocities and rates get 100x this in 1/s
+MAX_STEP = 2.0e-3                        # s, below the stability limit of the 200 Hz contact modes
+MIN_STEP = 1.0e-8                        # s; a step below this means the run has diverged
+MECHANISMS = {itg.MECH_FLANGE_CLIMBING: "flange_climbing", itg.MECH_WHEEL_UNLOADING: "wheel_unloading"}
+STATUS = {itg.RUNNING: "running", itg.DERAILED: "derailed", itg.DIVERGED: "diverged",
+          itg.END_OF_LINE: "finished"}
+
+
+class SimulationDiverged(RuntimeError):
+    """The integration ran away: raised with the time, track position and offending state."""
+
+
+def check_range(name, value, lo, hi, unit):
+    if not (lo <= value <= hi) or not math.isfinite(value):
+        raise ValueError(f"{name} {value:g} {unit} is outside the supported range {lo:g}-{hi:g} {unit}")
+
+
+def constant_speed(speed_kmh):
+    """Speed table (s, v in m/s) for a constant speed."""
+    check_range("speed", speed_kmh, *SPEED_RANGE_KMH, "km/h")
+    v = speed_kmh * KMH
+    return np.array([[0.0, v], [1.0, v]])
+
+
+def staircase_speed(start_kmh, step_kmh, first_change_m, hold_m, acceleration, top_kmh):
+    """The progressive trial's staircase (Yu 2022, Fig. 3) as a speed table over distance.
+
+    Constant `start_kmh` up to `first_change_m`; then repeatedly accelerate by `step_kmh` at
+    `acceleration` (m/s^2) and hold for `hold_m`, up to `top_kmh`. Speed is linear in distance during
+    each acceleration (distance (v1^2 - v0^2) / 2a).
+    """
+    check_range("start speed", start_kmh, *SPEED_RANGE_KMH, "km/h")
+    check_range("top speed", top_kmh, start_kmh, SPEED_RANGE_KMH[1], "km/h")
+    if step_kmh <= 0 or hold_m <= 0 or acceleration <= 0:
+        raise ValueError("speed step, hold length and acceleration must be positive")
+    pts = [(0.0, start_kmh * KMH), (first_change_m, start_kmh * KMH)]
+    v = start_kmh
+    s = first_change_m
+    while v < top_kmh - 1e-9:
+        v1 = min(v + step_kmh, top_kmh)
+        s += ((v1 * KMH) ** 2 - (v * KMH) ** 2) / (2.0 * acceleration)
+        pts.append((s, v1 * KMH))
+        s += hold_m
+        pts.append((s, v1 * KMH))
+        v = v1
+    return np.array(pts)
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """A run: vehicle, track, contact, speed profile and numerical settings (SI inside)."""
+    vehicle: VehicleParameters = field(default_factory=vehicle_parameters)
+    track: TrackParameters = field(default_factory=TrackParameters)
+    contact: ContactParameters = field(default_factory=ContactParameters)
+    speed_table: np.ndarray = field(default_factory=lambda: constant_speed(300.0))
+    rtol: float = RTOL
+    atol: float = ATOL_DISPLACEMENT
+    output_rate: float = 200.0              # Hz
+    start_position: float = 0.0             # m, car-body centre
+    end_position: float = math.nan          # m, default: end of the line
+    stop_on_derailment: bool = True
+    lift_tolerance: float = 1.0e-3          # m, see integrator._check_derailment
+
+    def validated(self):
+        check_range("curve radius", self.track.radius, *RADIUS_RANGE, "m")
+        if not (1e-10 <= self.rtol <= 1e-2) or not (1e-12 <= self.atol <= 1e-3):
+            raise ValueError(f"tolerances rtol {self.rtol:g} / atol {self.atol:g} are outside 1e-10-1e-2 / "
+                             "1e-12-1e-3")
+        if not (1.0 <= self.output_rate <= 5000.0):
+            raise ValueError(f"output rate {self.output_rate:g} Hz is outside 1-5000 Hz")
+        vmin = float(np.min(self.speed_table[:, 1]))
+        vmax = float(np.max(self.speed_table[:, 1]))
+        check_range("speed", vmin / KMH, *SPEED_RANGE_KMH, "km/h")
+        check_range("speed", vmax / KMH, *SPEED_RANGE_KMH, "km/h")
+        return self
+
+
+def scenario(radius=1000.0, speed_kmh=300.0, vehicle_set="hs19", contact_model="hertz", creep_model="she",
+             wheel_profile="lm", friction=0.3, direction=1, **kwargs):
+    """A Scenario from the usual knobs (radius in m, speed in km/h)."""
+    check_range("curve radius", radius, *RADIUS_RANGE, "m")
+    return Scenario(vehicle=vehicle_parameters(vehicle_set),
+                    track=TrackParameters(radius=radius, direction=direction),
+                    contact=ContactParameters(normal_model=contact_model, creep_model=creep_model,
+                                              wheel_profile=wheel_profile, friction_coefficient=friction),
+                    speed_table=constant_speed(speed_kmh), **kwargs).validated()
+
+
+def static_vertical_offset(model):
+    """Vertical displacement of the centred car at rest: rigid contact minus the Hertz approach (m)."""
+    cg = model.cg
+    nw = int(cg[geo.H_NW])
+    gap = np.zeros(nw)
+    ys = np.zeros(nw)
+    z_rigid, _, _, _ = geo.rigid_contact(cg, 0.0, 0.0, gap, ys)
+    patches = np.zeros((geo.MAX_PATCHES, geo.P_COLS))
+    n, _ = geo.find_patches(cg, 0.0, z_rigid - 1e-7, 0.0, 0.0, gap, ys, patches,
+                            np.zeros(1 + geo.MAX_CANDIDATES))
+    k = int(np.argmin(patches[:n, geo.P_GAP]))
+    _, _, stiff = hertz_shape(patches[k, geo.P_A], patches[k, geo.P_B], model.cp[ws.C_ESTAR])
+    slope = patches[k, geo.P_SLOPE]
+    approach = (model.static_wheel_load / stiff) ** (2.0 / 3.0)
+    return z_rigid - approach * math.sqrt(1.0 + slope * slope)
+
+
+class Simulation:
+    """The stepper over the numba core; holds the state and all preallocated buffers."""
+
+    def __init__(self, sc: Scenario, model=None):
+        self.scenario = sc.validated()
+        self.model = model if model is not None else build_model(sc.vehicle, sc.track, sc.contact,
+                                                                 sc.lift_tolerance)
+        self.speed_table = np.ascontiguousarray(sc.speed_table, dtype=np.float64)
+        self.work = itg.workspace(self.model.cg)
+        self.atol = state_tolerances(sc.atol)
+        self.x = np.zeros(L.N_STATE)
+        z0 = static_vertical_offset(self.model)
+        for b in range(L.N_BODY):
+            self.x[L.N_DOF * b + 1] = z0
+        self.x[L.I_S] = sc.start_position
+        self.t = 0.0
+        self.rows_written = 0
+        line_end = alignment.end_of_line(self.model.track)
+        self.s_end = line_end if math.isnan(sc.end_position) else sc.end_position
+        self.status = itg.RUNNING
+        self.event = self.work["event"]
+
+    @property
+    def output_dt(self):
+        return 1.0 / self.scenario.output_rate
+
+    def advance(self, duration):
+        """Run for `duration` seconds of simulated time (rounded to whole output periods, or until it
+        stops); returns the new output rows (one per output period; the first call also the start)."""
+        if self.status != itg.RUNNING:
+            return np.zeros((0, itg.N_OUT))
+        n = int(round(duration / self.output_dt))
+        first = self.rows_written == 0
+        out = np.zeros((n + 1, itg.N_OUT))
+        w = self.work
+        m = self.model
+        status, rows, self.t = itg.advance(
+            self.x, self.t, n * self.output_dt, self.output_dt, first, w["hstate"], self.s_end,
+            self.scenario.stop_on_derailment, self.atol, self.scenario.rtol, MIN_STEP, MAX_STEP, m.bodies,
+            m.vp, m.bush, m.damp, m.bump, m.arb, m.track, self.speed_table, m.cg, m.cp, w["ks"], w["xt"],
+            w["cand_save"], w["kin"], w["gap"], w["ys"], w["patches"], w["cands"], w["kpbuf"], w["kpid"],
+            w["kprow"], w["ftrack"], w["recs"], w["scratch"], self.event, out)
+        self.rows_written += rows
+        self.status = status
+        if status == itg.DIVERGED:
+            raise SimulationDiverged(self.divergence_message())
+        return out[:rows]
+
+    def divergence_message(self):
+        e = self.event
+        idx = int(e[itg.EV_INDEX])
+        where = f"the simulation diverged at t = {e[itg.EV_T]:.4f} s, track position {e[itg.EV_S]:.2f} m: "
+        if idx < 0:
+            return where + f"the step size fell to {e[itg.EV_VALUE]:.3g} s (below {MIN_STEP:g} s)"
+        return (where + f"{state_name(idx)} = {e[itg.EV_VALUE]:.4g} ran away (limits: displacement "
+                f"{itg.LIMIT_DISPLACEMENT} m, angle {itg.LIMIT_ANGLE} rad, velocity {itg.LIMIT_VELOCITY} m/s)")
+
+    def derailment(self):
+        """The derailment event as a dict (None if the run did not derail)."""
+        if self.status != itg.DERAILED:
+            return None
+        e = self.event
+        side = int(e[itg.EV_SIDE])
+        direction = self.scenario.track.direction
+        inner_side = 0 if direction > 0 else 1
+        return dict(time_s=float(e[itg.EV_T]), position_m=float(e[itg.EV_S]),
+                    wheelset=int(e[itg.EV_WHEELSET]), wheel_side="left" if side == 0 else "right",
+                    rail_side="inner" if side == inner_side else "outer",
+                    mechanism=MECHANISMS[int(e[itg.EV_MECH])], wheel_lift_m=float(e[itg.EV_LIFT]),
+                    lateral_displacement_m=float(e[itg.EV_LATERAL]), speed_kmh=float(e[itg.EV_SPEED]) / KMH)
+
+
+def state_tolerances(atol):
+    """Absolute error tolerance per state: atol for displacements, angles and damper states (m, rad),
+    100 atol for velocities and rates (1/s), 1e3 atol for the track position."""
+    tol = np.full(L.N_STATE, atol)
+    tol[L.I_VEL:L.I_DAMPER] = 100.0 * atol
+    tol[L.I_S] = 1e3 * atol
+    return tol
+
+
+BODY_NAMES = ("car_body", "front_bogie", "rear_bogie", "wheelset_1", "wheelset_2", "wheelset_3", "wheelset_4")
+DOF_NAMES = ("lateral", "vertical", "roll", "pitch", "yaw")
+
+
+def state_name(i):
+    if i < L.I_VEL:
+        return f"{BODY_NAMES[i // L.N_DOF]} {DOF_NAMES[i % L.N_DOF]} displacement"
+    if i < L.I_DAMPER:
+        j = i - L.I_VEL
+        return f"{BODY_NAMES[j // L.N_DOF]} {DOF_NAMES[j % L.N_DOF]} velocity"
+    if i < L.I_S:
+        return f"damper {i - L.I_DAMPER} elongation"
+    return "track position"
+
+
+def simulate(sc: Scenario, progress=None, chunk=1.0):
+    """Run a scenario to the end of the line (or derailment); returns a Result."""
+    sim = Simulation(sc)
+    parts = []
+    while sim.status == itg.RUNNING:
+        parts.append(sim.advance(chunk))
+        if progress is not None:
+            progress(sim)
+    rows = np.concatenate(parts) if parts else np.zeros((0, itg.N_OUT))
+    return Result(rows=rows, scenario=sc, status=STATUS[sim.status], derailment=sim.derailment(),
+                  flange_height=float(sim.model.vp[L.V_FLANGE_HEIGHT]),
+                  climb_displacement=float(sim.model.vp[L.V_CLIMB_DISPLACEMENT]))
+
+
+WHEEL_FIELDS = {"wheel_lift": ws.W_LIFT, "lateral_force": ws.W_Q, "vertical_force": ws.W_P,
+                "longitudinal_force": ws.W_FX, "derailment_coefficient": ws.W_QP,
+                "contact_position": ws.W_CPOS, "contact_angle": ws.W_CANGLE, "patch_length": ws.W_LEN,
+                "patch_width": ws.W_WID, "contact_count": ws.W_COUNT, "min_gap": ws.W_GAP}
+
+
+@dataclass
+class Result:
+    """Time histories of a run. Arrays are SI; wheel arrays are (n, 8) ordered [ws1 L, ws1 R, ...]."""
+    rows: np.ndarray
+    scenario: Scenario
+    status: str
+    derailment: dict = None
+    flange_height: float = 0.0
+    climb_displacement: float = 0.0
+
+    def column(self, i):
+        return self.rows[:, i]
+
+    @property
+    def time(self):
+        return self.rows[:, L.O_T]
+
+    @property
+    def position(self):
+        return self.rows[:, L.O_S]
+
+    @property
+    def speed(self):
+        return self.rows[:, L.O_V]
+
+    def body(self, body, dof):
+        return self.rows[:, L.O_BODY + L.N_DOF * BODY_NAMES.index(body) + DOF_NAMES.index(dof)]
+
+    @property
+    def wheelset_lateral(self):
+        return self.rows[:, L.O_WS:L.O_WS + 12:3]
+
+    @property
+    def attack_angle(self):
+        return self.rows[:, L.O_WS + 1:L.O_WS + 12:3]
+
+    @property
+    def wheelset_roll(self):
+        return self.rows[:, L.O_WS + 2:L.O_WS + 12:3]
+
+    def wheel(self, name):
+        j = WHEEL_FIELDS[name]
+        return self.rows[:, [L.O_WHEEL + k * ws.W_SIZE + j for k in range(8)]]
+
+    def patches(self, wheel_index):
+        """(n, 3, 6) per-patch lateral position, lead, length, width, normal force, contact angle."""
+        o = L.O_WHEEL + wheel_index * ws.W_SIZE + ws.W_PATCH0
+        return self.rows[:, o:o + 3 * ws.W_PATCH_COLS].reshape(-1, 3, ws.W_PATCH_COLS)
+
+    def arrays(self):
+        """Named arrays of the documented output format."""
+        d = dict(time=self.time, position=self.position, speed=self.speed,
+                 section=self.rows[:, L.O_SECTION], curvature=self.rows[:, L.O_CURV],
+                 cant=self.rows[:, L.O_CANT], uncompensated_acceleration=self.rows[:, L.O_ANC],
+                 wheelset_lateral=self.wheelset_lateral, attack_angle=self.attack_angle,
+                 wheelset_roll=self.wheelset_roll,
+                 body_states=self.rows[:, L.O_BODY:L.O_BODY + L.N_BODY * L.N_DOF].reshape(-1, L.N_BODY, L.N_DOF))
+        for name in WHEEL_FIELDS:
+            d[name] = self.wheel(name)
+        d["patches"] = np.stack([self.patches(k) for k in range(8)], axis=1)
+        return d
+
+    def summary(self):
+        a = self.arrays()
+        s = dict(status=self.status, duration_s=float(self.time[-1]) if len(self.time) else 0.0,
+                 end_position_m=float(self.position[-1]) if len(self.time) else 0.0,
+                 max_attack_angle_rad=float(np.max(np.abs(a["attack_angle"][:, 0]))) if len(self.time) else 0.0,
+                 max_wheel_lift_m=float(np.max(a["wheel_lift"])) if len(self.time) else 0.0,
+                 max_lateral_force_n=float(np.max(a["lateral_force"])) if len(self.time) else 0.0,
+                 max_vertical_force_n=float(np.max(a["vertical_force"])) if len(self.time) else 0.0,
+                 max_derailment_coefficient=float(np.max(a["derailment_coefficient"])) if len(self.time) else 0.0,
+                 derailment=self.derailment)
+        return s
+
+    def save(self, path):
+        """Write the documented .npz format (docs/output-format.md) atomically."""
+        path = os.fspath(path)
+        meta = dict(status=self.status, derailment=self.derailment, flange_height_m=self.flange_height,
+                    radius_m=self.scenario.track.radius, vehicle_set=self.scenario.vehicle.name,
+                    contact_model=self.scenario.contact.normal_model,
+                    creep_model=self.scenario.contact.creep_model,
+                    wheel_profile=self.scenario.contact.wheel_profile,
+                    speed_table=self.scenario.speed_table.tolist(), rtol=self.scenario.rtol,
+                    atol=self.scenario.atol)
+        d = os.path.dirname(os.path.abspath(path))
+        fd, tmp = tempfile.mkstemp(suffix=".npz", dir=d)
+        os.close(fd)
+        try:
+            np.savez_compressed(tmp, metadata=json.dumps(meta), **self.arrays())
+            os.replace(tmp, path)
+        except BaseException:
+            os.unlink(tmp)
+            raise

@@ -1,0 +1,130 @@
+"""Contact geometry: search against brute force, mirror symmetry, rigid tables, conicity (EN 15302)."""
+import math
+
+import numpy as np
+import pytest
+
+from railderail_sim.contact import conicity as C
+from railderail_sim.contact import geometry as geo
+from railderail_sim.parameters import ContactParameters, TrackParameters
+from railderail_sim.vehicle.assemble import contact_geometry
+
+
+@pytest.fixture(scope="module", params=["lm", "s1002"])
+def cg(request):
+    return contact_geometry(ContactParameters(wheel_profile=request.param), TrackParameters(), 0.46)
+
+
+@pytest.fixture(scope="module")
+def cg_lm():
+    return contact_geometry(ContactParameters(wheel_profile="lm"), TrackParameters(), 0.46)
+
+
+def _buffers(cg):
+    n = int(cg[geo.H_NW])
+    return np.zeros(n), np.zeros(n), np.zeros((geo.MAX_PATCHES, geo.P_COLS)), np.zeros(1 + geo.MAX_CANDIDATES)
+
+
+def _brute_force(cg, y, z, phi, psi):
+    """Deepest gap of each interpenetration run on the full fine grid, refined by the same parabola."""
+    gap, ys, _, _ = _buffers(cg)
+    j0, j1 = geo.trace_gap(cg, y, z, phi, psi, gap, ys)
+    g = gap[j0:j1]
+    runs = []
+    j = 0
+    while j < len(g):
+        if g[j] < 0:
+            k = j
+            while k < len(g) and g[k] < 0:
+                k += 1
+            m = j + int(np.argmin(g[j:k]))
+            if 0 < m < len(g) - 1:
+                den = g[m - 1] - 2 * g[m] + g[m + 1]
+                runs.append(g[m] - 0.125 * (g[m - 1] - g[m + 1]) ** 2 / den if den > 0 else g[m])
+            else:
+                runs.append(g[m])
+            j = k
+        else:
+            j += 1
+    return sorted(runs)
+
+
+def test_coarse_to_fine_search_finds_every_patch(cg):
+    """Random poses (tread, flange, two-point, yaw to 0.08 rad, roll to 0.03 rad): same patches."""
+    rng = np.random.default_rng(7)
+    gap, ys, patches, cand = _buffers(cg)
+    for _ in range(400):
+        y = rng.uniform(-0.012, 0.03)
+        psi = rng.uniform(-0.08, 0.08)
+        phi = rng.uniform(-0.03, 0.03)
+        g0, _ = geo.min_gap(cg, y, 0.0, phi, psi, gap, ys)
+        z = -g0 - rng.uniform(1e-6, 3e-4)
+        expected = _brute_force(cg, y, z, phi, psi)
+        n, _ = geo.find_patches(cg, y, z, phi, psi, gap, ys, patches, cand)
+        got = sorted(patches[:n, geo.P_GAP])
+        assert len(got) == len(expected)
+        assert np.allclose(got, expected, atol=1e-9)
+
+
+def test_tracking_inside_a_step_reproduces_the_full_search(cg_lm):
+    gap, ys, patches, cand = _buffers(cg_lm)
+    p2 = np.zeros_like(patches)
+    for y, psi in [(0.0, 0.0), (0.004, 0.002), (0.0085, 0.01), (0.012, 0.03)]:
+        g0, _ = geo.min_gap(cg_lm, y, 0.0, 0.0, psi, gap, ys)
+        z = -g0 - 1e-4
+        n, _ = geo.find_patches(cg_lm, y, z, 0.0, psi, gap, ys, patches, cand)
+        # move by a typical step (0.02 mm, 1e-5 rad) and compare tracking with a new full search
+        m = geo.track_patches(cg_lm, y + 2e-5, z, 1e-5, psi, gap, ys, p2, cand)
+        k, _ = geo.find_patches(cg_lm, y + 2e-5, z, 1e-5, psi, gap, ys, patches, np.zeros_like(cand))
+        assert m == k
+        assert np.allclose(np.sort(p2[:m, geo.P_GAP]), np.sort(patches[:k, geo.P_GAP]), atol=1e-12)
+
+
+def test_wheel_lifts_off_with_a_gap(cg_lm):
+    gap, ys, patches, cand = _buffers(cg_lm)
+    g0, _ = geo.min_gap(cg_lm, 0.0, 0.0, 0.0, 0.0, gap, ys)
+    n, gmin = geo.find_patches(cg_lm, 0.0, -g0 + 1e-3, 0.0, 0.0, gap, ys, patches, cand)
+    assert n == 0 and gmin == pytest.approx(1e-3, abs=2e-6)
+
+
+@pytest.fixture(scope="module")
+def tables():
+    return {name: C.rigid_table(contact_geometry(ContactParameters(wheel_profile=name), TrackParameters(), 0.46),
+                                0.012, 1e-4) for name in ("lm", "s1002")}
+
+
+def test_rigid_table_mirror_symmetry(tables):
+    for t in tables.values():
+        i0 = len(t.y) // 2
+        assert t.y[i0] == 0.0 and t.delta_r[i0] == pytest.approx(0.0, abs=1e-12)
+        assert np.allclose(t.delta_r, -t.delta_r[::-1], atol=1e-9)
+        assert np.allclose(t.radius_left, t.radius_right[::-1], atol=1e-9)
+        assert np.allclose(t.roll, -t.roll[::-1], atol=1e-12)
+
+
+def test_flange_contact_angle_reaches_the_profile_flange_angle(tables):
+    lm = tables["lm"]
+    assert math.degrees(lm.contact_angle_left.max()) == pytest.approx(69.4, abs=0.3)
+    assert math.degrees(tables["s1002"].contact_angle_left.max()) == pytest.approx(70.0, abs=0.3)
+
+
+def test_equivalent_conicity_of_a_cone_is_its_cone_angle():
+    y = np.round(np.arange(-0.012, 0.012 + 5e-5, 1e-4), 12)
+    zeros = np.zeros_like(y)
+    for gamma in (0.025, 0.05, 0.2):
+        t = C.RigidTable(y, 2 * gamma * y, *([zeros] * 14), r0=0.46, contact_half_distance=0.75)
+        ge, lam = C.equivalent_conicity(t, 0.003)
+        assert ge == pytest.approx(gamma, rel=1e-6)
+        assert lam == pytest.approx(2 * math.pi * math.sqrt(0.75 * 0.46 / gamma), rel=1e-6)  # Klingel
+        assert C.harmonic_conicity(t, 0.003) == pytest.approx(gamma, rel=1e-6)
+
+
+def test_lm_conicity_against_independent_estimate(tables):
+    """shared/reference/lm-profile.md §5 computed 0.11 at 3 mm for the LM.prw data on UIC60 1:40."""
+    ge, _ = C.equivalent_conicity(tables["lm"], 0.003)
+    assert 0.10 <= ge <= 0.13
+
+
+def test_bad_amplitude_is_refused(tables):
+    with pytest.raises(ValueError, match="amplitude 20 mm is outside"):
+        C.equivalent_conicity(tables["lm"], 0.02)
