@@ -26,7 +26,7 @@ from .assemble import build_model
 
 KMH = 1.0 / 3.6
 RADIUS_RANGE = (300.0, 20000.0)          # m; curves tighter than 300 m are outside the profile tables' use
-SPEED_RANGE_KMH = (30.0, 600.0)          # creepage normalisation and step size are set for this range
+SPEED_RANGE_KMH = (30.0, 800.0)          # the creepage normalisation and tolerances are set for this range
 RTOL = 1.0e-7                            # relative error per step; see docs/vehicle-model.md (tolerance study)
 ATOL_DISPLACEMENT = 1.0e-8               # m and rad per step; velocities and rates get 100x this in 1/s
 MAX_STEP = 2.0e-3                        # s, below the stability limit of the 200 Hz contact modes
@@ -92,7 +92,8 @@ class Scenario:
     lift_tolerance: float = 1.0e-3          # m, see integrator._check_derailment
 
     def validated(self):
-        check_range("curve radius", self.track.radius, *RADIUS_RANGE, "m")
+        if not math.isinf(self.track.radius):
+            check_range("curve radius", self.track.radius, *RADIUS_RANGE, "m")
         if not (1e-10 <= self.rtol <= 1e-2) or not (1e-12 <= self.atol <= 1e-3):
             raise ValueError(f"tolerances rtol {self.rtol:g} / atol {self.atol:g} are outside 1e-10-1e-2 / "
                              "1e-12-1e-3")
@@ -114,6 +115,11 @@ def scenario(radius=1000.0, speed_kmh=300.0, vehicle_set="hs19", contact_model="
                     contact=ContactParameters(normal_model=contact_model, creep_model=creep_model,
                                               wheel_profile=wheel_profile, friction_coefficient=friction),
                     speed_table=constant_speed(speed_kmh), **kwargs).validated()
+
+
+def straight_track(**changes):
+    """Straight track without cant (the root-locus and limit-cycle methods), Table 2 lengths."""
+    return TrackParameters(radius=math.inf, cant_height=0.0, **changes)
 
 
 def static_vertical_offset(model):

@@ -1,0 +1,1 @@
+"""railderail monitor: derailment criteria, early warning, recording and replay."""

@@ -1,0 +1,93 @@
+"""The `railderail` command.
+
+Subcommands come from the table COMMANDS. To add one, write a function
+
+    def my_command(parser: argparse.ArgumentParser) -> Callable[[argparse.Namespace], int | None]
+
+in any module: it adds the subcommand's arguments to `parser` and returns the function that runs
+the subcommand on the parsed arguments (returning an exit status; None means 0). Then add a line
+`Command("name", "one-line help", "module.path:my_command")` to COMMANDS. Only the chosen
+subcommand's module is imported, so `railderail --help` stays fast whatever the modules import.
+
+Errors: bad arguments, and a ValueError raised while running (bad input found by the API layer),
+are printed as one line `railderail: error: <message>` on stderr with exit status 2, no traceback.
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from typing import Callable, NamedTuple, NoReturn
+
+from railderail_sim import __version__
+
+PROG = "railderail"
+
+
+class Command(NamedTuple):
+    name: str
+    help: str
+    target: str  # "module:function" that adds the arguments and returns the runner
+
+
+COMMANDS: tuple[Command, ...] = (
+    Command("version", "print the railderail version", "railderail_sim.cli:version_command"),
+    Command("contact-geometry", "contact geometry, conicity, Nadal limit of a wheel/rail pair (--json, --plot)",
+            "railderail_sim.contact.cli:geometry_command"),
+    Command("contact-case", "contact patches and forces of a loaded wheelset (--json, --plot)",
+            "railderail_sim.contact.cli:case_command"),
+    Command("bench", "print the performance figures (add --json)", "railderail_sim.bench:command"),
+)
+
+
+def version_command(parser: argparse.ArgumentParser) -> Callable[[argparse.Namespace], None]:
+    return lambda args: print(f"{PROG} {__version__}")
+
+
+class _Parser(argparse.ArgumentParser):
+    """ArgumentParser that reports a usage error as one line (exit status 2)."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+def _load(target: str) -> Callable[[argparse.ArgumentParser], Callable]:
+    module, _, function = target.partition(":")
+    return getattr(importlib.import_module(module), function)
+
+
+def build_parser(argv: list[str]) -> argparse.ArgumentParser:
+    """Parser with every subcommand; only the one named in `argv` gets its arguments (and import)."""
+    parser = _Parser(
+        prog=PROG,
+        description="Simulate a CRH3 car over-speeding on a curve, predict its critical derailment "
+        "speed and warn before derailment.",
+    )
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", title="commands",
+                                       parser_class=_Parser)
+    chosen = next((arg for arg in argv if not arg.startswith("-")), None)
+    for command in COMMANDS:
+        subparser = subparsers.add_parser(command.name, help=command.help, description=command.help)
+        if command.name == chosen:
+            subparser.set_defaults(run=_load(command.target)(subparser))
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    parser = build_parser(argv)
+    args = parser.parse_args(argv)
+    if args.command is None:
+        parser.error("no command given")
+    try:
+        status = args.run(args)
+    except ValueError as error:
+        print(f"{PROG}: error: {error}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        return 130
+    return 0 if status is None else status
+
+
+if __name__ == "__main__":
+    sys.exit(main())

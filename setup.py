@@ -1,0 +1,55 @@
+"""railderail: a ROS 2 package (ament_python, built by colcon) that is pip-installable too.
+
+Commands: `railderail`, `railderail-simulator` and `railderail-monitor` are console scripts
+(installed to bin/). `ros2 run railderail simulator|monitor` finds the two small launchers of
+ros2_run/, installed as data files to lib/railderail/ (where `ros2 run` looks), so that a pip
+install puts no generic `simulator`/`monitor` names on PATH.
+"""
+import re
+from pathlib import Path
+
+from setuptools import find_packages, setup
+
+PACKAGE = "railderail"
+VERSION = re.search(r'^__version__ = "([^"]+)"$',
+                    (Path(__file__).parent / "railderail_sim" / "__init__.py").read_text(),
+                    re.MULTILINE).group(1)
+
+setup(
+    name=PACKAGE,
+    version=VERSION,
+    description="CRH3 car over-speeding on a curve: derailment simulation, prediction and warning",
+    license="Apache-2.0",
+    maintainer="railderail maintainers",
+    maintainer_email="railderail@example.org",
+    python_requires=">=3.11",
+    packages=find_packages(include=["railderail_sim", "railderail_sim.*",
+                                    "railderail_monitor", "railderail_monitor.*"]),
+    package_data={"railderail_sim": ["profiles/data/*"]},
+    data_files=[
+        ("share/ament_index/resource_index/packages", [f"resource/{PACKAGE}"]),
+        (f"share/{PACKAGE}", ["package.xml"]),
+        (f"lib/{PACKAGE}", ["ros2_run/simulator", "ros2_run/monitor"]),
+    ],
+    # Python libraries only: the ROS 2 packages (rclpy, messages) come from the ROS installation,
+    # or in the pip-only set-up from the ros-jazzy-* wheels of requirements.txt.
+    install_requires=[
+        "numpy>=2,<2.6",  # numba needs <2.6, rerun-sdk >=2
+        "scipy",
+        "numba",
+        "matplotlib",
+        "tqdm",
+        "dask[distributed]",
+        "mcap",
+        "mcap-ros2-support",
+        "rerun-sdk",
+    ],
+    zip_safe=False,
+    entry_points={
+        "console_scripts": [
+            "railderail = railderail_sim.cli:main",
+            "railderail-simulator = railderail_sim.node:main",
+            "railderail-monitor = railderail_monitor.node:main",
+        ],
+    },
+)

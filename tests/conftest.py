@@ -1,0 +1,78 @@
+"""Shared test set-up.
+
+Markers: `slow` marks heavy physics checks. The default run (`python -m pytest -q`) runs every
+test, slow ones included; `-m "not slow"` skips them. A default per-test timeout is set in
+pytest.ini (pytest-timeout); a test may ask for more with @pytest.mark.timeout(seconds).
+
+ROS 2: every test run gets its own ROS_DOMAIN_ID (so that two runs on one machine do not hear
+each other) and keeps DDS discovery on this machine (ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST:
+no multicast on the network). Child processes inherit both.
+"""
+import os
+import selectors
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+
+def pytest_configure(config):
+    config.addinivalue_line("markers", "slow: heavy physics check (minutes); skip with -m 'not slow'")
+    os.environ["ROS_DOMAIN_ID"] = str(1 + os.getpid() % 100)
+    os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
+    os.environ.pop("ROS_STATIC_PEERS", None)
+
+
+def _default_sigint():
+    # A child started from a non-interactive shell's background job inherits SIGINT ignored;
+    # restore the default so that Ctrl-C / SIGINT reaches it.
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+@pytest.fixture
+def spawn():
+    """Start a child process (text pipes, own process group); every child is stopped at teardown."""
+    children = []
+
+    def start(args, **kwargs):
+        child = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                 start_new_session=True, preexec_fn=_default_sigint, **kwargs)
+        children.append(child)
+        return child
+
+    yield start
+    for child in children:
+        if child.poll() is None:
+            child.kill()
+        child.communicate(timeout=10)
+
+
+@pytest.fixture
+def venv_bin():
+    """The bin/ folder of the environment the tests run in (the .venv), with the console scripts."""
+    return Path(sys.executable).parent
+
+
+@pytest.fixture
+def read_until():
+    """read_until(child, text, timeout): lines that a spawned child printed on stderr up to the
+    first one containing `text`; fails the test on timeout or if the child exits first."""
+    return _read_until
+
+
+def _read_until(child, text, timeout):
+    lines = []
+    deadline = time.monotonic() + timeout
+    with selectors.DefaultSelector() as selector:
+        selector.register(child.stderr, selectors.EVENT_READ)
+        while not any(text in line for line in lines):
+            remaining = deadline - time.monotonic()
+            assert remaining > 0, f"no {text!r} within {timeout} s; stderr so far: {lines}"
+            if selector.select(remaining):
+                line = child.stderr.readline()
+                assert line, f"exited ({child.wait()}) before printing {text!r}; stderr: {lines}"
+                lines.append(line)
+    return lines

@@ -1,0 +1,61 @@
+"""The `railderail` command: help, version, one-line errors with exit status 2."""
+import subprocess
+import sys
+
+import pytest
+
+import railderail_sim
+from railderail_sim import cli
+
+
+def run(venv_bin, *args):
+    return subprocess.run([venv_bin / "railderail", *args], capture_output=True, text=True, timeout=60)
+
+
+def test_help_lists_commands(venv_bin):
+    result = run(venv_bin, "--help")
+    assert result.returncode == 0
+    for command in cli.COMMANDS:
+        assert command.name in result.stdout
+
+
+def test_version(venv_bin):
+    result = run(venv_bin, "version")
+    assert (result.returncode, result.stdout) == (0, f"railderail {railderail_sim.__version__}\n")
+
+
+@pytest.mark.parametrize("args, message", [
+    ([], "railderail: error: no command given"),
+    (["no-such-command"], "railderail: error: argument COMMAND: invalid choice: 'no-such-command'"),
+    (["version", "--bogus"], "railderail: error: unrecognized arguments: --bogus"),
+])
+def test_bad_arguments_give_one_line_and_status_2(venv_bin, args, message):
+    result = run(venv_bin, *args)
+    assert result.returncode == 2
+    assert result.stdout == ""
+    assert len(result.stderr.splitlines()) == 1
+    assert result.stderr.startswith(message)
+
+
+def failing_command(parser):
+    parser.add_argument("--speed-kmh", type=float, required=True)
+
+    def run_it(args):
+        raise ValueError(f"speed_kmh must be in 0..500, got {args.speed_kmh}")
+    return run_it
+
+
+def test_value_error_gives_one_line_and_status_2(monkeypatch, capsys):
+    monkeypatch.setattr(cli, "COMMANDS", cli.COMMANDS + (
+        cli.Command("fail", "always fails", f"{__name__}:failing_command"),))
+    assert cli.main(["fail", "--speed-kmh", "900"]) == 2
+    captured = capsys.readouterr()
+    assert captured.err == "railderail: error: speed_kmh must be in 0..500, got 900.0\n"
+    assert captured.out == ""
+
+
+def test_help_imports_no_heavy_modules():
+    code = ("import sys\nfrom railderail_sim import cli\ntry:\n    cli.main(['--help'])\n"
+            "except SystemExit:\n    pass\nprint(sorted({'numba', 'rclpy', 'scipy'} & set(sys.modules)))")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert result.stdout.splitlines()[-1] == "[]"
