@@ -37,6 +37,18 @@ COMMANDS: tuple[Command, ...] = (
     Command("contact-case", "contact patches and forces of a loaded wheelset (--json, --plot)",
             "railderail_sim.contact.cli:case_command"),
     Command("bench", "print the performance figures (add --json)", "railderail_sim.bench:command"),
+    Command("simulate", "run the car over the line at a constant speed (--out FILE.npz)",
+            "railderail_sim.methods.cli:simulate_command"),
+    Command("root-locus", "linear critical speed: eigenvalues against speed (--json, --plot)",
+            "railderail_sim.methods.cli:root_locus_command"),
+    Command("limit-cycle", "nonlinear critical speed after a lateral kink (--json, --plot)",
+            "railderail_sim.methods.cli:limit_cycle_command"),
+    Command("trial", "progressive trial: critical derailment speed on a curve (--json)",
+            "railderail_sim.methods.cli:trial_command"),
+    Command("sweep", "progressive trial over radii and other parameters, in parallel or on Dask (--json)",
+            "railderail_sim.methods.cli:sweep_command"),
+    Command("report", "write the report: every method beside the paper's numbers (--out DIR)",
+            "railderail_sim.methods.cli:report_command"),
 )
 
 

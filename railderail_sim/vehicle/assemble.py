@@ -110,12 +110,15 @@ def element_tables(vp: VehicleParameters, bodies):
             state += 1
     for i, bogie in enumerate(L.BOGIES):
         xb = a if i == 0 else -a
-        half = 0.25  # lateral damper between frame and body brackets 0.5 m apart across the track
-        add_damper(bogie, L.CAR_BODY, (xb, -half, vp.lateral_damper_height),
-                   (xb, half, vp.lateral_damper_height), vp.lateral_damper_knee_velocity,
-                   vp.lateral_damper_damping, vp.lateral_damper_damping_after_knee,
-                   vp.lateral_damper_series_stiffness, state)
-        state += 1
+        # the lateral damper as a mirrored pair of half dampers (brackets 0.5 m apart across the track),
+        # so that the car is exactly mirror-symmetric; in parallel they act as the one damper of the set
+        half = 0.25
+        for side in (1.0, -1.0):
+            add_damper(bogie, L.CAR_BODY, (xb, -side * half, vp.lateral_damper_height),
+                       (xb, side * half, vp.lateral_damper_height), vp.lateral_damper_knee_velocity,
+                       0.5 * vp.lateral_damper_damping, 0.5 * vp.lateral_damper_damping_after_knee,
+                       0.5 * vp.lateral_damper_series_stiffness, state)
+            state += 1
         q = (xb, 0.0, vp.bump_stop_height)
         bump.append((bogie, L.CAR_BODY, *_local(bodies, bogie, q), *_local(bodies, L.CAR_BODY, q)))
         arb.append((bogie, L.CAR_BODY, vp.anti_roll_stiffness))

@@ -7,7 +7,7 @@ State vector x (float64):
   velocities x[35 + 5*b + k]   k: 0 V_y, 1 V_z (absolute velocity of the body reference point, in track
                                axes), 2..4 absolute angular velocity about the track x, y, z axes
   dampers    x[70 + d]         elongation of the damper part of each series spring-damper element (m)
-  position   x[76]             distance s of the car-body centre along the line (m)
+  position   x[78]             distance s of the car-body centre along the line (m)
 Wheelsets have no pitch degree of freedom (their spin is v / r0): their k = 3 entries stay zero.
 """
 N_BODY = 7
@@ -16,10 +16,10 @@ BOGIES = (1, 2)               # front, rear
 WHEELSETS = (3, 4, 5, 6)      # front to rear
 N_DOF = 5
 I_VEL = N_BODY * N_DOF        # 35
-N_DAMPER = 6                  # 4 yaw dampers + 2 lateral dampers
+N_DAMPER = 8                  # 4 yaw dampers + 2 lateral dampers as mirrored pairs of halves
 I_DAMPER = 2 * I_VEL          # 70
-I_S = I_DAMPER + N_DAMPER     # 76
-N_STATE = I_S + 1             # 77
+I_S = I_DAMPER + N_DAMPER     # 78
+N_STATE = I_S + 1             # 79
 
 # body table columns
 B_MASS, B_IX, B_IY, B_IZ, B_STATION, B_HEIGHT, B_WHEELSET = 0, 1, 2, 3, 4, 5, 6

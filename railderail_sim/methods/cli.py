@@ -1,0 +1,239 @@
+"""Subcommands simulate, root-locus, limit-cycle, trial, sweep and report (thin layers over the API).
+
+Every command takes the vehicle parameter set, wheel profile, contact model and friction; --json prints
+one JSON object on stdout (speeds in km/h named *_kmh, SI elsewhere).
+"""
+import argparse
+from dataclasses import replace
+import json
+import math
+import sys
+
+from ..parameters import VEHICLE_SETS, ContactParameters, TrackParameters, vehicle_parameters
+from ..vehicle.simulate import Scenario, check_range, constant_speed
+
+
+def _common(parser):
+    parser.add_argument("--vehicle-set", default="hs19", choices=VEHICLE_SETS, help="suspension parameter set")
+    parser.add_argument("--wheel", default="lm", help="wheel profile: lm, s1002 or a profile file")
+    parser.add_argument("--rail", default="uic60", help="rail profile: uic60, uic60-mbench or a file")
+    parser.add_argument("--contact", default="hertz", choices=("hertz", "discrete"), help="normal contact model")
+    parser.add_argument("--creep", default="she", choices=("she", "polach", "fastsim", "linear"),
+                        help="creep force law")
+    parser.add_argument("--friction", type=float, default=0.3, help="wheel-rail friction coefficient")
+    parser.add_argument("--json", action="store_true", help="print one JSON object")
+
+
+def base_scenario(args, **track):
+    if not 0.0 < args.friction <= 1.0:
+        raise ValueError(f"friction coefficient {args.friction:g} is outside (0, 1]")
+    return Scenario(vehicle=vehicle_parameters(args.vehicle_set),
+                    track=TrackParameters(rail_profile=args.rail, **track),
+                    contact=ContactParameters(wheel_profile=args.wheel, normal_model=args.contact,
+                                              creep_model=args.creep, friction_coefficient=args.friction))
+
+
+def _emit(args, obj, human):
+    if args.json:
+        print(json.dumps(obj, indent=1, default=_json_default))
+    else:
+        print(human)
+
+
+def _json_default(o):
+    if hasattr(o, "tolist"):
+        return o.tolist()
+    return str(o)
+
+
+def _finite(x):
+    return None if x is None or (isinstance(x, float) and math.isnan(x)) else x
+
+
+def simulate_command(parser):
+    _common(parser)
+    parser.add_argument("--radius", type=float, default=1000.0, help="curve radius (m)")
+    parser.add_argument("--speed-kmh", type=float, default=300.0, help="constant speed (km/h)")
+    parser.add_argument("--right", action="store_true", help="curve to the right (default: left)")
+    parser.add_argument("--out", help="write the time histories to this .npz file (docs/output-format.md)")
+    parser.add_argument("--rate", type=float, default=200.0, help="output rate (Hz)")
+
+    def run(args):
+        from ..vehicle.simulate import simulate
+        sc = base_scenario(args, radius=args.radius, direction=-1 if args.right else 1)
+        sc = replace(sc, speed_table=constant_speed(args.speed_kmh), output_rate=args.rate).validated()
+        if args.out and not args.out.endswith(".npz"):
+            raise ValueError(f"output file {args.out!r} must end in .npz")
+        r = simulate(sc)
+        if args.out:
+            r.save(args.out)
+        s = r.summary()
+        human = "\n".join(f"{k:28s} {v}" for k, v in s.items())
+        _emit(args, s, human)
+    return run
+
+
+def root_locus_command(parser):
+    _common(parser)
+    parser.add_argument("--from-kmh", type=float, default=100.0)
+    parser.add_argument("--to-kmh", type=float, default=600.0)
+    parser.add_argument("--points", type=int, default=101)
+    parser.add_argument("--plot", help="root-locus and damping plot (PNG)")
+
+    def run(args):
+        import numpy as np
+        from . import root_locus as rl
+        if not 2 <= args.points <= 2000:
+            raise ValueError(f"--points {args.points} is outside 2-2000")
+        if args.from_kmh >= args.to_kmh:
+            raise ValueError(f"speed range {args.from_kmh:g}-{args.to_kmh:g} km/h is empty")
+        res = rl.root_locus(base_scenario(args), np.linspace(args.from_kmh, args.to_kmh, args.points))
+        if args.plot:
+            rl.plot(res, args.plot)
+        v = res.linear_critical_speed_kmh
+        human = (f"linear critical speed: {v:.1f} km/h ({res.critical_mode} mode, {res.critical_frequency_hz:.2f} Hz)"
+                 if math.isfinite(v) else f"stable up to {args.to_kmh:g} km/h")
+        obj = res.as_json()
+        obj["linear_critical_speed_kmh"] = _finite(v)
+        _emit(args, obj, human)
+    return run
+
+
+def limit_cycle_command(parser):
+    _common(parser)
+    parser.add_argument("--from-kmh", type=float, default=200.0)
+    parser.add_argument("--to-kmh", type=float, default=600.0)
+    parser.add_argument("--step-kmh", type=float, default=50.0, help="scan step before the bisection")
+    parser.add_argument("--tolerance-kmh", type=float, default=1.0, help="bisection tolerance")
+    parser.add_argument("--kink-mm", type=float, default=10.0, help="lateral excitation amplitude (mm)")
+    parser.add_argument("--plot", help="amplitude-speed diagram (PNG)")
+
+    def run(args):
+        import numpy as np
+        from . import limit_cycle as lc
+        check_range("excitation amplitude", args.kink_mm, 0.1, 30.0, "mm")
+        if args.step_kmh <= 0 or args.from_kmh >= args.to_kmh:
+            raise ValueError(f"scan {args.from_kmh:g}-{args.to_kmh:g} km/h by {args.step_kmh:g} is empty")
+        res = lc.limit_cycle(base_scenario(args), np.arange(args.from_kmh, args.to_kmh + 1e-9, args.step_kmh),
+                             args.tolerance_kmh, amplitude=args.kink_mm / 1000.0,
+                             progress=None if args.json else
+                             lambda v, a: print(f"  {v:7.2f} km/h: final amplitude {a * 1e3:.4f} mm", file=sys.stderr))
+        if args.plot:
+            lc.plot(res, args.plot)
+        v = res.nonlinear_critical_speed_kmh
+        obj = res.as_json()
+        obj["nonlinear_critical_speed_kmh"] = _finite(v)
+        human = (f"nonlinear critical speed: {v:.1f} km/h (+/- {args.tolerance_kmh:g})" if math.isfinite(v)
+                 else f"stable up to {args.to_kmh:g} km/h")
+        _emit(args, obj, human)
+    return run
+
+
+def _staircase_args(parser):
+    parser.add_argument("--start-kmh", type=float, default=200.0, help="staircase entry speed")
+    parser.add_argument("--step-kmh", type=float, default=5.0, help="staircase step")
+    parser.add_argument("--hold-m", type=float, default=200.0, help="distance held at each speed")
+    parser.add_argument("--acceleration", type=float, default=0.5, help="acceleration between holds (m/s^2)")
+    parser.add_argument("--top-kmh", type=float, default=450.0, help="highest staircase speed")
+    parser.add_argument("--no-refine", action="store_true", help="skip the bisection over constant speeds")
+    parser.add_argument("--tolerance-kmh", type=float, default=1.0, help="bisection tolerance")
+
+
+def _staircase(args):
+    from .progressive_trial import Staircase
+    return Staircase(start_kmh=args.start_kmh, step_kmh=args.step_kmh, hold_m=args.hold_m,
+                     acceleration=args.acceleration, top_kmh=args.top_kmh)
+
+
+TRIAL_KEYS = ("critical_derailment_speed_kmh", "derailed_wheelset", "derailed_side", "derailment_position_m",
+              "mechanism")
+
+
+def _trial_json(d):
+    return {k: _finite(v) for k, v in d.items()}
+
+
+def _trial_line(d):
+    v = d["critical_derailment_speed_kmh"]
+    if v is None or v != v:
+        return f"R = {d['radius_m']:.0f} m: no derailment up to the top speed"
+    line = (f"R = {d['radius_m']:.0f} m: critical derailment speed {v:.1f} km/h, wheelset {d['derailed_wheelset']} "
+            f"{d['derailed_side']} wheel, {d['mechanism']} at {d['derailment_position_m']:.0f} m")
+    rv = d.get("refined_speed_kmh")
+    if rv is not None and rv == rv:
+        line += (f"; constant speed on the Table 2 line: {rv:.1f} km/h ({d['refined_mechanism']}, "
+                 f"{d['refined_side']} wheel of wheelset {d['refined_wheelset']}, {d['refined_section']} at "
+                 f"{d['refined_position_m']:.0f} m)")
+    return line
+
+
+def trial_command(parser):
+    _common(parser)
+    parser.add_argument("--radius", type=float, default=1000.0, help="curve radius (m)")
+    _staircase_args(parser)
+
+    def run(args):
+        from .progressive_trial import progressive_trial
+        r = progressive_trial(base_scenario(args), args.radius, _staircase(args), refine=not args.no_refine,
+                              tolerance_kmh=args.tolerance_kmh)
+        d = r.as_json()
+        _emit(args, _trial_json(d), _trial_line(d))
+    return run
+
+
+def _floats(text, name):
+    try:
+        values = [float(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise ValueError(f"{name} {text!r} is not a comma-separated list of numbers") from None
+    if not values:
+        raise ValueError(f"{name} is empty")
+    return values
+
+
+def sweep_command(parser):
+    _common(parser)
+    parser.add_argument("--radii", default="800,1000,1200,1400,1600,1800", help="curve radii (m), comma-separated")
+    parser.add_argument("--cants-mm", default="175", help="cant heights (mm), comma-separated")
+    parser.add_argument("--frictions", default=None, help="friction coefficients, comma-separated")
+    parser.add_argument("--wheels", default=None, help="wheel profiles, comma-separated")
+    parser.add_argument("--vehicle-sets", default=None, help="parameter sets, comma-separated")
+    parser.add_argument("--workers", type=int, default=None, help="local processes (default: CPU count)")
+    parser.add_argument("--scheduler", default=None, help="address of a Dask distributed scheduler")
+    parser.add_argument("--plot", help="critical derailment speed against radius (PNG)")
+    _staircase_args(parser)
+
+    def run(args):
+        from . import sweep as sw
+        radii = _floats(args.radii, "--radii")
+        for r in radii:
+            from ..vehicle.simulate import RADIUS_RANGE
+            check_range("curve radius", r, *RADIUS_RANGE, "m")
+        cants = _floats(args.cants_mm, "--cants-mm")
+        for c in cants:
+            check_range("cant", c, 0.0, 200.0, "mm")
+        frictions = _floats(args.frictions, "--frictions") if args.frictions else [args.friction]
+        wheels = args.wheels.split(",") if args.wheels else [args.wheel]
+        sets = args.vehicle_sets.split(",") if args.vehicle_sets else [args.vehicle_set]
+        for s in sets:
+            vehicle_parameters(s)
+        cases = sw.cases(radii, cants, frictions, wheels, sets)
+        res = sw.sweep(cases, base_scenario(args), _staircase(args), refine=not args.no_refine,
+                       tolerance_kmh=args.tolerance_kmh, workers=args.workers, scheduler=args.scheduler,
+                       progress=not args.json)
+        if args.plot:
+            sw.plot(res, args.plot)
+        _emit(args, [_trial_json(d) for d in res], "\n".join(_trial_line(d) for d in res))
+    return run
+
+
+def report_command(parser):
+    parser.add_argument("--out", default="report", help="output directory")
+    parser.add_argument("--quick", action="store_true", help="fewer speeds and radii (a smoke run)")
+    parser.add_argument("--workers", type=int, default=None)
+
+    def run(args):
+        from .report import write_report
+        path = write_report(args.out, quick=args.quick, workers=args.workers)
+        print(f"report written to {path}")
+    return run

@@ -1,0 +1,127 @@
+"""Vehicle-track model validation against physics that does not depend on the code (issue 5)."""
+from dataclasses import replace
+import math
+
+import numpy as np
+import pytest
+
+from railderail_sim.contact import conicity
+from railderail_sim.parameters import GRAVITY, ContactParameters, TrackParameters, vehicle_parameters
+from railderail_sim.vehicle import Scenario, Simulation, SimulationDiverged, constant_speed, simulate
+from railderail_sim.vehicle.assemble import contact_geometry
+from railderail_sim.vehicle.simulate import straight_track
+
+MASS = 32000.0 + 2 * 3300.0 + 4 * 1780.0
+
+
+def _straight(speed_kmh, **kw):
+    return Scenario(track=straight_track(), speed_table=constant_speed(speed_kmh), output_rate=50.0, **kw)
+
+
+def _lateral_force_on_vehicle(res):
+    """Sum over the 8 wheels of the rails' lateral force on the wheels, + toward the track's left."""
+    q = res.wheel("lateral_force")
+    return (-q[:, 0::2] + q[:, 1::2]).sum(axis=1)
+
+
+def test_static_wheel_loads_share_the_weight():
+    sim = Simulation(replace(_straight(30.0), end_position=40.0))
+    rows = sim.advance(2.0)
+    from railderail_sim.vehicle.simulate import Result
+    p = Result(rows=rows, scenario=sim.scenario, status="").wheel("vertical_force")[-1]
+    share = (32000.0 / 4 + 3300.0 / 2 + 1780.0) * GRAVITY / 2
+    assert np.allclose(p, share, rtol=2e-3)
+    assert p.sum() == pytest.approx(MASS * GRAVITY, rel=1e-3)
+
+
+def test_straight_centred_start_stays_centred():
+    res = simulate(replace(_straight(300.0), end_position=300.0))
+    assert res.status == "finished"
+    assert np.max(np.abs(res.wheelset_lateral)) < 1e-12
+    assert np.max(np.abs(res.attack_angle)) < 1e-12
+
+
+@pytest.fixture(scope="module")
+def left_and_right():
+    base = Scenario(speed_table=constant_speed(200.0), output_rate=50.0, start_position=150.0, end_position=500.0)
+    left = simulate(base)
+    right = simulate(replace(base, track=replace(base.track, direction=-1)))
+    return left, right
+
+
+def test_right_curve_is_the_mirror_of_the_left_curve(left_and_right):
+    """Mirror image: the car is built mirror-symmetric and the right wheel is computed as the mirrored left
+    one, so the runs differ only by rounding (sums taken in another order), which flange contact amplifies
+    to below a micrometre here."""
+    left, right = left_and_right
+    assert np.allclose(right.wheelset_lateral, -left.wheelset_lateral, atol=1e-6)
+    # attack angle is signed toward the outer rail, so it is the same on both curves
+    assert np.allclose(right.attack_angle, left.attack_angle, atol=1e-6)
+    swap = [1, 0, 3, 2, 5, 4, 7, 6]
+    for name, tol in (("vertical_force", 200.0), ("lateral_force", 200.0), ("wheel_lift", 1e-6)):
+        assert np.allclose(right.wheel(name), left.wheel(name)[:, swap], atol=tol)
+
+
+def test_runs_are_bit_identical(left_and_right):
+    left, _ = left_and_right
+    again = simulate(left.scenario)
+    assert np.array_equal(again.rows, left.rows)
+
+
+def _steady_curve(speed_kmh, radius=1000.0):
+    sc = Scenario(track=TrackParameters(radius=radius), speed_table=constant_speed(speed_kmh), output_rate=50.0,
+                  start_position=300.0, end_position=1000.0)
+    res = simulate(sc)
+    sel = res.position > 800.0
+    return res, sel
+
+
+def test_balance_speed_needs_no_lateral_force():
+    phi = math.asin(0.175 / 1.5)
+    v_bal = math.sqrt(GRAVITY * 1000.0 * math.tan(phi)) * 3.6
+    res, sel = _steady_curve(v_bal)
+    fy = _lateral_force_on_vehicle(res)[sel].mean()
+    assert abs(fy) < 0.01 * MASS * GRAVITY          # within 1 % of the weight
+
+
+@pytest.mark.parametrize("speed_kmh", [180.0, 230.0])
+def test_cant_deficiency_force_equals_mass_times_uncompensated_acceleration(speed_kmh):
+    res, sel = _steady_curve(speed_kmh)
+    fy = _lateral_force_on_vehicle(res)[sel].mean()
+    a_nc = res.rows[sel, 6].mean()
+    assert a_nc > 1.0
+    assert fy == pytest.approx(MASS * a_nc, rel=0.03)
+
+
+def test_free_wheelset_kinematic_wavelength_is_klingels():
+    """Wheelsets without primary guidance oscillate with Klingel's wavelength 2 pi sqrt(e r0 / gamma_e)."""
+    veh = vehicle_parameters(primary_lateral_stiffness=0.0, primary_longitudinal_stiffness=0.0,
+                             primary_lateral_damping=0.0)
+    sc = replace(_straight(50.0), vehicle=veh, output_rate=100.0)
+    sim = Simulation(sc)
+    sim.x[5 * 3] = 0.002                              # front wheelset 2 mm to the left
+    from railderail_sim.vehicle.simulate import Result
+    res = Result(rows=sim.advance(6.0), scenario=sc, status="")
+    y = res.wheelset_lateral[:, 0]
+    s = res.position
+    up = [s[i] - y[i] * (s[i + 1] - s[i]) / (y[i + 1] - y[i]) for i in range(len(y) - 1) if y[i] < 0 <= y[i + 1]]
+    wavelength = float(np.mean(np.diff(up)))
+    table = conicity.rigid_table(contact_geometry(ContactParameters(), TrackParameters(), 0.46), 0.012, 1e-4)
+    amplitude = float(np.max(np.abs(y)))
+    _, klingel = conicity.equivalent_conicity(table, amplitude)
+    assert wavelength == pytest.approx(klingel, rel=0.05)
+
+
+def test_divergence_stops_with_a_clear_error():
+    """An unstable normal contact (negative contact damping) must stop with a message, never NaNs."""
+    sc = replace(_straight(200.0), contact=ContactParameters(contact_damping=-2000.0), end_position=200.0,
+                 stop_on_derailment=False)
+    with pytest.raises(SimulationDiverged, match=r"diverged at t = .* s, track position .* m"):
+        simulate(sc)
+
+
+def test_out_of_range_input_is_refused():
+    with pytest.raises(ValueError, match="curve radius 100 m is outside the supported range"):
+        replace(Scenario(), track=TrackParameters(radius=100.0)).validated()
+    with pytest.raises(ValueError, match="speed 900 km/h is outside"):
+        constant_speed(900.0)
