@@ -254,6 +254,9 @@ class ContactParameters:
     contact_damping: float = _p(2.0, "s/m", "HuntCrossley", "A",
                                 "N = C d^1.5 (1 + chi d'); chi gives about 5 % damping of the wheelset "
                                 "bounce on the rigid track, standing in for the dissipation of the track")
+    derailment_coefficient_min_load: float = _p(0.1, "-", "model", "A",
+                                                "Q/P is evaluated only above this fraction of the static "
+                                                "wheel load; an unloaded wheel's ratio is meaningless")
     normal_model: str = _p("hertz", "-", "model", "A", "hertz | discrete")
     creep_model: str = _p("she", "-", "model", "A", "she (Shen-Hedrick-Elkins) | polach | fastsim | linear")
 

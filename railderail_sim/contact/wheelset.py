@@ -26,7 +26,8 @@ from . import kik_piotrowski as kp
 
 # Contact parameter array cp
 C_ESTAR, C_G, C_NU, C_MU, C_CHI, C_NORMAL, C_CREEP = 0, 1, 2, 3, 4, 5, 6
-C_SIZE = 7
+C_QP_MIN_LOAD = 7     # vertical load below which Q/P is not evaluated (N): an unloaded wheel's ratio means nothing
+C_SIZE = 8
 NORMAL_HERTZ, NORMAL_DISCRETE = 0, 1
 
 # Per-wheel output record
@@ -34,7 +35,7 @@ W_LIFT = 0            # wheel lift hp (m)
 W_Q = 1               # lateral force on the rail, + toward the rail's field side (N)
 W_P = 2               # vertical force on the rail, + down (N)
 W_FX = 3              # longitudinal force on the rail (N)
-W_QP = 4              # derailment coefficient Q/P (0 when unloaded)
+W_QP = 4              # derailment coefficient Q/P (0 when the load is below C_QP_MIN_LOAD)
 W_CPOS = 5            # main patch: lateral position on the rail from the head axis, + field side (m)
 W_CANGLE = 6          # main patch contact angle (rad)
 W_LEN = 7             # main patch length 2a (m)
@@ -87,11 +88,14 @@ def left_wheel(cg, cp, y, z, phi, psi, vel, omega, spin, speed, gap, ys, patches
     fz_tot = 0.0
     fx_tot = 0.0
     nmax = -1.0
-    for q in range(rec.shape[0]):
-        rec[q] = 0.0
-    rec[W_LIFT] = geo.wheel_lift(cg, z, phi)
-    rec[W_GAP] = gmin
-    rec[W_COUNT] = count
+    # the output record is written on full searches only (the states that are output or checked)
+    record = not tracked
+    if record:
+        for q in range(rec.shape[0]):
+            rec[q] = 0.0
+        rec[W_LIFT] = geo.wheel_lift(cg, z, phi)
+        rec[W_GAP] = gmin
+        rec[W_COUNT] = count
     for k in range(count):
         slope = patches[k, geo.P_SLOPE]
         cd = 1.0 / math.sqrt(1.0 + slope * slope)
@@ -142,7 +146,7 @@ def left_wheel(cg, cp, y, z, phi, psi, vel, omega, spin, speed, gap, ys, patches
         fx_tot += Fx
         fy_tot += Fy
         fz_tot += Fz
-        if k < geo.MAX_PATCHES:
+        if record:
             o = W_PATCH0 + k * W_PATCH_COLS
             rec[o] = patches[k, geo.P_Y] - cg[geo.H_RAIL_AXIS_Y]
             rec[o + 1] = rx
@@ -150,17 +154,19 @@ def left_wheel(cg, cp, y, z, phi, psi, vel, omega, spin, speed, gap, ys, patches
             rec[o + 3] = 2.0 * b
             rec[o + 4] = normal
             rec[o + 5] = math.atan(slope)
-        if normal > nmax:
+        if record and normal > nmax:
             nmax = normal
             rec[W_CPOS] = patches[k, geo.P_Y] - cg[geo.H_RAIL_AXIS_Y]
             rec[W_CANGLE] = math.atan(slope)
             rec[W_LEN] = 2.0 * a
             rec[W_WID] = 2.0 * b
+    if not record:
+        return
     # forces on the rail: Q toward the left rail's field side (+Y), P downward
     rec[W_Q] = -fy_tot
     rec[W_P] = fz_tot
     rec[W_FX] = -fx_tot
-    rec[W_QP] = rec[W_Q] / rec[W_P] if rec[W_P] > 1.0 else 0.0
+    rec[W_QP] = rec[W_Q] / rec[W_P] if rec[W_P] > cp[C_QP_MIN_LOAD] else 0.0
 
 
 @numba.njit(cache=True)

@@ -136,7 +136,8 @@ def contact_geometry(contact: ContactParameters, track: TrackParameters, rolling
                                           track.gauge, track.gauge_depth, track.rail_inclination)
 
 
-def contact_array(contact: ContactParameters):
+def contact_array(contact: ContactParameters, static_wheel_load=0.0):
+    """Contact parameter array; Q/P is evaluated above derailment_coefficient_min_load x static_wheel_load."""
     if contact.normal_model not in NORMAL_MODELS:
         raise ValueError(f"normal contact model {contact.normal_model!r} is unknown; choose one of "
                          f"{', '.join(NORMAL_MODELS)}")
@@ -154,6 +155,7 @@ def contact_array(contact: ContactParameters):
     cp[wheelset.C_CHI] = contact.contact_damping
     cp[wheelset.C_NORMAL] = NORMAL_MODELS[contact.normal_model]
     cp[wheelset.C_CREEP] = CREEP_MODELS[contact.creep_model]
+    cp[wheelset.C_QP_MIN_LOAD] = contact.derailment_coefficient_min_load * static_wheel_load
     return cp
 
 
@@ -186,8 +188,7 @@ def build_model(vehicle: VehicleParameters, track: TrackParameters, contact: Con
                                track.transition_out, track.straight_out, track.radius, track.cant_height,
                                track.direction, track.rail_spacing,
                                (track.excitation_start, track.excitation_length, track.excitation_amplitude))
+    static = (0.25 * vehicle.car_body_mass + 0.5 * vehicle.bogie_frame_mass + vehicle.wheelset_mass) * GRAVITY / 2.0
     return Model(bodies=bodies, vp=vehicle_array(vehicle, cg, lift_tolerance), bush=bush, damp=damp,
-                 bump=bump, arb=arb, track=trk, cg=cg, cp=contact_array(contact), vehicle=vehicle,
-                 track_parameters=track, contact=contact,
-                 static_wheel_load=(0.25 * vehicle.car_body_mass + 0.5 * vehicle.bogie_frame_mass
-                                    + vehicle.wheelset_mass) * GRAVITY / 2.0)
+                 bump=bump, arb=arb, track=trk, cg=cg, cp=contact_array(contact, static), vehicle=vehicle,
+                 track_parameters=track, contact=contact, static_wheel_load=static)

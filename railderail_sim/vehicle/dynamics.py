@@ -47,18 +47,27 @@ def speed_at(sp, s):
 
 
 @numba.njit(cache=True)
-def _rot(out, o, heading, roll, yaw, pitch, rel_roll):
-    """out[o:o+9] = Rz(heading) Rx(roll) Rz(yaw) Ry(pitch) Rx(rel_roll), row-major."""
+def _track_rotation(out, o, heading, roll):
+    """out[o:o+9] = Rz(heading) Rx(roll), row-major: ground <- track axes."""
     ch, sh = math.cos(heading), math.sin(heading)
     cr, sr = math.cos(roll), math.sin(roll)
-    # T = Rz(h) Rx(r)
-    t00, t01, t02 = ch, -sh * cr, sh * sr
-    t10, t11, t12 = sh, ch * cr, -ch * sr
-    t20, t21, t22 = 0.0, sr, cr
+    out[o + 0] = ch
+    out[o + 1] = -sh * cr
+    out[o + 2] = sh * sr
+    out[o + 3] = sh
+    out[o + 4] = ch * cr
+    out[o + 5] = -ch * sr
+    out[o + 6] = 0.0
+    out[o + 7] = sr
+    out[o + 8] = cr
+
+
+@numba.njit(cache=True)
+def _compose(out, o, ot, yaw, pitch, rel_roll):
+    """out[o:o+9] = out[ot:ot+9] Rz(yaw) Ry(pitch) Rx(rel_roll) (the track rotation already in place)."""
     cy, sy = math.cos(yaw), math.sin(yaw)
     cp, spt = math.cos(pitch), math.sin(pitch)
     cx, sx = math.cos(rel_roll), math.sin(rel_roll)
-    # Q = Rz(yaw) Ry(pitch) Rx(rel_roll)
     q00 = cy * cp
     q01 = cy * spt * sx - sy * cx
     q02 = cy * spt * cx + sy * sx
@@ -68,15 +77,13 @@ def _rot(out, o, heading, roll, yaw, pitch, rel_roll):
     q20 = -spt
     q21 = cp * sx
     q22 = cp * cx
-    out[o + 0] = t00 * q00 + t01 * q10 + t02 * q20
-    out[o + 1] = t00 * q01 + t01 * q11 + t02 * q21
-    out[o + 2] = t00 * q02 + t01 * q12 + t02 * q22
-    out[o + 3] = t10 * q00 + t11 * q10 + t12 * q20
-    out[o + 4] = t10 * q01 + t11 * q11 + t12 * q21
-    out[o + 5] = t10 * q02 + t11 * q12 + t12 * q22
-    out[o + 6] = t20 * q00 + t21 * q10 + t22 * q20
-    out[o + 7] = t20 * q01 + t21 * q11 + t22 * q21
-    out[o + 8] = t20 * q02 + t21 * q12 + t22 * q22
+    for r in range(3):
+        t0 = out[ot + 3 * r]
+        t1 = out[ot + 3 * r + 1]
+        t2 = out[ot + 3 * r + 2]
+        out[o + 3 * r] = t0 * q00 + t1 * q10 + t2 * q20
+        out[o + 3 * r + 1] = t0 * q01 + t1 * q11 + t2 * q21
+        out[o + 3 * r + 2] = t0 * q02 + t1 * q12 + t2 * q22
 
 
 # columns of the per-body kinematics scratch array
@@ -195,8 +202,8 @@ def kinematics(x, bodies, track, sp, kin):
         kin[b, K_WT] = wtx
         kin[b, K_WT + 1] = wty
         kin[b, K_WT + 2] = wtz
-        _rot(kin[b], K_RT, heading, roll, 0.0, 0.0, 0.0)
-        _rot(kin[b], K_R, heading, roll, x[o + 4], x[o + 3], x[o + 2])
+        _track_rotation(kin[b], K_RT, heading, roll)
+        _compose(kin[b], K_R, K_RT, x[o + 4], x[o + 3], x[o + 2])
         RT = kin[b, K_RT:K_RT + 9]
         kin[b, K_P] = X + RT[1] * y + RT[2] * h
         kin[b, K_P + 1] = Y + RT[4] * y + RT[5] * h

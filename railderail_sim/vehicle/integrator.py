@@ -44,7 +44,7 @@ N_OUT = L.O_WHEEL + 8 * ws.W_SIZE
 def workspace(cg):
     """Preallocated work arrays of `advance` (reused between calls)."""
     nw = int(cg[geo.H_NW])
-    return dict(ks=np.zeros((7, L.N_STATE)), xt=np.zeros(L.N_STATE), hstate=np.array([1e-4]),
+    return dict(ks=np.zeros((7, L.N_STATE)), xt=np.zeros(L.N_STATE), hstate=np.array([1e-4, 0.0, 0.0]),
                 cand_save=np.zeros((8, 1 + geo.MAX_CANDIDATES)), kin=np.zeros((L.N_BODY, dyn.K_COLS)),
                 gap=np.zeros(nw), ys=np.zeros(nw), patches=np.zeros((geo.MAX_PATCHES, geo.P_COLS)),
                 cands=np.zeros((8, 1 + geo.MAX_CANDIDATES)), kpbuf=np.zeros((4, nw)),
@@ -185,8 +185,8 @@ def advance(x, t, duration, out_dt, first_row, hstate, s_end, stop_on_derailment
     Adaptive steps under the error control (atol per state, rtol) land exactly on every output instant;
     a row is written after every output interval, and at the start if `first_row` (the state and wheel
     records of that instant). The last stage of each step (FSAL) searches the wheel-rail contact in full at the new
-    state; the inner stages follow the contacts found there (`geometry.track_patches`). hstate[0] keeps
-    the step size between calls. Stops early at END_OF_LINE, DERAILED (if stop_on_derailment) or
+    state; the inner stages follow the contacts found there (`geometry.track_patches`). hstate keeps the
+    step size between calls and counts the accepted and rejected steps. Stops early at END_OF_LINE, DERAILED (if stop_on_derailment) or
     DIVERGED (state out of bounds, not finite, or step below h_min); `event` says when, where, what.
     Returns (status, rows_written, t).
     """
@@ -237,6 +237,7 @@ def advance(x, t, duration, out_dt, first_row, hstate, s_end, stop_on_derailment
                 err += r * r
             err = math.sqrt(err / n)
             if err <= 1.0 and math.isfinite(err):
+                hstate[1] += 1.0
                 for i in range(n):
                     x[i] = xt[i]
                     k0[i] = ks[6, i]
@@ -249,6 +250,7 @@ def advance(x, t, duration, out_dt, first_row, hstate, s_end, stop_on_derailment
                 # a step shortened to land on the output instant says nothing against the longer one
                 h_prop = min(h_max, max(h * fac, h_prop) if clipped else h * fac)
             else:
+                hstate[2] += 1.0
                 for i in range(cands.shape[0]):
                     for j in range(cands.shape[1]):
                         cands[i, j] = cand_save[i, j]

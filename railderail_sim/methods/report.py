@@ -1,0 +1,303 @@
+"""`railderail report`: every method run on the model and put beside every number Yu et al. (2022) state.
+
+The report is a Markdown file with PNG figures in one directory. Nothing in the model is adjusted to the
+paper: the paper's numbers are only printed beside ours, with the difference and its likely reason.
+`quick` runs a reduced set (fewer speeds, three radii, no sensitivity) for smoke tests.
+"""
+from dataclasses import replace
+import json
+import math
+import os
+import time
+
+import numpy as np
+
+from ..parameters import ContactParameters, TrackParameters, vehicle_parameters
+from ..vehicle.simulate import Scenario, constant_speed, simulate
+from . import limit_cycle as lc
+from . import root_locus as rl
+from . import sweep as sw
+from .progressive_trial import Staircase
+
+# Every number Yu et al. 2022 state (section in brackets)
+PAPER = {
+    "linear_critical_speed_kmh": 380.0,                   # §3.1 root locus "about 380 km/h"
+    "nonlinear_critical_speed_kmh": 320.0,                # §3.1 limit cycle "less than 320 km/h"
+    "critical_derailment_speed_kmh": {800.0: 255.0, 1000.0: 285.0, 1200.0: 313.0, 1400.0: 341.0,
+                                      1600.0: 365.0, 1800.0: 383.0},   # §3.3.2
+    "increase_800_1000_kmh": 30.0,                        # §3.2
+    "increase_1600_1800_kmh": 20.0,                       # §3.2
+    "front_attack_angle_peak_rad": 0.065,                 # §5.2 group A
+    "front_attack_angle_group_b_rad": 0.06,               # §5.2 group B at the nonlinear critical speed
+    "lateral_force_at_derailment_kn": 60.0,               # §5.3 "more than 60 kN"
+    "vertical_force_group_b_kn": (125.0, 130.0),          # §5.3
+    "vertical_force_other_kn": 135.0,                     # §5.3 "can exceed 135 kN"
+    "max_derailment_coefficient": 0.8,                    # §5.3/§6 "less than 0.8"
+    "tread_patch_mm": (11.0, 11.0),                       # §4.2 Fig. 7a
+    "flange_root_patch_mm": (17.4, 7.8),                  # §4.2 Fig. 7c
+}
+
+
+def _fig(path, draw, size=(8, 4.5)):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=size)
+    draw(ax)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _pct(ours, theirs):
+    return f"{100.0 * (ours - theirs) / theirs:+.0f} %"
+
+
+def process_runs(results):
+    """Constant-speed run at each radius's refined critical derailment speed over the Table 2 line."""
+    runs = {}
+    for d in results:
+        v = d.get("refined_speed_kmh")
+        if v is None or v != v:
+            v = d["critical_derailment_speed_kmh"]
+        if v is None or v != v:
+            continue
+        sc = Scenario(track=TrackParameters(radius=d["radius_m"]), speed_table=constant_speed(v), output_rate=200.0)
+        runs[d["radius_m"]] = simulate(sc)
+    return runs
+
+
+def _process_figures(runs, out):
+    """The derailment process against position (Yu 2022, Figs. 8-15); returns the figure names."""
+    if not runs:
+        return []
+    inner = {r: (0 if run.scenario.track.direction > 0 else 1) for r, run in runs.items()}
+    specs = [
+        ("process_lift_inner.png", "wheel lift, inner wheel of the front wheelset (mm)",
+         lambda run, i: run.wheel("wheel_lift")[:, i] * 1e3),
+        ("process_lift_outer.png", "wheel lift, outer wheel of the front wheelset (mm)",
+         lambda run, i: run.wheel("wheel_lift")[:, 1 - i] * 1e3),
+        ("process_attack_front.png", "attack angle, front wheelset (rad)", lambda run, i: run.attack_angle[:, 0]),
+        ("process_attack_rear.png", "attack angle, rear wheelset of the front bogie (rad)",
+         lambda run, i: run.attack_angle[:, 1]),
+        ("process_lateral_force.png", "lateral force Q, outer wheel of the front wheelset (kN)",
+         lambda run, i: run.wheel("lateral_force")[:, 1 - i] / 1e3),
+        ("process_vertical_force.png", "vertical force P, outer wheel of the front wheelset (kN)",
+         lambda run, i: run.wheel("vertical_force")[:, 1 - i] / 1e3),
+        ("process_derailment_coefficient.png", "derailment coefficient Q/P, outer wheel, front wheelset",
+         lambda run, i: run.wheel("derailment_coefficient")[:, 1 - i]),
+    ]
+    names = []
+    for name, label, get in specs:
+        def draw(ax, get=get, label=label):
+            for radius, run in sorted(runs.items()):
+                v = run.speed[0] * 3.6
+                ax.plot(run.position, get(run, inner[radius]), lw=0.8, label=f"R {radius:.0f} m, {v:.0f} km/h")
+            for s in (200.0, 400.0, 1400.0, 1600.0):
+                ax.axvline(s, color="0.7", lw=0.6, ls=":")
+            ax.set_xlabel("position of the car-body centre (m)")
+            ax.set_ylabel(label)
+            ax.legend(fontsize=7)
+        _fig(os.path.join(out, name), draw)
+        names.append((name, label))
+    return names
+
+
+def _process_numbers(runs):
+    """Peaks of the derailment process per radius (front wheelset, outer wheel), SI."""
+    rows = {}
+    for radius, run in sorted(runs.items()):
+        i = 0 if run.scenario.track.direction > 0 else 1
+        o = 1 - i
+        end = -1
+        rows[radius] = dict(
+            speed_kmh=run.speed[0] * 3.6, status=run.status,
+            max_front_attack_rad=float(np.max(np.abs(run.attack_angle[:, 0]))),
+            max_rear_attack_rad=float(np.max(np.abs(run.attack_angle[:, 1]))),
+            max_lift_inner_m=float(np.max(run.wheel("wheel_lift")[:, i])),
+            max_lift_outer_m=float(np.max(run.wheel("wheel_lift")[:, o])),
+            lateral_force_end_n=float(run.wheel("lateral_force")[end, o]),
+            max_lateral_force_n=float(np.max(run.wheel("lateral_force")[:, o])),
+            max_vertical_force_n=float(np.max(run.wheel("vertical_force")[:, o])),
+            max_derailment_coefficient=float(np.max(run.wheel("derailment_coefficient"))),
+            derailment=run.derailment)
+    return rows
+
+
+def _patch_sizes(runs):
+    """Outer wheel of the front wheelset: the largest Hertz patch while on the tread (contact angle below
+    0.1 rad, straight track) and at the flange root (first contact with an angle above 0.5 rad)."""
+    out = {}
+    for radius, run in sorted(runs.items()):
+        i = 0 if run.scenario.track.direction > 0 else 1
+        o = 1 - i
+        p = run.patches(o)                       # (n, 3, 6): y, lead, length, width, N, angle
+        main = np.argmax(p[:, :, 4], axis=1)
+        sel = p[np.arange(len(p)), main]
+        tread = (np.abs(sel[:, 5]) < 0.1) & (run.position < 180.0)
+        root = np.nonzero(sel[:, 5] > 0.5)[0]
+        out[radius] = dict(
+            tread_length_m=float(np.median(sel[tread, 2])) if tread.any() else float("nan"),
+            tread_width_m=float(np.median(sel[tread, 3])) if tread.any() else float("nan"),
+            root_length_m=float(sel[root[0], 2]) if len(root) else float("nan"),
+            root_width_m=float(sel[root[0], 3]) if len(root) else float("nan"),
+            root_position_m=float(run.position[root[0]]) if len(root) else float("nan"))
+    return out
+
+
+def _sensitivity(radius, stair, workers):
+    """Critical derailment speed (staircase) at one radius when one uncertain value changes at a time."""
+    base = vehicle_parameters()
+    variants = [
+        ("reference (hs19, LM, Hertz, mu 0.3)", {}),
+        ("car-body CoG height 1.52 -> 1.71 m (CRH6 value)", dict(vehicle=dict(car_body_cog_height=1.712))),
+        ("car-body CoG height 1.52 -> 1.35 m", dict(vehicle=dict(car_body_cog_height=1.35))),
+        ("anti-roll bar 1.0 -> 2.5 MN m/rad", dict(vehicle=dict(anti_roll_stiffness=2.5e6))),
+        ("air-spring vertical 0.2 -> 0.35 MN/m (Velaro E)", dict(vehicle=dict(secondary_vertical_stiffness=0.35e6))),
+        ("bump-stop clearance 20 -> 30 mm", dict(vehicle=dict(bump_stop_clearance=0.030,
+                                                             bump_stop_travel=tuple(t + 0.010 for t in base.bump_stop_travel)))),
+        ("suspension set a380", dict(vehicle_set="a380")),
+        ("suspension set zhai", dict(vehicle_set="zhai")),
+        ("wheel S1002 instead of LM", dict(contact=dict(wheel_profile="s1002"))),
+        ("friction 0.3 -> 0.4", dict(contact=dict(friction_coefficient=0.4))),
+        ("discrete (Kik-Piotrowski) normal contact", dict(contact=dict(normal_model="discrete"))),
+    ]
+    from concurrent.futures import ProcessPoolExecutor
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        futures = [pool.submit(_variant_trial, radius, stair, change) for _, change in variants]
+        speeds = [f.result() for f in futures]
+    return [(label, v) for (label, _), v in zip(variants, speeds)]
+
+
+def _variant_trial(radius, stair, change):
+    from .progressive_trial import progressive_trial
+    veh = vehicle_parameters(change.get("vehicle_set", "hs19"), **change.get("vehicle", {}))
+    sc = Scenario(vehicle=veh, contact=replace(ContactParameters(), **change.get("contact", {})))
+    return progressive_trial(sc, radius, stair, refine=False).critical_derailment_speed_kmh
+
+
+def write_report(out="report", quick=False, workers=None):
+    """Run everything and write out/report.md with its figures; returns the path of report.md."""
+    os.makedirs(out, exist_ok=True)
+    t0 = time.time()
+    workers = workers or os.cpu_count() or 1
+    sc = Scenario()
+    lines = ["# railderail report: critical derailment speed of the CRH3 model beside Yu et al. (2022)", ""]
+    timing = {}
+
+    # --- root locus
+    t = time.time()
+    locus = rl.root_locus(sc, np.linspace(100.0, 600.0, 26 if quick else 101))
+    rl.plot(locus, os.path.join(out, "root_locus.png"))
+    timing["root_locus_s"] = time.time() - t
+    # --- limit cycle
+    t = time.time()
+    cyc = lc.limit_cycle(sc, np.arange(200.0, 601.0, 100.0 if quick else 50.0), 10.0 if quick else 1.0)
+    lc.plot(cyc, os.path.join(out, "limit_cycle.png"), locus.linear_critical_speed_kmh)
+    timing["limit_cycle_s"] = time.time() - t
+    # --- progressive trial sweep
+    t = time.time()
+    radii = (800.0, 1200.0, 1800.0) if quick else sw.PAPER_RADII
+    stair = Staircase()
+    results = sw.sweep(sw.cases(radii=radii), sc, stair, refine=True, tolerance_kmh=5.0 if quick else 1.0,
+                       workers=workers, progress=False)
+    sw.plot(results, os.path.join(out, "critical_speed_vs_radius.png"))
+    timing["sweep_s"] = time.time() - t
+    # --- derailment process
+    t = time.time()
+    runs = process_runs(results)
+    figs = _process_figures(runs, out)
+    numbers = _process_numbers(runs)
+    patches = _patch_sizes(runs)
+    timing["process_s"] = time.time() - t
+    sens = [] if quick else _sensitivity(1000.0, stair, workers)
+
+    lin = locus.linear_critical_speed_kmh
+    non = cyc.nonlinear_critical_speed_kmh
+    lines += [
+        "Model: CRH3 car (Yu 2022 Table 1 masses and dimensions), suspension set `hs19` (docs/vehicle-model.md),",
+        "LM wheel (reconstructed, docs/profiles.md) on UIC60 at 1:40, Hertz normal contact with Shen-Hedrick-Elkins",
+        "creep, friction 0.3, ideal rigid track of Table 2. Nothing was tuned to the paper.",
+        "",
+        "## Critical speeds on straight track",
+        "",
+        "| quantity | this model | Yu 2022 | difference |",
+        "|---|---|---|---|",
+        f"| linear critical speed (root locus) | {lin:.0f} km/h ({locus.critical_mode}, {locus.critical_frequency_hz:.1f} Hz) "
+        f"| about {PAPER['linear_critical_speed_kmh']:.0f} km/h | {_pct(lin, PAPER['linear_critical_speed_kmh'])} |",
+        f"| nonlinear critical speed (limit cycle, 10 mm kink) | {non:.0f} km/h | below {PAPER['nonlinear_critical_speed_kmh']:.0f} km/h "
+        f"| {_pct(non, PAPER['nonlinear_critical_speed_kmh'])} |",
+        "",
+        f"Nonlinear below linear: {'yes' if non <= lin else 'no'} ({non:.0f} <= {lin:.0f} km/h): the bifurcation is "
+        "subcritical, a kicked car hunts on a flange-contact limit cycle well below the speed where the centred "
+        "running loses its damping.",
+        "",
+        "![root locus](root_locus.png)", "", "![limit cycle](limit_cycle.png)", "",
+        "## Critical derailment speed against radius (progressive trial)", "",
+        "| radius (m) | staircase (km/h) | constant speed, Table 2 line (km/h) | Yu 2022 (km/h) | difference | wheel | mechanism | where |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    by_r = {d["radius_m"]: d for d in results}
+    for d in results:
+        paper = PAPER["critical_derailment_speed_kmh"].get(d["radius_m"])
+        v = d["critical_derailment_speed_kmh"]
+        rv = d.get("refined_speed_kmh", float("nan"))
+        lines.append(f"| {d['radius_m']:.0f} | {v:.1f} | {rv:.1f} | {paper:.0f} | {_pct(rv if rv == rv else v, paper)} | "
+                     f"ws {d.get('refined_wheelset') or d['derailed_wheelset']} {d.get('refined_side') or d['derailed_side']} "
+                     f"| {d.get('refined_mechanism') or d['mechanism']} | {d.get('refined_section', '')} "
+                     f"{d.get('refined_position_m', float('nan')):.0f} m |")
+    if 800.0 in by_r and 1000.0 in by_r:
+        inc = by_r[1000.0]["refined_speed_kmh"] - by_r[800.0]["refined_speed_kmh"]
+        lines.append(f"\nIncrease from R 800 to 1000 m: {inc:+.0f} km/h (Yu 2022: +{PAPER['increase_800_1000_kmh']:.0f}).")
+    if 1600.0 in by_r and 1800.0 in by_r:
+        inc = by_r[1800.0]["refined_speed_kmh"] - by_r[1600.0]["refined_speed_kmh"]
+        lines.append(f"Increase from R 1600 to 1800 m: {inc:+.0f} km/h (Yu 2022: +{PAPER['increase_1600_1800_kmh']:.0f}).")
+    lines += ["", "![critical speed vs radius](critical_speed_vs_radius.png)", "",
+              "## Derailment process at the critical derailment speed", "",
+              "| radius (m) | speed (km/h) | max front attack angle (rad) | max rear attack (rad) | "
+              "max lift inner / outer (mm) | Q outer at the end (kN) | max P outer (kN) | max Q/P |",
+              "|---|---|---|---|---|---|---|---|"]
+    for radius, n in numbers.items():
+        lines.append(f"| {radius:.0f} | {n['speed_kmh']:.1f} | {n['max_front_attack_rad']:.4f} | {n['max_rear_attack_rad']:.4f} | "
+                     f"{n['max_lift_inner_m'] * 1e3:.1f} / {n['max_lift_outer_m'] * 1e3:.1f} | "
+                     f"{n['lateral_force_end_n'] / 1e3:.1f} | {n['max_vertical_force_n'] / 1e3:.1f} | "
+                     f"{n['max_derailment_coefficient']:.2f} |")
+    if numbers:
+        att = max(n["max_front_attack_rad"] for n in numbers.values())
+        qend = max(n["max_lateral_force_n"] for n in numbers.values()) / 1e3
+        pmax = max(n["max_vertical_force_n"] for n in numbers.values()) / 1e3
+        qp = max(n["max_derailment_coefficient"] for n in numbers.values())
+        lines += ["", "| quantity | this model | Yu 2022 |", "|---|---|---|",
+                  f"| front-wheelset attack-angle peak | {att:.4f} rad | about {PAPER['front_attack_angle_peak_rad']} rad |",
+                  f"| lateral force at derailment | up to {qend:.0f} kN | more than {PAPER['lateral_force_at_derailment_kn']:.0f} kN |",
+                  f"| vertical force | up to {pmax:.0f} kN | 125-130 kN (group B), over 135 kN (others) |",
+                  f"| maximum derailment coefficient | {qp:.2f} | below {PAPER['max_derailment_coefficient']} |"]
+    lines.append("")
+    for name, label in figs:
+        lines += [f"![{label}]({name})", ""]
+    lines += ["## Contact patch (outer wheel, front wheelset)", "",
+              "| radius (m) | tread patch length x width (mm) | first flange-root patch (mm) | at (m) |", "|---|---|---|---|"]
+    for radius, p in patches.items():
+        lines.append(f"| {radius:.0f} | {p['tread_length_m'] * 1e3:.1f} x {p['tread_width_m'] * 1e3:.1f} | "
+                     f"{p['root_length_m'] * 1e3:.1f} x {p['root_width_m'] * 1e3:.1f} | {p['root_position_m']:.0f} |")
+    lines += [f"\nYu 2022 (discrete contact): about {PAPER['tread_patch_mm'][0]:.0f} x {PAPER['tread_patch_mm'][1]:.0f} mm "
+              f"on the tread, {PAPER['flange_root_patch_mm'][0]} x {PAPER['flange_root_patch_mm'][1]} mm at the flange root.", ""]
+    if sens:
+        ref = sens[0][1]
+        lines += ["## Sensitivity of the critical derailment speed (R = 1000 m, staircase)", "",
+                  "| change | critical derailment speed (km/h) | change (km/h) |", "|---|---|---|"]
+        for label, v in sens:
+            lines.append(f"| {label} | {v:.1f} | {v - ref:+.1f} |")
+        lines.append("")
+    timing["total_s"] = time.time() - t0
+    lines += ["## Run", "", "```", json.dumps({k: round(v, 1) for k, v in timing.items()}), "```", ""]
+    data = dict(linear=locus.as_json(), limit_cycle=cyc.as_json(), trials=results, process=numbers, patches=patches,
+                sensitivity=sens, timing=timing)
+    with open(os.path.join(out, "report.json.tmp"), "w") as f:
+        json.dump(data, f, indent=1, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o))
+    os.replace(os.path.join(out, "report.json.tmp"), os.path.join(out, "report.json"))
+    path = os.path.join(out, "report.md")
+    with open(path + ".tmp", "w") as f:
+        f.write("\n".join(lines))
+    os.replace(path + ".tmp", path)
+    return path

@@ -1,0 +1,45 @@
+"""`railderail bench --only vehicle`: real-time factors, first-compile time and peak memory.
+
+compile_s is measured in a fresh subprocess with an empty numba cache directory (the cold start a new
+user pays once); the real-time factors are simulated time / wall time on one core after compilation,
+for the default scenario (R = 1000 m, constant 300 km/h on the Table 2 line, which derails in this model,
+so the run ends there) and for the whole line at 250 km/h, with Hertz and with discrete contact.
+"""
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+
+from . import integrator as itg
+from .simulate import Simulation, scenario
+
+_COLD = "from railderail_sim.vehicle import scenario, Simulation; Simulation(scenario()).advance(0.01)"
+
+
+def _rtf(sc):
+    sim = Simulation(sc)
+    sim.advance(0.01)                       # compile (or load the cache) outside the timing
+    t0 = time.perf_counter()
+    while sim.status == itg.RUNNING:
+        sim.advance(1.0)
+    wall = time.perf_counter() - t0
+    return sim.t / wall, sim
+
+
+def run():
+    out = {}
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        t0 = time.perf_counter()
+        subprocess.run([sys.executable, "-c", _COLD], env=env, check=True)
+        out["compile_s"] = time.perf_counter() - t0
+    rtf, sim = _rtf(scenario(radius=1000.0, speed_kmh=300.0))
+    out["real_time_factor_hertz"] = rtf
+    out["default_scenario_simulated_s"] = sim.t
+    out["steps_per_simulated_s"] = float(sim.work["hstate"][1]) / sim.t
+    out["real_time_factor_hertz_250kmh_whole_line"] = _rtf(scenario(radius=1000.0, speed_kmh=250.0))[0]
+    out["real_time_factor_discrete"] = _rtf(scenario(radius=1000.0, speed_kmh=300.0, contact_model="discrete"))[0]
+    out["peak_memory_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    return out

@@ -1,0 +1,101 @@
+"""Critical-speed methods checked against physics that does not come from the code (issue 6)."""
+from dataclasses import replace
+import json
+import math
+
+import numpy as np
+import pytest
+
+from railderail_sim.cli import main
+from railderail_sim.contact import conicity
+from railderail_sim.methods import limit_cycle as lc
+from railderail_sim.methods import root_locus as rl
+from railderail_sim.methods.progressive_trial import Staircase, balance_speed_kmh, progressive_trial
+from railderail_sim.methods.sweep import cases, sweep
+from railderail_sim.parameters import ContactParameters, TrackParameters, vehicle_parameters
+from railderail_sim.vehicle import Scenario, constant_speed, simulate
+from railderail_sim.vehicle.assemble import contact_geometry
+from railderail_sim.vehicle.linear import active_states, equilibrium
+from railderail_sim.vehicle.simulate import straight_track
+
+
+def test_free_wheelset_eigenvalue_is_the_kinematic_frequency():
+    """Without primary guidance each wheelset's eigenvalue is Klingel's kinematic frequency V / lambda,
+    lambda = 2 pi sqrt(e r0 / gamma) with the profile pair's conicity at the centre."""
+    veh = vehicle_parameters(primary_lateral_stiffness=0.0, primary_longitudinal_stiffness=0.0,
+                             primary_lateral_damping=0.0)
+    sc = Scenario(vehicle=veh, track=straight_track(), speed_table=constant_speed(60.0))
+    model, x0 = equilibrium(sc)
+    lam, _ = rl._modes(model, x0, active_states(model), 60.0)
+    table = conicity.rigid_table(contact_geometry(ContactParameters(), TrackParameters(), 0.46), 0.003, 1e-5)
+    i0 = len(table.y) // 2
+    gamma = (table.delta_r[i0 + 1] - table.delta_r[i0 - 1]) / (4 * (table.y[i0 + 1] - table.y[i0]))
+    f_kin = (60.0 / 3.6) / (2 * math.pi * math.sqrt(table.contact_half_distance * 0.46 / gamma))
+    f = lam.imag / (2 * math.pi)
+    closest = f[np.argmin(np.abs(f - f_kin))]
+    assert closest == pytest.approx(f_kin, rel=0.03)
+    # four free wheelsets: four such modes, none of them damped (a free wheelset is never stable)
+    near = np.abs(f - f_kin) < 0.05 * f_kin
+    assert near.sum() >= 4 and np.all(lam.real[near] > -0.05)
+
+
+@pytest.fixture(scope="module")
+def locus():
+    return rl.root_locus(Scenario(), np.linspace(200.0, 700.0, 11))
+
+
+def test_root_locus_finds_a_hunting_instability(locus):
+    v = locus.linear_critical_speed_kmh
+    assert 200.0 < v < 700.0
+    assert locus.critical_mode == "wheelset"
+    assert 1.0 < locus.critical_frequency_hz < 10.0
+    assert locus.least_damping[0] > 0.0 > locus.least_damping[-1]
+
+
+def test_limit_cycle_classifies_stable_and_unstable_runs(locus):
+    assert lc.final_amplitude(Scenario(), 200.0) < lc.THRESHOLD_M
+    # at the linear critical speed a kicked car keeps hunting: nonlinear critical speed <= linear one
+    assert lc.final_amplitude(Scenario(), locus.linear_critical_speed_kmh) > lc.THRESHOLD_M
+
+
+def test_trial_detects_a_forced_derailment_and_not_the_balance_speed():
+    forced = simulate(Scenario(track=TrackParameters(radius=800.0), speed_table=constant_speed(400.0),
+                               output_rate=50.0))
+    assert forced.status == "derailed" and forced.derailment["position_m"] < 800.0
+    calm = simulate(Scenario(track=TrackParameters(radius=800.0), output_rate=20.0,
+                             speed_table=constant_speed(balance_speed_kmh(800.0))))
+    assert calm.status == "finished" and calm.derailment is None
+    assert np.max(calm.wheel("wheel_lift")) < 0.005
+
+
+QUICK = Staircase(start_kmh=280.0, step_kmh=10.0, hold_m=100.0, acceleration=1.0, top_kmh=340.0)
+
+
+def test_progressive_trial_reports_speed_wheel_place_and_mechanism():
+    r = progressive_trial(Scenario(), 1000.0, QUICK, refine=False)
+    assert 280.0 < r.critical_derailment_speed_kmh <= 340.0
+    assert r.derailed_wheelset in (1, 2, 3, 4) and r.derailed_side in ("inner", "outer")
+    assert r.mechanism in ("flange_climbing", "wheel_unloading")
+    assert r.last_safe_speed_kmh < r.critical_derailment_speed_kmh
+
+
+def _same(a, b):
+    return json.dumps(a, sort_keys=True) == json.dumps(b, sort_keys=True)
+
+
+def test_sweep_on_dask_equals_the_local_run():
+    from dask.distributed import LocalCluster
+    cl = cases(radii=(1000.0,))
+    local = sweep(cl, stair=QUICK, refine=False, workers=1, progress=False)
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        remote = sweep(cl, stair=QUICK, refine=False, scheduler=cluster.scheduler_address, progress=False)
+    assert _same(local, remote)
+
+
+def test_cli_refuses_out_of_range_input(capsys):
+    assert main(["trial", "--radius", "100"]) == 2
+    assert "curve radius 100 m is outside the supported range" in capsys.readouterr().err
+    assert main(["sweep", "--radii", "800,abc"]) == 2
+    assert "--radii '800,abc' is not a comma-separated list" in capsys.readouterr().err
+    assert main(["limit-cycle", "--kink-mm", "50"]) == 2
+    assert "excitation amplitude 50 mm is outside" in capsys.readouterr().err
