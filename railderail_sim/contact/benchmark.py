@@ -1,0 +1,185 @@
+"""`railderail bench --only contact`: cost of the wheel-rail contact evaluation (one core, after compilation).
+
+One *evaluation* is what the vehicle model does per right-hand side: `wheelset.wheel_forces` for all eight
+wheels of the car. The eight wheels sit at realistic poses of LM on UIC60 1:40 (gauge 1435 mm, back-to-back
+1353 mm, r0 0.46 m), each wheelset loaded to the CRH3 static axle load (112.1 kN) by
+`contact.cli.contact_case`:
+
+    wheelset 1: centred (tread contact on both wheels)
+    wheelset 2: y = 3 mm, yaw 2 mrad (tread)
+    wheelset 3: y = 8.7 mm, yaw 5 mrad (left wheel at the flange root, 31 deg)
+    wheelset 4: y = 9.5 mm, yaw 10 mrad (left wheel on the flange, 62 deg)
+
+Timing: a numba loop over the eight wheels repeated n times (n chosen for ~0.1 s per run), median of
+REPEATS runs, reported in microseconds per evaluation of all eight wheels. Each loop alternates between
+the pose and the pose moved by a typical integration step (0.02 mm laterally, 0.01 mrad in roll and yaw),
+so the tracked search has to follow the minima. Keys:
+
+    contact_eval_us_hertz            full contact search + Hertz + Shen-Hedrick-Elkins
+    contact_eval_us_hertz_tracked    the in-step tracked search (`geometry.track_patches`) + Hertz + SHE
+    contact_eval_us_fastsim          full search + Hertz + FASTSIM (20 x 20)
+    contact_eval_us_discrete         full search + Kik-Piotrowski + SHE on its equivalent ellipse
+    contact_search_us_full           `geometry.find_patches` alone, eight wheels
+    contact_search_us_online         `geometry.track_patches` alone, eight wheels
+    halfspace_patch_ms_64            one exact half-space solve (`halfspace.halfspace_patch`) of the centred
+                                     tread patch on a 64 x 64 grid (force control), milliseconds
+    contact_compile_s                first call of the timing loops (numba compilation or cache load)
+"""
+from __future__ import annotations
+
+import math
+import time
+import warnings
+
+import numba
+import numpy as np
+
+from . import geometry as geo
+from . import halfspace as hs
+from . import kik_piotrowski as kp
+from . import wheelset as ws
+
+REPEATS = 7
+TARGET_S = 0.1
+POSES = ((0.0, 0.0), (3.0, 2.0), (8.7, 5.0), (9.5, 10.0))     # (lateral mm, yaw mrad) per wheelset
+STEP = (2e-5, 0.0, 1e-5, 1e-5)                                 # pose change within a step (y, z, phi, psi)
+
+
+@numba.njit(cache=False)
+def _eval_loop(n, poses, step, cg, cp, speed, spin, tracked, gap, ys, patches, cands, kpbuf, kpid, kprow,
+               force, moment, recs, scratch, vel, omega):
+    acc = 0.0
+    for it in range(n):
+        f = 1.0 if it % 2 == 1 else 0.0
+        for w in range(8):
+            i = w // 2
+            side = w % 2
+            for q in range(3):
+                force[q] = 0.0
+                moment[q] = 0.0
+            ws.wheel_forces(cg, cp, side, poses[i, 0] + f * step[0], poses[i, 1] + f * step[1],
+                            poses[i, 2] + f * step[2], poses[i, 3] + f * step[3], vel, omega, spin, speed,
+                            gap, ys, patches, cands[w], tracked, kpbuf, kpid, kprow, force, moment, recs[w],
+                            scratch)
+            acc += force[2]
+    return acc
+
+
+@numba.njit(cache=False)
+def _search_loop(n, poses, step, cg, tracked, gap, ys, patches, cands):
+    count = 0
+    for it in range(n):
+        f = 1.0 if it % 2 == 1 else 0.0
+        for w in range(8):
+            i = w // 2
+            m = 1.0 if w % 2 == 0 else -1.0
+            y = m * (poses[i, 0] + f * step[0])
+            z = poses[i, 1] + f * step[1]
+            phi = m * (poses[i, 2] + f * step[2])
+            psi = m * (poses[i, 3] + f * step[3])
+            if tracked:
+                count += geo.track_patches(cg, y, z, phi, psi, gap, ys, patches, cands[w])
+            else:
+                c, _ = geo.find_patches(cg, y, z, phi, psi, gap, ys, patches, cands[w])
+                count += c
+    return count
+
+
+def _median_us(fn, per_call):
+    """Median over REPEATS of fn(n) / n in microseconds, n chosen for about TARGET_S per run."""
+    fn(1)
+    t0 = time.perf_counter()
+    fn(per_call)
+    dt = max(time.perf_counter() - t0, 1e-7)
+    n = max(2, int(math.ceil(per_call * TARGET_S / dt)))
+    n += n % 2                                                # whole pairs (pose, moved pose)
+    times = []
+    for _ in range(REPEATS):
+        t0 = time.perf_counter()
+        fn(n)
+        times.append((time.perf_counter() - t0) / n)
+    return float(np.median(times)) * 1e6
+
+
+def _case_setup(model):
+    from .cli import build_setup, contact_case
+    setup = build_setup(model=model)
+    rows = []
+    for lateral, yaw in POSES:
+        result, _ = contact_case(setup, lateral_mm=lateral, yaw_mrad=yaw, model=model)
+        p = result["pose"]
+        rows.append((p["lateral_m"], p["vertical_m"], p["roll_rad"], p["yaw_rad"]))
+    return setup, np.array(rows)
+
+
+def run() -> dict:
+    from ..vehicle.assemble import contact_array
+    from .cli import _discrete_arrays, static_wheelset_load
+
+    figures = {}
+    compile_s = 0.0
+    for model in ("hertz", "fastsim", "discrete"):
+        setup, poses = _case_setup(model)
+        cg = setup.cg
+        cp = contact_array(setup.contact)
+        nw = int(cg[geo.H_NW])
+        speed = 300.0 / 3.6
+        spin = speed / setup.radius
+        bufs = dict(gap=np.zeros(nw), ys=np.zeros(nw), patches=np.zeros((geo.MAX_PATCHES, geo.P_COLS)),
+                    cands=np.zeros((8, 1 + geo.MAX_CANDIDATES)), kpbuf=np.zeros((4, nw)),
+                    kpid=np.zeros(nw, dtype=np.int64), kprow=np.zeros((1, kp.NPROP)), force=np.zeros(3),
+                    moment=np.zeros(3), recs=np.zeros((8, ws.W_SIZE)), scratch=np.zeros(12),
+                    vel=np.array([speed, 0.0, 0.0]), omega=np.zeros(3))
+        step = np.array(STEP)
+
+        def evaluate(n, tracked=False):
+            b = bufs
+            return _eval_loop(n, poses, step, cg, cp, speed, spin, tracked, b["gap"], b["ys"], b["patches"],
+                              b["cands"], b["kpbuf"], b["kpid"], b["kprow"], b["force"], b["moment"],
+                              b["recs"], b["scratch"], b["vel"], b["omega"])
+
+        t0 = time.perf_counter()
+        evaluate(1)
+        compile_s += time.perf_counter() - t0
+        figures[f"contact_eval_us_{model}"] = _median_us(evaluate, 1)
+        if model == "hertz":
+            evaluate(1)                                  # full search at the pose: fills the candidates
+            figures["contact_eval_us_hertz_tracked"] = _median_us(lambda n: evaluate(n, True), 1)
+
+            def search(n, tracked=False):
+                b = bufs
+                return _search_loop(n, poses, step, cg, tracked, b["gap"], b["ys"], b["patches"], b["cands"])
+
+            t0 = time.perf_counter()
+            search(1)
+            search(1, True)
+            compile_s += time.perf_counter() - t0
+            figures["contact_search_us_full"] = _median_us(search, 1)
+            search(1)
+            figures["contact_search_us_online"] = _median_us(lambda n: search(n, True), 1)
+            hertz_poses = poses
+
+    # one 64 x 64 half-space solve of the centred tread patch at the static wheel load
+    pose = (0.0, float(hertz_poses[0, 1]), 0.0, 0.0)
+    gap, ys = np.zeros(nw), np.zeros(nw)
+    patches = np.zeros((geo.MAX_PATCHES, geo.P_COLS))
+    n_p, _ = geo.find_patches(cg, *pose, gap, ys, patches, np.zeros(1 + geo.MAX_CANDIDATES))
+    k = int(np.argmin(patches[:n_p, geo.P_GAP]))
+    cd = 1.0 / math.sqrt(1.0 + patches[k, geo.P_SLOPE] ** 2)
+    s, g, R, _, _ = _discrete_arrays(cg, pose, int(patches[k, geo.P_JM]), patches[k, geo.P_GAP], cd, margin=3)
+    su = np.linspace(s[0], s[-1], 64)
+    x_half = 1.05 * math.sqrt(2.0 * R.max() * (-patches[k, geo.P_GAP] * cd))
+    h, x, dx, dy = hs.wheelrail_gap(su, np.interp(su, s, g), np.interp(su, s, R), x_half, 64)
+    load = 0.5 * static_wheelset_load()
+    E, nu = setup.contact.youngs_modulus, setup.contact.poisson_ratio
+    times = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        hs.halfspace_patch(h, dx, dy, E, nu, N=load, x=x, y=su)          # kernel FFT cached per grid
+        for _ in range(5):
+            t0 = time.perf_counter()
+            hs.halfspace_patch(h, dx, dy, E, nu, N=load, x=x, y=su)
+            times.append(time.perf_counter() - t0)
+    figures["halfspace_patch_ms_64"] = float(np.median(times)) * 1e3
+    figures["contact_compile_s"] = compile_s
+    return figures
