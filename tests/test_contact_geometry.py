@@ -26,27 +26,24 @@ def _buffers(cg):
 
 
 def _brute_force(cg, y, z, phi, psi):
-    """Deepest gap of each interpenetration run on the full fine grid, refined by the same parabola."""
+    """Patches on the full fine grid by the same definition: local minima below zero, neighbours merged when
+    the ridge between them lies deeper than RIDGE_MERGE x the shallower one; each refined by the parabola."""
     gap, ys, _, _ = _buffers(cg)
     j0, j1 = geo.trace_gap(cg, y, z, phi, psi, gap, ys)
     g = gap[j0:j1]
-    runs = []
-    j = 0
-    while j < len(g):
-        if g[j] < 0:
-            k = j
-            while k < len(g) and g[k] < 0:
-                k += 1
-            m = j + int(np.argmin(g[j:k]))
-            if 0 < m < len(g) - 1:
-                den = g[m - 1] - 2 * g[m] + g[m + 1]
-                runs.append(g[m] - 0.125 * (g[m - 1] - g[m + 1]) ** 2 / den if den > 0 else g[m])
-            else:
-                runs.append(g[m])
-            j = k
+    minima = [j for j in range(1, len(g) - 1) if g[j] < 0 and g[j] <= g[j - 1] and g[j] < g[j + 1]]
+    kept = []
+    for j in minima:
+        if kept and np.max(g[kept[-1] + 1:j]) < geo.RIDGE_MERGE * max(g[kept[-1]], g[j]):
+            if g[j] < g[kept[-1]]:
+                kept[-1] = j
         else:
-            j += 1
-    return sorted(runs)
+            kept.append(j)
+    out = []
+    for m in kept:
+        den = g[m - 1] - 2 * g[m] + g[m + 1]
+        out.append(g[m] - 0.125 * (g[m - 1] - g[m + 1]) ** 2 / den if den > 0 else g[m])
+    return sorted(out)
 
 
 def test_coarse_to_fine_search_finds_every_patch(cg):

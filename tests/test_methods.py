@@ -25,8 +25,8 @@ def test_free_wheelset_eigenvalue_is_the_kinematic_frequency():
     veh = vehicle_parameters(primary_lateral_stiffness=0.0, primary_longitudinal_stiffness=0.0,
                              primary_lateral_damping=0.0)
     sc = Scenario(vehicle=veh, track=straight_track(), speed_table=constant_speed(60.0))
-    model, x0 = equilibrium(sc)
-    lam, _ = rl._modes(model, x0, active_states(model), 60.0)
+    model, x0, rolling_radius = equilibrium(sc)
+    lam, _ = rl._modes(model, x0, active_states(model), 60.0, rolling_radius)
     table = conicity.rigid_table(contact_geometry(ContactParameters(), TrackParameters(), 0.46), 0.003, 1e-5)
     i0 = len(table.y) // 2
     gamma = (table.delta_r[i0 + 1] - table.delta_r[i0 - 1]) / (4 * (table.y[i0 + 1] - table.y[i0]))

@@ -43,7 +43,7 @@ def test_straight_centred_start_stays_centred():
 
 @pytest.fixture(scope="module")
 def left_and_right():
-    base = Scenario(speed_table=constant_speed(200.0), output_rate=50.0, start_position=150.0, end_position=500.0)
+    base = Scenario(speed_table=constant_speed(200.0), output_rate=200.0, start_position=150.0, end_position=500.0)
     left = simulate(base)
     right = simulate(replace(base, track=replace(base.track, direction=-1)))
     return left, right
@@ -52,14 +52,19 @@ def left_and_right():
 def test_right_curve_is_the_mirror_of_the_left_curve(left_and_right):
     """Mirror image: the car is built mirror-symmetric and the right wheel is computed as the mirrored left
     one, so the runs differ only by rounding (sums taken in another order), which flange contact amplifies
-    to below a micrometre here."""
+    to below a micrometre here. Forces are compared low-pass filtered at 20 Hz (as EN 14363 evaluates
+    them): a sub-micrometre shift of a flange impact changes its raw peak by kilonewtons."""
+    from scipy.signal import butter, filtfilt
     left, right = left_and_right
     assert np.allclose(right.wheelset_lateral, -left.wheelset_lateral, atol=1e-6)
     # attack angle is signed toward the outer rail, so it is the same on both curves
     assert np.allclose(right.attack_angle, left.attack_angle, atol=1e-6)
     swap = [1, 0, 3, 2, 5, 4, 7, 6]
-    for name, tol in (("vertical_force", 200.0), ("lateral_force", 200.0), ("wheel_lift", 1e-6)):
-        assert np.allclose(right.wheel(name), left.wheel(name)[:, swap], atol=tol)
+    assert np.allclose(right.wheel("wheel_lift"), left.wheel("wheel_lift")[:, swap], atol=1e-5)
+    b, a = butter(4, 20.0 / 100.0)
+    for name in ("vertical_force", "lateral_force"):
+        assert np.allclose(filtfilt(b, a, right.wheel(name), axis=0),
+                           filtfilt(b, a, left.wheel(name)[:, swap], axis=0), atol=500.0)
 
 
 def test_runs_are_bit_identical(left_and_right):

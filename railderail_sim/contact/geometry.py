@@ -63,6 +63,7 @@ COARSE_WINDOW_GAP = 1.5e-3           # m; coarse minima below this are searched 
 NO_RAIL_GAP = 1.0                    # m; gap reported where there is no rail under the wheel
 TRACK_GAP = 1.0e-3                   # m; near-contacts below this are followed during a time step
 MAX_CANDIDATES = 6
+RIDGE_MERGE = 0.5                    # see _same_run
 
 
 def pack_contact_geometry(wheel, rail, nominal_radius, rolling_circle_half_distance, gauge, gauge_depth,
@@ -304,8 +305,8 @@ def find_patches(cg, y, z, phi, psi, gap, ys, patches, cand):
     Coarse-to-fine search: the gap is sampled every COARSE_STRIDE grid points; around each coarse local
     minimum below COARSE_WINDOW_GAP the fine grid is searched for the true local minimum (the threshold
     covers the dip that can hide between two coarse samples on these profiles). Minima with a negative gap
-    are patches; minima in one connected interpenetration run are one patch (the deepest), so a wide
-    conformal contact is not counted twice. Each patch row gets the contact point, its gap, rail slope,
+    are patches; minima joined by a deeply submerged ridge are one patch (the deepest, see `_same_run`), so
+    a wide conformal contact is not counted twice. Each patch row gets the contact point, its gap, rail slope,
     wheel profile coordinate and radius, the Hertz half relative curvatures A and B, and the fine grid
     index of its minimum (P_JM).
 
@@ -430,29 +431,39 @@ def _fine_minimum(cg, pose, jc, j0, j1, gap, ys):
 
 @numba.njit(cache=True)
 def _same_run(cg, pose, ja, jb, gap, ys):
-    """True if the gap stays negative on every fine sample between fine minima ja < jb."""
+    """True if minima ja < jb form one patch: the ridge between them lies deeper than RIDGE_MERGE times the
+    shallower minimum's interpenetration. A ridge that only just dips below zero leaves two patches (tread
+    and flange root stay two contacts, as the half-space solution shows them); a shallow ripple inside one
+    conformal region is one patch (not counted twice)."""
+    level = RIDGE_MERGE * max(gap[ja], gap[jb])
     _scan(cg, pose, ja + 1, jb, 1, gap, ys)
     for k in range(ja + 1, jb):
-        if gap[k] >= 0.0:
+        if gap[k] >= level:
             return False
     return True
 
 
 @numba.njit(cache=True)
 def run_bounds(cg, y, z, phi, psi, jm, gap, ys):
-    """Fine-grid interpenetration run [ja, jb] around the patch minimum jm (fills gap/ys on it)."""
+    """Fine-grid extent [ja, jb] of the patch around its minimum jm (fills gap/ys on it): the
+    interpenetration run, cut at a ridge that stands above RIDGE_MERGE times this patch's depth (beyond
+    it lies another patch, see `_same_run`)."""
     pose = pose_constants(cg, y, z, phi, psi)
     j0, j1 = wheel_range(cg, pose)
+    _scan(cg, pose, jm, jm + 1, 1, gap, ys)
+    level = RIDGE_MERGE * gap[jm]
     ja = jm
     while ja - 1 >= j0:
         _scan(cg, pose, ja - 1, ja, 1, gap, ys)
-        if gap[ja - 1] >= 0.0:
+        g = gap[ja - 1]
+        if g >= 0.0 or (g < gap[ja] and gap[ja] >= level):
             break
         ja -= 1
     jb = jm
     while jb + 1 < j1:
         _scan(cg, pose, jb + 1, jb + 2, 1, gap, ys)
-        if gap[jb + 1] >= 0.0:
+        g = gap[jb + 1]
+        if g >= 0.0 or (g < gap[jb] and gap[jb] >= level):
             break
         jb += 1
     _scan(cg, pose, ja, jb + 1, 1, gap, ys)

@@ -29,6 +29,7 @@ C_ESTAR, C_G, C_NU, C_MU, C_CHI, C_NORMAL, C_CREEP = 0, 1, 2, 3, 4, 5, 6
 C_QP_MIN_LOAD = 7     # vertical load below which Q/P is not evaluated (N): an unloaded wheel's ratio means nothing
 C_SIZE = 8
 NORMAL_HERTZ, NORMAL_DISCRETE = 0, 1
+KP_MIN_STRIPS = 24    # strips across a Kik-Piotrowski patch at least (a flange patch spans 4-6 grid points)
 
 # Per-wheel output record
 W_LIFT = 0            # wheel lift hp (m)
@@ -171,27 +172,38 @@ def left_wheel(cg, cp, y, z, phi, psi, vel, omega, spin, speed, gap, ys, patches
 
 @numba.njit(cache=True)
 def _discrete_normal(cg, y, z, phi, psi, jm, gmin, cos_angle, gap, ys, kpbuf, kpid, kprow, estar, nu):
-    """Kik-Piotrowski normal load of one patch from the gap along its interpenetration run.
+    """Kik-Piotrowski normal load of one patch from the gap along its extent.
 
-    The vertical gap along the trace line is turned into the normal separation (times cos of the contact
-    angle) on the lateral tangent coordinate (Y / cos), assuming a locally plane contact; the wheel's
-    longitudinal radius in the contact plane is r sqrt(1 + r'^2). Returns (N, a, b, a_eq, b_eq): half
-    the patch's length and width, and the semi-axes of its equivalent ellipse for the creep forces.
+    The patch's extent on the wheel grid (`geometry.run_bounds`, one step wider on each side) is sampled
+    at no fewer than KP_MIN_STRIPS points along the trace line (a flange patch spans only a few grid
+    points); the vertical gap is turned into the normal separation (times cos of the contact angle) on the
+    lateral tangent coordinate (Y / cos), assuming a locally plane contact; the wheel's longitudinal radius
+    in the contact plane is r sqrt(1 + r'^2). Returns (N, a, b, a_eq, b_eq): half the patch's length and
+    width, and the semi-axes of its equivalent ellipse for the creep forces.
     """
     ja, jb = geo.run_bounds(cg, y, z, phi, psi, jm, gap, ys)
-    n = jb - ja + 1
-    if n < 2:
-        return 0.0, 0.0, 0.0, 0.0, 0.0
-    nw = int(cg[geo.H_NW])
-    ds = (ys[jb] - ys[ja]) / ((n - 1) * cos_angle) if n > 1 else cg[geo.H_DW]
-    ds = abs(ds)
-    r0 = cg[geo.H_R0]
+    dw = cg[geo.H_DW]
+    yp0 = cg[geo.H_WY0] + (ja - 1) * dw
+    yp1 = cg[geo.H_WY0] + (jb + 1) * dw
+    n = max(jb - ja + 3, KP_MIN_STRIPS)
+    n = min(n, kpbuf.shape[1])
+    pose = geo.pose_constants(cg, y, z, phi, psi)
+    y_first = 0.0
+    y_last = 0.0
     for i in range(n):
-        j = ja + i
+        yp = yp0 + (yp1 - yp0) * i / (n - 1)
+        X, Y, Z, r, sw, kw = geo._trace_point(cg, pose, yp)
+        zr, _ = geo.rail_height(cg, Y)
+        kpbuf[1, i] = (Z - zr - gmin) * cos_angle
+        kpbuf[2, i] = r * math.sqrt(1.0 + sw * sw)
+        if i == 0:
+            y_first = Y
+        y_last = Y
+    ds = abs(y_last - y_first) / ((n - 1) * cos_angle)
+    for i in range(n):
         kpbuf[0, i] = i * ds
-        kpbuf[1, i] = (gap[j] - gmin) * cos_angle
-        sw = cg[geo.H_SIZE + nw + j]
-        kpbuf[2, i] = (r0 + cg[geo.H_SIZE + j]) * math.sqrt(1.0 + sw * sw)
+        if kpbuf[1, i] < 0.0:
+            kpbuf[1, i] = 0.0
     # E from E* for identical materials (E* = E / (2 (1 - nu^2)))
     E = estar * 2.0 * (1.0 - nu * nu)
     count = kp.kp_normal(kpbuf[0, :n], kpbuf[1, :n], kpbuf[2, :n], -gmin * cos_angle, E, nu, kp.EPS_DEFAULT,

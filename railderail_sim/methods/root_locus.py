@@ -14,8 +14,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..vehicle import layout as L
-from ..vehicle.linear import (active_states, damping_ratio, equilibrium, jacobian, mode_participation,
-                              rhs_function)
+from ..vehicle.linear import (active_states, at_speed, damping_ratio, equilibrium, jacobian,
+                              mode_participation, rhs_function)
 from ..vehicle.simulate import KMH, Scenario, check_range, constant_speed, straight_track
 
 SPEED_RANGE_KMH = (30.0, 800.0)
@@ -43,15 +43,15 @@ class RootLocus:
                     least_damped_mode=self.least_mode, least_damped_frequency_hz=self.least_frequency_hz.tolist())
 
 
-def _modes(model, x0, idx, speed_kmh):
-    J = jacobian(rhs_function(model, speed_kmh), x0, idx)
+def _modes(model, x0, idx, speed_kmh, rolling_radius):
+    J = jacobian(rhs_function(model, speed_kmh), at_speed(x0, speed_kmh, rolling_radius), idx)
     lam, vec = np.linalg.eig(J)
     keep = (lam.imag > 2 * np.pi * MIN_FREQUENCY_HZ) & (lam.imag < 2 * np.pi * MAX_FREQUENCY_HZ)
     return lam[keep], vec[:, keep]
 
 
-def _least(model, x0, idx, speed_kmh):
-    lam, vec = _modes(model, x0, idx, speed_kmh)
+def _least(model, x0, idx, speed_kmh, rr):
+    lam, vec = _modes(model, x0, idx, speed_kmh, rr)
     z = damping_ratio(lam)
     k = int(np.argmin(z))
     body = int(np.argmax(mode_participation(vec[:, k], idx)))
@@ -65,11 +65,11 @@ def root_locus(sc: Scenario = None, speeds_kmh=None, tolerance_kmh=0.5):
     speeds = np.linspace(100.0, 600.0, 101) if speeds_kmh is None else np.asarray(speeds_kmh, dtype=float)
     for v in (speeds.min(), speeds.max()):
         check_range("root-locus speed", v, *SPEED_RANGE_KMH, "km/h")
-    model, x0 = equilibrium(sc)
+    model, x0, rr = equilibrium(sc)
     idx = active_states(model)
     eig, least, names, freq = [], [], [], []
     for v in speeds:
-        lam, z, name, f = _least(model, x0, idx, v)
+        lam, z, name, f = _least(model, x0, idx, v, rr)
         eig.append(lam)
         least.append(z)
         names.append(name)
@@ -87,10 +87,10 @@ def root_locus(sc: Scenario = None, speeds_kmh=None, tolerance_kmh=0.5):
             lo, hi = speeds[j - 1], speeds[j]
             while hi - lo > tolerance_kmh:
                 mid = 0.5 * (lo + hi)
-                _, z, _, _ = _least(model, x0, idx, mid)
+                _, z, _, _ = _least(model, x0, idx, mid, rr)
                 lo, hi = (mid, hi) if z >= 0.0 else (lo, mid)
             vcrit = 0.5 * (lo + hi)
-            _, _, mode, fcrit = _least(model, x0, idx, vcrit)
+            _, _, mode, fcrit = _least(model, x0, idx, vcrit, rr)
     return RootLocus(speeds_kmh=speeds, eigenvalues=eig, least_damping=least, least_mode=names,
                      least_frequency_hz=np.array(freq), linear_critical_speed_kmh=vcrit, critical_mode=mode,
                      critical_frequency_hz=fcrit,

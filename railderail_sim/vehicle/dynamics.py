@@ -8,6 +8,8 @@ Formulation (details and assumptions in docs/vehicle-model.md):
   the alignment (curvature rate and cant rate jump at the ends of the transitions) enter only the
   kinematic relations and never as impulses:
       dV/dt = F/m + g_T - omega_T x V,      I domega/dt = M - omega x I omega - gyroscopic spin term,
+  and for each wheelset its spin about the axle, driven by the contact forces' moment about the axle
+  (so that each wheelset rolls freely: no net longitudinal creep force but the one that steers it),
       dy/dt = V_y + omega_T,x (h + z),  dz/dt = V_z - omega_T,x y,  d(angle)/dt = omega - omega_T,
   with omega_T = (v dcant/ds, v kappa sin(cant), v kappa cos(cant)) the track frame's angular velocity.
 - Suspension forces come from the ground-frame positions and velocities of the attachment points (each
@@ -320,7 +322,8 @@ def rhs(x, dx, bodies, vp, bush, damp, bump, arb, track, sp, cg, cp, kin, gap, y
     g = vp[L.V_G]
     r0 = vp[L.V_R0]
     spin_i = vp[L.V_SPIN_INERTIA]
-    spin = v / r0
+    # the motors/brakes supply the torque that keeps the wheels turning with the prescribed acceleration
+    traction = spin_i * v * dvds / r0
     s = x[L.I_S]
     for b in range(L.N_BODY):
         o = L.N_DOF * b
@@ -345,6 +348,7 @@ def rhs(x, dx, bodies, vp, bush, damp, bump, arb, track, sp, cg, cp, kin, gap, y
         wz = x[ov + 4]
         is_ws = bodies[b, L.B_WHEELSET] > 0.5
         wy = wty if is_ws else x[ov + 3]
+        spin = x[ov + 3]                          # wheelsets: spin about the axle (rad/s)
         if is_ws:
             for i in range(6):
                 ftrack[i] = 0.0
@@ -382,7 +386,8 @@ def rhs(x, dx, bodies, vp, bush, damp, bump, arb, track, sp, cg, cp, kin, gap, y
             hs = spin_i * spin
             gx += hs * (wy * ax_z - wz * ax_y)
             gz += hs * (wx * ax_y - wy * ax_x)
-            dx[ov + 3] = 0.0
+            # spin: the contact forces' moment about the axle (the axle boxes do not turn with the wheels)
+            dx[ov + 3] = ((ftrack[3] * ax_x + ftrack[4] * ax_y + ftrack[5] * ax_z) + traction) / spin_i
         else:
             dx[ov + 3] = (my - gy) / iy
         dx[ov + 2] = (mx - gx) / ix

@@ -37,6 +37,7 @@ LIMIT_ANGLE = 0.5              # rad
 LIMIT_VELOCITY = 30.0          # m/s, lateral/vertical
 LIMIT_RATE = 60.0              # rad/s
 LIMIT_DAMPER = 0.5             # m
+LIMIT_SPIN = 1000.0            # rad/s, a wheelset's spin (about 240 rad/s at 400 km/h)
 
 N_OUT = L.O_WHEEL + 8 * ws.W_SIZE
 
@@ -140,6 +141,8 @@ def _check_divergence(x, t, event):
             for k in range(L.N_DOF):
                 lim_p = LIMIT_DISPLACEMENT if k < 2 else LIMIT_ANGLE
                 lim_v = LIMIT_VELOCITY if k < 2 else LIMIT_RATE
+                if k == 3 and b >= L.WHEELSETS[0]:
+                    lim_v = LIMIT_SPIN
                 if abs(x[o + k]) > lim_p:
                     bad = o + k
                     break

@@ -8,7 +8,8 @@ State vector x (float64):
                                axes), 2..4 absolute angular velocity about the track x, y, z axes
   dampers    x[70 + d]         elongation of the damper part of each series spring-damper element (m)
   position   x[78]             distance s of the car-body centre along the line (m)
-Wheelsets have no pitch degree of freedom (their spin is v / r0): their k = 3 entries stay zero.
+Wheelsets: the k = 3 position entry (pitch angle) is unused and stays zero; the k = 3 velocity entry is the
+wheelset's spin about its axle (rad/s, about v / r), a degree of freedom driven by the contact forces.
 """
 N_BODY = 7
 CAR_BODY = 0

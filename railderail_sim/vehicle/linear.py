@@ -11,7 +11,7 @@ import numpy as np
 
 from . import integrator as itg
 from . import layout as L
-from .simulate import Simulation, constant_speed
+from .simulate import Simulation, constant_speed, set_rolling
 
 
 def rhs_function(model, speed_kmh):
@@ -29,12 +29,11 @@ def rhs_function(model, speed_kmh):
 
 
 def active_states(model):
-    """Indices kept in the linear model: all but the track position, the wheelsets' pitch states and
-    the internal states of dampers without series stiffness."""
+    """Indices kept in the linear model: all but the track position, the wheelsets' unused pitch angles
+    and the internal states of dampers without series stiffness."""
     drop = {L.I_S}
     for b in L.WHEELSETS:
         drop.add(L.N_DOF * b + 3)
-        drop.add(L.I_VEL + L.N_DOF * b + 3)
     for e in range(model.damp.shape[0]):
         if model.damp[e, L.D_KS] <= 0.0:
             drop.add(int(model.damp[e, L.D_STATE]))
@@ -42,13 +41,21 @@ def active_states(model):
 
 
 def equilibrium(sc, settle_time=1.0):
-    """Centred equilibrium on the scenario's (straight) track: the static state settled in time.
+    """Centred equilibrium on the scenario's (straight) track: the static state settled in time, and the
+    rolling radius of the centred wheel (to set the wheelsets' spin for another speed).
 
     Lateral symmetry keeps every lateral state exactly zero; only the vertical ones settle.
     """
     sim = Simulation(sc)
     sim.advance(settle_time)
-    return sim.model, sim.x.copy()
+    return sim.model, sim.x.copy(), sim.rolling_radius
+
+
+def at_speed(x0, speed_kmh, rolling_radius):
+    """The equilibrium state with the wheelsets spinning for another speed."""
+    x = x0.copy()
+    set_rolling(x, speed_kmh / 3.6, rolling_radius)
+    return x
 
 
 def jacobian(f, x0, idx, step=1e-7):

@@ -122,8 +122,9 @@ def straight_track(**changes):
     return TrackParameters(radius=math.inf, cant_height=0.0, **changes)
 
 
-def static_vertical_offset(model):
-    """Vertical displacement of the centred car at rest: rigid contact minus the Hertz approach (m)."""
+def static_state(model):
+    """Vertical displacement of the centred car at rest (rigid contact minus the Hertz approach, m) and the
+    rolling radius of the centred wheel (m)."""
     cg = model.cg
     nw = int(cg[geo.H_NW])
     gap = np.zeros(nw)
@@ -136,7 +137,13 @@ def static_vertical_offset(model):
     _, _, stiff = hertz_shape(patches[k, geo.P_A], patches[k, geo.P_B], model.cp[ws.C_ESTAR])
     slope = patches[k, geo.P_SLOPE]
     approach = (model.static_wheel_load / stiff) ** (2.0 / 3.0)
-    return z_rigid - approach * math.sqrt(1.0 + slope * slope)
+    return z_rigid - approach * math.sqrt(1.0 + slope * slope), float(patches[k, geo.P_RADIUS])
+
+
+def set_rolling(x, speed, rolling_radius):
+    """Spin every wheelset at the free-rolling rate of the centred wheel."""
+    for b in L.WHEELSETS:
+        x[L.I_VEL + L.N_DOF * b + 3] = speed / rolling_radius
 
 
 class Simulation:
@@ -150,10 +157,12 @@ class Simulation:
         self.work = itg.workspace(self.model.cg)
         self.atol = state_tolerances(sc.atol)
         self.x = np.zeros(L.N_STATE)
-        z0 = static_vertical_offset(self.model)
+        z0, self.rolling_radius = static_state(self.model)
         for b in range(L.N_BODY):
             self.x[L.N_DOF * b + 1] = z0
         self.x[L.I_S] = sc.start_position
+        set_rolling(self.x, float(np.interp(sc.start_position, self.speed_table[:, 0], self.speed_table[:, 1])),
+                    self.rolling_radius)
         self.t = 0.0
         self.rows_written = 0
         line_end = alignment.end_of_line(self.model.track)
