@@ -27,7 +27,7 @@ contact-case
                    g_n = vertical gap x cos(contact angle), s = lateral track coordinate / cos, R the
                    wheel's longitudinal radius in the contact plane r sqrt(1 + r'^2)
                    (docs/contact-models.md; the same locally plane reduction as the discrete model).
-    Per-patch quantities are computed by `_wheel_detail`, which follows `wheelset.left_wheel` step by
+    Per-patch quantities are computed by `wheel_patch_details`, which follows `wheelset.left_wheel` step by
     step; its force sums are checked against `wheelset.wheel_forces` on every call.
 
 Sign conventions of the output: totals in track axes (x forward, y left, z up), forces on the wheelset.
@@ -618,7 +618,7 @@ def _discrete_arrays(cg, pose, jm, gmin, cd, margin=0):
     return s, g, R, ja - lo, jb - lo
 
 
-def _wheel_detail(setup: Setup, cp, pose, speed, spin, model, grid):
+def wheel_patch_details(setup: Setup, cp, pose, speed, spin, model, grid):
     """Per-patch contact data of the left wheel at `pose` (the left-wheel form of either wheel),
     following `wheelset.left_wheel`; plus the half-space solution per patch when asked."""
     cg = setup.cg
@@ -883,12 +883,12 @@ def contact_case(setup: Setup, *, lateral_mm=0.0, yaw_mrad=0.0, roll_mrad=None, 
         f, m, rec = _wheel_forces(cg, cp, side, pose, speed, spin)
         total_f += f
         total_m += m
-        patches, pdata, fsum = _wheel_detail(setup, cp, _mirror(pose, side), speed, spin, model, grid)
+        patches, pdata, fsum = wheel_patch_details(setup, cp, _mirror(pose, side), speed, spin, model, grid)
         fref = f * np.array([1.0, 1.0 if side == 0 else -1.0, 1.0])
         diff = float(np.max(np.abs(fsum - fref))) / max(1.0, float(np.max(np.abs(fref))))
         if diff > 1e-6:
             raise RuntimeError(f"contact-case: per-patch forces of the {SIDES[side]} wheel differ from "
-                               f"wheelset.wheel_forces by {diff:.2e} (relative); _wheel_detail is out of "
+                               f"wheelset.wheel_forces by {diff:.2e} (relative); wheel_patch_details is out of "
                                "date")
         wheels.append({
             "side": SIDES[side],

@@ -145,6 +145,86 @@ def _patch_sizes(runs):
     return out
 
 
+PHASES = ("a: straight track", "b: transition", "c: first flange-root contact", "d: circular curve",
+          "e: two-point contact", "f: derailment")
+
+
+def _phase_rows(run):
+    """Row indices of the phases of Yu 2022 Fig. 7 for the outer wheel of the front wheelset (-1: none)."""
+    o = 1 if run.scenario.track.direction > 0 else 0
+    p = run.patches(o)
+    main = p[np.arange(len(p)), np.argmax(p[:, :, 4], axis=1)]
+    pos = run.position
+    first = lambda mask: int(np.argmax(mask)) if mask.any() else -1  # noqa: E731
+    return [first(pos >= 120.0), first(pos >= 300.0), first(main[:, 5] > 0.5), first(pos >= 700.0),
+            first(run.wheel("contact_count")[:, o] >= 2), len(pos) - 1]
+
+
+def _patch_phases(run, out):
+    """Contact patch of the outer wheel, front wheelset, at the phases of Yu 2022 Fig. 7: Hertz ellipse,
+    discrete Kik-Piotrowski outline and the exact half-space pressure (contact/halfspace.py)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.patches import Ellipse
+    from ..contact import cli as ccli
+    from ..vehicle.assemble import contact_array
+    sc = run.scenario
+    setup = ccli.build_setup(sc.contact.wheel_profile, sc.track.rail_profile, model="halfspace",
+                             friction=sc.contact.friction_coefficient)
+    cp = contact_array(setup.contact)
+    right = sc.track.direction > 0                  # the outer wheel of a left curve is the right one
+    rows = []
+    bodies = run.arrays()["body_states"]
+    fig, axes = plt.subplots(2, 3, figsize=(13, 8))
+    for ax, label, i in zip(axes.ravel(), PHASES, _phase_rows(run)):
+        if i < 0:
+            ax.axis("off")
+            ax.set_title(f"{label}: not reached")
+            continue
+        ws1 = bodies[i, 3]
+        y, z, phi, psi = run.wheelset_lateral[i, 0], ws1[1], ws1[2], ws1[4]
+        pose = (-y, z, -phi, -psi) if right else (y, z, phi, psi)
+        v = run.speed[i]
+        details, plot, _ = ccli.wheel_patch_details(setup, cp, pose, v, v / sc.vehicle.rolling_radius,
+                                                    "halfspace", 48)
+        if not details:
+            ax.set_title(f"{label}: no contact")
+            continue
+        k = int(np.argmax([d["normal_force_N"] for d in details]))
+        d, pd = details[k], plot[k]
+        h = pd["halfspace"]
+        p = np.where(h["pressure"] > 0, h["pressure"], np.nan) / 1e6
+        m = ax.pcolormesh(h["s"] * 1e3, h["x"] * 1e3, p.T, shading="nearest", cmap="viridis")
+        fig.colorbar(m, ax=ax, label="pressure (MPa)", shrink=0.8)
+        inside = pd["xl"] > 0
+        s_mm = np.concatenate(([pd["s_edges"][0]], pd["s"][inside], [pd["s_edges"][1]])) * 1e3
+        xl_mm = np.concatenate(([0.0], pd["xl"][inside], [0.0])) * 1e3
+        ax.plot(np.concatenate((s_mm, s_mm[::-1])), np.concatenate((xl_mm, -xl_mm[::-1])), "r-", lw=1.2,
+                label="Kik-Piotrowski")
+        ax.add_patch(Ellipse((0.0, 0.0), 2e3 * pd["b"], 2e3 * pd["a"], fill=False, ls="--", color="k",
+                             label="Hertz"))
+        lim = 1.2 * max(np.max(np.abs(h["x"])), np.max(np.abs(h["s"]))) * 1e3
+        ax.set_xlim(-lim, lim)
+        ax.set_ylim(-lim, lim)
+        ax.set_aspect("equal")
+        ax.set_xlabel("lateral in the contact plane (mm)")
+        ax.set_ylabel("rolling direction (mm)")
+        ax.legend(fontsize=7)
+        ax.set_title(f"{label}, s = {run.position[i]:.0f} m\n{len(details)} patch(es), angle "
+                     f"{math.degrees(d['contact_angle_rad']):.0f} deg, N {d['normal_force_N'] / 1e3:.0f} kN", fontsize=9)
+        hs = d["halfspace"]
+        rows.append(dict(phase=label, position_m=float(run.position[i]), patches=len(details),
+                         contact_angle_rad=d["contact_angle_rad"], normal_force_n=d["normal_force_N"],
+                         hertz_mm=(2e3 * d["hertz_a_m"], 2e3 * d["hertz_b_m"]),
+                         discrete_mm=(1e3 * d["discrete"]["length_m"], 1e3 * d["discrete"]["width_m"]),
+                         halfspace_mm=(1e3 * hs["length_m"], 1e3 * hs["width_m"])))
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "patch_phases.png"), dpi=100)
+    plt.close(fig)
+    return rows
+
+
 def _sensitivity(radius, stair, workers):
     """Critical derailment speed (staircase) at one radius when one uncertain value changes at a time."""
     base = vehicle_parameters()
@@ -209,6 +289,8 @@ def write_report(out="report", quick=False, workers=None):
     figs = _process_figures(runs, out)
     numbers = _process_numbers(runs)
     patches = _patch_sizes(runs)
+    phase_radius = 1000.0 if 1000.0 in runs else min(runs) if runs else None
+    phases = _patch_phases(runs[phase_radius], out) if phase_radius else []
     timing["process_s"] = time.time() - t
     sens = [] if quick else _sensitivity(1000.0, stair, workers)
 
@@ -282,6 +364,16 @@ def write_report(out="report", quick=False, workers=None):
                      f"{p['root_length_m'] * 1e3:.1f} x {p['root_width_m'] * 1e3:.1f} | {p['root_position_m']:.0f} |")
     lines += [f"\nYu 2022 (discrete contact): about {PAPER['tread_patch_mm'][0]:.0f} x {PAPER['tread_patch_mm'][1]:.0f} mm "
               f"on the tread, {PAPER['flange_root_patch_mm'][0]} x {PAPER['flange_root_patch_mm'][1]} mm at the flange root.", ""]
+    if phases:
+        lines += [f"### Patch at the phases of Yu 2022 Fig. 7 (R = {phase_radius:.0f} m, outer wheel, front wheelset)", "",
+                  "| phase | position (m) | patches | contact angle (deg) | N (kN) | Hertz (mm) | Kik-Piotrowski (mm) | half-space (mm) |",
+                  "|---|---|---|---|---|---|---|---|"]
+        for r in phases:
+            lines.append(f"| {r['phase']} | {r['position_m']:.0f} | {r['patches']} | {math.degrees(r['contact_angle_rad']):.0f} | "
+                         f"{r['normal_force_n'] / 1e3:.0f} | {r['hertz_mm'][0]:.1f} x {r['hertz_mm'][1]:.1f} | "
+                         f"{r['discrete_mm'][0]:.1f} x {r['discrete_mm'][1]:.1f} | {r['halfspace_mm'][0]:.1f} x {r['halfspace_mm'][1]:.1f} |")
+        lines += ["", "Length x width (rolling direction x lateral). The half-space solution is the reference (Boussinesq "
+                  "influence coefficients, docs/contact-models.md).", "", "![patch phases](patch_phases.png)", ""]
     if sens:
         ref = sens[0][1]
         lines += ["## Sensitivity of the critical derailment speed (R = 1000 m, staircase)", "",
@@ -292,6 +384,7 @@ def write_report(out="report", quick=False, workers=None):
     timing["total_s"] = time.time() - t0
     lines += ["## Run", "", "```", json.dumps({k: round(v, 1) for k, v in timing.items()}), "```", ""]
     data = dict(linear=locus.as_json(), limit_cycle=cyc.as_json(), trials=results, process=numbers, patches=patches,
+                patch_phases=phases,
                 sensitivity=sens, timing=timing)
     with open(os.path.join(out, "report.json.tmp"), "w") as f:
         json.dump(data, f, indent=1, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o))
