@@ -1,5 +1,4 @@
 """Critical-speed methods checked against physics that does not come from the code (issue 6)."""
-from dataclasses import replace
 import json
 import math
 

@@ -62,8 +62,6 @@ from . import geometry as geo
 from . import halfspace as hs
 from . import kik_piotrowski as kp
 from . import wheelset as ws
-from .creep import creep_forces
-from .hertz import hertz_shape
 from .nadal import nadal_limit
 
 # accepted ranges (user units: mm, km/h, kN, GPa, mrad)
@@ -619,79 +617,56 @@ def _discrete_arrays(cg, pose, jm, gmin, cd, margin=0):
 
 
 def wheel_patch_details(setup: Setup, cp, pose, speed, spin, model, grid):
-    """Per-patch contact data of the left wheel at `pose` (the left-wheel form of either wheel),
-    following `wheelset.left_wheel`; plus the half-space solution per patch when asked."""
+    """Per-patch contact data of the left wheel at `pose` (the left-wheel form of either wheel), read from
+    the patch rows that `wheelset.left_wheel` fills while it computes the forces; plus the discrete
+    patch's outline and the half-space solution when asked."""
     cg = setup.cg
     y, z, phi, psi = pose
     gap, ys = _buffers(cg)
     nw = len(gap)
     patches = np.zeros((geo.MAX_PATCHES, geo.P_COLS))
-    count, _ = geo.find_patches(cg, y, z, phi, psi, gap, ys, patches, np.zeros(1 + geo.MAX_CANDIDATES))
-    r0 = cg[geo.H_R0]
-    cphi, sphi, cpsi, spsi = math.cos(phi), math.sin(phi), math.cos(psi), math.sin(psi)
-    wx, wy, wz = spin * (-spsi * cphi), spin * (cpsi * cphi), spin * sphi
-    estar, shear, nu, mu = cp[ws.C_ESTAR], cp[ws.C_G], cp[ws.C_NU], cp[ws.C_MU]
+    force, moment, rec = np.zeros(3), np.zeros(3), np.zeros(ws.W_SIZE)
+    ws.left_wheel(cg, cp, y, z, phi, psi, np.array([speed, 0.0, 0.0]), np.zeros(3), spin, speed, gap, ys,
+                  patches, np.zeros(1 + geo.MAX_CANDIDATES), False, np.zeros((4, nw)),
+                  np.zeros(nw, dtype=np.int64), np.zeros((1, kp.NPROP)), force, moment, rec)
+    count = int(rec[ws.W_COUNT])
     E = setup.contact.youngs_modulus
-    creep_id = int(cp[ws.C_CREEP])
+    nu = cp[ws.C_NU]
     discrete = int(cp[ws.C_NORMAL]) == ws.NORMAL_DISCRETE
-    kpbuf, kpid, kprow = np.zeros((4, nw)), np.zeros(nw, dtype=np.int64), np.zeros((1, kp.NPROP))
     out, plot = [], []
-    total = np.zeros(3)
     for k in range(count):
         row = patches[k].copy()
+        normal = row[geo.P_NORMAL]
+        if normal <= 0.0:
+            continue
         slope = row[geo.P_SLOPE]
         cd = 1.0 / math.sqrt(1.0 + slope * slope)
         sd = slope * cd
-        d = -row[geo.P_GAP] * cd
-        if d <= 0.0:
-            continue
-        nY, nZ, tY, tZ = -sd, cd, cd, sd
-        rx, ry, rz = row[geo.P_X], row[geo.P_Y] - y, row[geo.P_Z] - (r0 + z)
-        vx = speed + wy * rz - wz * ry
-        vy = wz * rx - wx * rz
-        vz = wx * ry - wy * rx
-        A, B = row[geo.P_A], row[geo.P_B]
-        ac, bc, stiff = hertz_shape(A, B, estar)
         jm = int(row[geo.P_JM])
-        if discrete:
-            n_el, a, b, a_eq, b_eq = ws._discrete_normal(cg, y, z, phi, psi, jm, row[geo.P_GAP], cd, gap, ys,
-                                                         kpbuf, kpid, kprow, estar, nu)
-        else:
-            n_el = stiff * d * math.sqrt(d)
-            a = ac * n_el ** (1.0 / 3.0)
-            b = bc * n_el ** (1.0 / 3.0)
-            a_eq, b_eq = a, b
-        normal = n_el            # no contact damping in this quasi-static case
-        if normal <= 0.0:
-            continue
-        xi_x = vx / speed
-        xi_y = (vy * tY + vz * tZ) / speed
-        spin_c = (wy * nY + wz * nZ) / speed
-        fx, ft, mz = creep_forces(creep_id, xi_x, xi_y, spin_c, a_eq, b_eq, normal, mu, shear, nu)
-        F = np.array([fx, normal * nY + ft * tY, normal * nZ + ft * tZ])
-        total += F
-        ha, hb = ac * normal ** (1.0 / 3.0), bc * normal ** (1.0 / 3.0)
+        fx, ft = row[geo.P_FX], row[geo.P_FT]
+        ha, hb = row[geo.P_HERTZ_A], row[geo.P_HERTZ_B]
+        a, b = row[geo.P_HALF_LENGTH], row[geo.P_HALF_WIDTH]
         p = {
             "rail_y_m": row[geo.P_Y] - cg[geo.H_RAIL_AXIS_Y],
             "wheel_y_m": row[geo.P_YP],
-            "lead_x_m": rx,
+            "lead_x_m": row[geo.P_X],
             "contact_angle_rad": math.atan(slope),
             "rolling_radius_m": row[geo.P_RADIUS],
             "vertical_gap_m": row[geo.P_GAP],
-            "normal_approach_m": d,
+            "normal_approach_m": row[geo.P_APPROACH],
             "normal_force_N": normal,
             "hertz_a_m": ha,
             "hertz_b_m": hb,
             "hertz_p0_Pa": 1.5 * normal / (math.pi * ha * hb),
-            "relative_curvature_A_1_m": A,
-            "relative_curvature_B_1_m": B,
-            "creep_ellipse_a_m": a_eq,
-            "creep_ellipse_b_m": b_eq,
+            "relative_curvature_A_1_m": row[geo.P_A],
+            "relative_curvature_B_1_m": row[geo.P_B],
+            "creep_ellipse_a_m": row[geo.P_AEQ],
+            "creep_ellipse_b_m": row[geo.P_BEQ],
             "length_m": 2.0 * a,
             "width_m": 2.0 * b,
-            "creepage": {"longitudinal": xi_x, "lateral": xi_y, "spin_1_m": spin_c},
-            "creep_force": {"longitudinal_N": fx, "lateral_N": ft, "spin_moment_Nm": mz},
-            "force_on_wheel_N": F.tolist(),
+            "creepage": {"longitudinal": row[geo.P_XI_X], "lateral": row[geo.P_XI_Y], "spin_1_m": row[geo.P_SPIN]},
+            "creep_force": {"longitudinal_N": fx, "lateral_N": ft, "spin_moment_Nm": row[geo.P_MZ]},
+            "force_on_wheel_N": [fx, normal * -sd + ft * cd, normal * cd + ft * sd],
         }
         pd = {"a": ha, "b": hb, "kind": "hertz", "angle": math.atan(slope), "N": normal,
               "rail_y": p["rail_y_m"]}
@@ -713,7 +688,7 @@ def wheel_patch_details(setup: Setup, cp, pose, speed, spin, model, grid):
                 p["length_m"], p["width_m"] = hsd["length_m"], hsd["width_m"]
         out.append(p)
         plot.append(pd)
-    return out, plot, total
+    return out, plot
 
 
 def _halfspace_patch(cg, pose, jm, gmin, cd, normal, E, nu, grid):
@@ -883,13 +858,7 @@ def contact_case(setup: Setup, *, lateral_mm=0.0, yaw_mrad=0.0, roll_mrad=None, 
         f, m, rec = _wheel_forces(cg, cp, side, pose, speed, spin)
         total_f += f
         total_m += m
-        patches, pdata, fsum = wheel_patch_details(setup, cp, _mirror(pose, side), speed, spin, model, grid)
-        fref = f * np.array([1.0, 1.0 if side == 0 else -1.0, 1.0])
-        diff = float(np.max(np.abs(fsum - fref))) / max(1.0, float(np.max(np.abs(fref))))
-        if diff > 1e-6:
-            raise RuntimeError(f"contact-case: per-patch forces of the {SIDES[side]} wheel differ from "
-                               f"wheelset.wheel_forces by {diff:.2e} (relative); wheel_patch_details is out of "
-                               "date")
+        patches, pdata = wheel_patch_details(setup, cp, _mirror(pose, side), speed, spin, model, grid)
         wheels.append({
             "side": SIDES[side],
             "Q_N": rec[ws.W_Q], "P_N": rec[ws.W_P], "Q_over_P": rec[ws.W_QP],

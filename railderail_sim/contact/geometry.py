@@ -55,7 +55,16 @@ P_RADIUS = 6                         # wheel radius at the contact (m)
 P_B = 7                              # half the relative lateral curvature (1/m), Hertz "B"
 P_A = 8                              # half the relative longitudinal curvature (1/m), Hertz "A"
 P_JM = 9                             # fine wheel grid index of the deepest point
-P_COLS = 10
+# filled by contact.wheelset.left_wheel when it evaluates the patch's forces:
+P_NORMAL = 10                        # normal force (N; 0 if the patch carries none)
+P_APPROACH = 11                      # normal approach (m)
+P_HALF_LENGTH, P_HALF_WIDTH = 12, 13  # patch semi-axes along x and y (m): Hertz, or the discrete patch's
+P_AEQ, P_BEQ = 14, 15                # semi-axes of the ellipse the creep law uses (m)
+P_HERTZ_A, P_HERTZ_B = 16, 17        # Hertz semi-axes at the same load (m)
+P_XI_X, P_XI_Y, P_SPIN = 18, 19, 20  # creepages: longitudinal, lateral (-), spin (1/m)
+P_FX, P_FT, P_MZ = 21, 22, 23        # creep forces on the wheel: longitudinal, lateral in the contact plane (N),
+                                     # spin moment (N m)
+P_COLS = 24
 MAX_PATCHES = 3
 COARSE_STRIDE = 8                    # coarse search every 8th wheel grid point (1 mm on the 0.125 mm grid)
 COARSE_WINDOW_GAP = 1.5e-3           # m; coarse minima below this are searched on the fine grid (the

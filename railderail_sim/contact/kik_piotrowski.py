@@ -80,7 +80,7 @@ import numba
 import numpy as np
 
 from .creep import kalker_coefficients
-from .fastsim import BOUND_ELLIPTIC, NX_DEFAULT, fastsim_strip, flexibilities
+from .fastsim import BOUND_ELLIPTIC, fastsim_strip, flexibilities
 from .hertz import ellip_ke
 
 EPS_DEFAULT = 0.55

@@ -17,7 +17,6 @@ Only the left wheel is written out; `wheel_forces` mirrors the pose for the righ
 import math
 
 import numba
-import numpy as np
 
 from . import geometry as geo
 from .creep import creep_forces
@@ -98,6 +97,7 @@ def left_wheel(cg, cp, y, z, phi, psi, vel, omega, spin, speed, gap, ys, patches
         rec[W_GAP] = gmin
         rec[W_COUNT] = count
     for k in range(count):
+        patches[k, geo.P_NORMAL] = 0.0
         slope = patches[k, geo.P_SLOPE]
         cd = 1.0 / math.sqrt(1.0 + slope * slope)
         sd = slope * cd
@@ -115,12 +115,14 @@ def left_wheel(cg, cp, y, z, phi, psi, vel, omega, spin, speed, gap, ys, patches
         vy = vel[1] + wz * rx - wx * rz
         vz = vel[2] + wx * ry - wy * rx
         approach_rate = -(vy * nY + vz * nZ)
-        if int(cp[C_NORMAL]) == NORMAL_DISCRETE:
+        discrete = int(cp[C_NORMAL]) == NORMAL_DISCRETE
+        if discrete:
             n_el, a, b, a_eq, b_eq = _discrete_normal(cg, y, z, phi, psi, int(patches[k, geo.P_JM]),
                                                       patches[k, geo.P_GAP], cd, gap, ys, kpbuf, kpid,
                                                       kprow, cp[C_ESTAR], nu)
-        else:
+        if not discrete or record:
             ac, bc, stiff = hertz_shape(patches[k, geo.P_A], patches[k, geo.P_B], estar)
+        if not discrete:
             n_el = stiff * d * math.sqrt(d)
             a = ac * n_el ** (1.0 / 3.0)
             b = bc * n_el ** (1.0 / 3.0)
@@ -134,6 +136,22 @@ def left_wheel(cg, cp, y, z, phi, psi, vel, omega, spin, speed, gap, ys, patches
         xi_y = (vy * tY + vz * tZ) / speed
         phi_s = (wy * nY + wz * nZ) / speed
         fx, ft, mz = creep_forces(model, xi_x, xi_y, phi_s, a_eq, b_eq, normal, mu, shear, nu)
+        if record:
+            row = patches[k]
+            row[geo.P_NORMAL] = normal
+            row[geo.P_APPROACH] = d
+            row[geo.P_HALF_LENGTH] = a
+            row[geo.P_HALF_WIDTH] = b
+            row[geo.P_AEQ] = a_eq
+            row[geo.P_BEQ] = b_eq
+            row[geo.P_HERTZ_A] = ac * normal ** (1.0 / 3.0)
+            row[geo.P_HERTZ_B] = bc * normal ** (1.0 / 3.0)
+            row[geo.P_XI_X] = xi_x
+            row[geo.P_XI_Y] = xi_y
+            row[geo.P_SPIN] = phi_s
+            row[geo.P_FX] = fx
+            row[geo.P_FT] = ft
+            row[geo.P_MZ] = mz
         Fx = fx
         Fy = normal * nY + ft * tY
         Fz = normal * nZ + ft * tZ

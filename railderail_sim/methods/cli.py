@@ -3,7 +3,6 @@
 Every command takes the vehicle parameter set, wheel profile, contact model and friction; --json prints
 one JSON object on stdout (speeds in km/h named *_kmh, SI elsewhere).
 """
-import argparse
 from dataclasses import replace
 import json
 import math

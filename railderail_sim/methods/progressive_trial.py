@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from ..parameters import TrackParameters
+from ..parameters import GRAVITY, TrackParameters
 from ..vehicle.simulate import (KMH, RADIUS_RANGE, Scenario, check_range, constant_speed, simulate,
                                 staircase_speed)
 
@@ -76,14 +76,11 @@ def staircase_scenario(sc: Scenario, radius, stair: Staircase):
     return replace(sc, track=track, speed_table=table, stop_on_derailment=True, output_rate=50.0)
 
 
-def _last_safe(table, s_event, v_event):
-    """Highest speed held over a complete hold before the derailment point."""
+def _last_safe(table, s_event):
+    """Highest speed held over a complete hold before the derailment point (km/h)."""
     held = [table[i, 1] for i in range(len(table) - 1)
             if table[i, 1] == table[i + 1, 1] and table[i + 1, 0] <= s_event]
     return max(held) / KMH if held else float("nan")
-
-
-SECTIONS = ("straight", "transition", "curve")
 
 
 def _constant_run(sc: Scenario, radius, speed_kmh):
@@ -105,7 +102,7 @@ def progressive_trial(sc: Scenario = None, radius=1000.0, stair: Staircase = Sta
                       derailment_time_s=float("nan"), runs=1)
     if d is not None:
         res.critical_derailment_speed_kmh = d["speed_kmh"]
-        res.last_safe_speed_kmh = _last_safe(scs.speed_table, d["position_m"], d["speed_kmh"])
+        res.last_safe_speed_kmh = _last_safe(scs.speed_table, d["position_m"])
         res.derailed_wheelset = d["wheelset"] + 1
         res.derailed_side = d["rail_side"]
         res.derailment_position_m = d["position_m"]
@@ -153,6 +150,6 @@ def _refine(sc, radius, res, tolerance_kmh):
     res.runs += len(cache)
 
 
-def balance_speed_kmh(radius, cant_height=0.175, rail_spacing=1.5, g=9.81):
-    """Speed at which gravity in the canted track plane balances the centripetal acceleration."""
-    return math.sqrt(g * radius * math.tan(math.asin(cant_height / rail_spacing))) / KMH
+def balance_speed_kmh(radius, cant_height=0.175, rail_spacing=1.5):
+    """Speed (km/h) at which gravity in the canted track plane balances the centripetal acceleration."""
+    return math.sqrt(GRAVITY * radius * math.tan(math.asin(cant_height / rail_spacing))) / KMH

@@ -186,7 +186,7 @@ def _patch_phases(run, out):
         y, z, phi, psi = run.wheelset_lateral[i, 0], ws1[1], ws1[2], ws1[4]
         pose = (-y, z, -phi, -psi) if right else (y, z, phi, psi)
         v = run.speed[i]
-        details, plot, _ = ccli.wheel_patch_details(setup, cp, pose, v, v / sc.vehicle.rolling_radius,
+        details, plot = ccli.wheel_patch_details(setup, cp, pose, v, v / sc.vehicle.rolling_radius,
                                                     "halfspace", 48)
         if not details:
             ax.set_title(f"{label}: no contact")

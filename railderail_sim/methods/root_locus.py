@@ -13,7 +13,6 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..vehicle import layout as L
 from ..vehicle.linear import (active_states, at_speed, damping_ratio, equilibrium, jacobian,
                               mode_participation, rhs_function)
 from ..vehicle.simulate import KMH, Scenario, check_range, constant_speed, straight_track

@@ -7,7 +7,7 @@
 `Simulation` is the stepper: `Simulation(scenario).advance(duration)` runs the numba core for a given
 simulated time into preallocated buffers; `simulate` is the same stepper run to the end of the line.
 """
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 import json
 import math
 import os
