@@ -158,3 +158,14 @@ def test_wheel_rail_example():
     assert 5e-3 < a < 8e-3 and 4e-3 < b < 6e-3
     assert 0.8e9 < p0 < 1.5e9
     assert 5e-5 < delta < 1.5e-4
+
+
+def test_one_newton_step_matches_the_bracketing_solver():
+    """_solve_g takes one Newton step from its Chebyshev start; it must agree with the bracketing
+    solver of eq. 4.39 to far below any physical tolerance over the whole guarded range."""
+    import math
+    import numpy as np
+    from railderail_sim.contact import hertz as H
+    ratios = np.exp(np.linspace(1e-3, H._FIT_X - 1e-6, 4001))
+    err = max(abs(math.log(H._solve_g(r, H.G_MIN)) - math.log(H._solve_g_bracket(r, H.G_MIN))) for r in ratios)
+    assert err < 1e-9
