@@ -1,26 +1,107 @@
-"""Monitor node: placeholder and starting point for the monitor node.
+"""Monitor node `railderail_monitor`: the derailment criteria over the simulator's topics.
 
-For now it only starts, logs one line and spins until Ctrl-C (SIGINT) or SIGTERM, so that the
-`railderail-monitor` command and `ros2 run railderail monitor` resolve. The real node (subscribing
-to the simulator's topics, evaluating the derailment criteria and publishing alerts) replaces the
-body of `main`.
+Subscribes to /railderail/wheelset_states, /railderail/contact_forces (best effort, deep queue)
+and /railderail/vehicle_status (for the curve's side), runs `criteria.Monitor` on every sample and
+publishes each alert on /railderail/alerts (reliable, transient local). The criteria, their
+thresholds and the debounce/hysteresis are in railderail_monitor/criteria.py; every threshold is a
+parameter (PARAMETERS below, `-p name:=value`; NaN disables a level). On exit it logs how many
+samples it processed and how many the sample counters say it missed.
 """
+import sys
+
 import rclpy
+from rclpy.exceptions import InvalidParameterTypeException
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 
+from . import messages as m
+from .criteria import Monitor, default_limits
 
-def main() -> int:
-    rclpy.init()
+DESCRIPTIONS = {
+    "attack_angle": "rad, front-wheelset attack angle, WARNING level (Yu 2022: 0.06)",
+    "attack_angle_critical": "rad, CRITICAL level (NaN = none)",
+    "wheel_lift": "m, wheel lift, WARNING level (default 1/3 of the LM flange height)",
+    "wheel_lift_critical": "m, CRITICAL level (default 2/3 of the flange height)",
+    "derailment_coefficient": "Q/P, WARNING level (EN 14363: 0.8)",
+    "derailment_coefficient_critical": "Q/P, CRITICAL level (Nadal's limit of the profile pair, mu 0.3)",
+    "wheel_unloading": "dP/P0, WARNING level (GB 5599-85: 0.60)",
+    "wheel_unloading_critical": "dP/P0, CRITICAL level (GB 5599-85: 0.65)",
+    "static_wheel_load": "N, static wheel load P0 of the unloading ratio",
+    "debounce_m": "m of track the value must stay at or above a level before the alert",
+    "rearm_fraction": "a channel re-arms below this fraction of its level ...",
+    "rearm_m": "... held over this many m of track",
+}
+
+
+class MonitorNode(Node):
+    def __init__(self):
+        super().__init__("railderail_monitor")
+        defaults = default_limits()             # the model's flange height, wheel load, Nadal limit
+        values = m.declare_parameters(self, {name: (float(value), DESCRIPTIONS[name])
+                                             for name, value in defaults.as_dict().items()})
+        self.monitor = Monitor(type(defaults)(**values))
+        self.publisher = self.create_publisher(m.Alert, m.ALERTS, m.ALERT_QOS)
+        self.create_subscription(m.WheelsetStates, m.STATES, self.on_states, m.SENSOR_SUBSCRIBER)
+        self.create_subscription(m.ContactForces, m.FORCES, self.on_forces, m.SENSOR_SUBSCRIBER)
+        self.create_subscription(m.VehicleStatus, m.STATUS, self.on_status, m.SENSOR_SUBSCRIBER)
+        self.counts = {"states": [0, 0, None], "forces": [0, 0, None]}   # received, missed, last sample
+        self.alerts = 0
+        levels = ", ".join(f"{c} {'/'.join(f'{t:.4g}' for _, t in self.monitor.limits.levels(c))}"
+                           for c in self.monitor.channels)
+        self.get_logger().info(f"railderail monitor: monitoring {levels}; debounce {self.monitor.limits.debounce_m:g} m")
+
+    def _count(self, kind, sample):
+        c = self.counts[kind]
+        if c[2] is not None and sample > c[2] + 1:
+            c[1] += sample - c[2] - 1
+        c[0] += 1
+        c[2] = sample
+
+    def _publish(self, alerts):
+        for alert in alerts:                       # publish first, log after: logging takes time
+            self.publisher.publish(m.alert_message(alert))
+        for alert in alerts:
+            self.alerts += 1
+            self.get_logger().warning(f"t = {alert.time_s:.3f} s, s = {alert.track_position:.1f} m: {alert.message}")
+
+    def on_states(self, msg):
+        self._count("states", msg.sample)
+        self._publish(self.monitor.on_states(m.seconds(msg.header.stamp), msg.sample, msg.track_position, msg.speed,
+                                             msg.attack_angle, msg.wheel_lift))
+
+    def on_forces(self, msg):
+        self._count("forces", msg.sample)
+        self._publish(self.monitor.on_forces(m.seconds(msg.header.stamp), msg.sample, msg.track_position, msg.speed,
+                                             msg.derailment_coefficient, msg.vertical_force))
+
+    def on_status(self, msg):
+        self.monitor.set_curvature(msg.sample, msg.curvature)
+
+    def summary(self):
+        (ns, ms, _), (nf, mf, _) = self.counts["states"], self.counts["forces"]
+        return (f"processed {ns} wheelset states ({ms} missed) and {nf} contact forces ({mf} missed); "
+                f"{self.alerts} alerts")
+
+
+def main(argv=None) -> int:
+    rclpy.init(args=argv)
     node = None
     try:  # from here on, Ctrl-C (KeyboardInterrupt) or SIGTERM ends the node cleanly
-        node = Node("railderail_monitor")
-        node.get_logger().info("railderail monitor node started (placeholder: subscribes to nothing yet)")
+        try:
+            node = MonitorNode()
+        except (ValueError, InvalidParameterTypeException) as error:
+            print(f"railderail-monitor: error: {error}", file=sys.stderr)
+            return 2
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
         if node is not None:
+            print(f"[railderail_monitor] {node.summary()}", file=sys.stderr, flush=True)
             node.destroy_node()
         rclpy.try_shutdown()
     return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -49,6 +49,15 @@ COMMANDS: tuple[Command, ...] = (
             "railderail_sim.methods.cli:sweep_command"),
     Command("report", "write the report: every method beside the paper's numbers (--out DIR)",
             "railderail_sim.methods.cli:report_command"),
+    Command("demo", "the main job: simulator, monitor and recorder nodes over the R = 1000 m trial, with "
+            "alerts, MCAP and Rerun files", "railderail_monitor.demo:command"),
+    Command("replay", "replay an MCAP recording on the ROS topics, in Rerun (--rrd) or as alerts (--json)",
+            "railderail_monitor.replay:command"),
+    Command("record", "record every /railderail topic to an MCAP file", "railderail_monitor.recording:command"),
+    Command("view", "show the live /railderail topics in Rerun (--rrd FILE for a file)",
+            "railderail_monitor.viewer:command"),
+    Command("warnings", "warning quality: lead time and false alarms of each criterion over the six radii",
+            "railderail_monitor.warning_quality:command"),
 )
 
 

@@ -213,7 +213,10 @@ class Simulation:
         side = int(e[itg.EV_SIDE])
         direction = self.scenario.track.direction
         inner_side = 0 if direction > 0 else 1
+        station = float(self.model.bodies[L.WHEELSETS[int(e[itg.EV_WHEELSET])], L.B_STATION])
+        # position_m: where the derailed wheelset is; car_body_position_m: the car body's centre then
         return dict(time_s=float(e[itg.EV_T]), position_m=float(e[itg.EV_S]),
+                    car_body_position_m=float(e[itg.EV_S]) - station,
                     wheelset=int(e[itg.EV_WHEELSET]), wheel_side="left" if side == 0 else "right",
                     rail_side="inner" if side == inner_side else "outer",
                     mechanism=MECHANISMS[int(e[itg.EV_MECH])], wheel_lift_m=float(e[itg.EV_LIFT]),

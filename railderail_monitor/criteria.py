@@ -1,0 +1,341 @@
+"""Derailment criteria as plain functions: the early-warning criteria of Yu et al. (2022) and the
+classic ones, with the debounce and hysteresis that turn a crossing into one alert.
+
+No ROS here: the monitor node (`railderail_monitor.node`), the replay and the warning-quality
+command all run the same `Monitor` over their samples, so their alerts agree by construction.
+
+Criteria (values, units, default levels; `Limits` holds them, the monitor's parameters override):
+
+| criterion                | value (unit)                                   | WARNING level         | CRITICAL level         |
+| ------------------------ | ---------------------------------------------- | --------------------- | ---------------------- |
+| `attack_angle`           | abs. attack angle of the front wheelset (rad)  | 0.06 (Yu 2022)        | none                   |
+| `wheel_lift`             | wheel lift hp of each wheel (m)                | 1/3 flange height     | 2/3 flange height      |
+| `derailment_coefficient` | Q/P of each wheel (-)                          | 0.8 (EN 14363)        | Nadal's limit          |
+| `wheel_unloading`        | unloading ratio dP/P0 of each wheel (-)        | 0.60 (GB 5599-85)     | 0.65 (GB 5599-85)      |
+
+Sources and confidence:
+- attack angle 0.06 rad on the front wheelset: Yu et al., Appl. Sci. 2022, 12, 11199 (the paper
+  under reproduction). Evaluated on the magnitude (either sign), the wheelset leading in the
+  direction of travel (wheelset 0).
+- wheel lift: no standard value; 1/3 of the flange height (9.3 mm for the LM wheel) warns, 2/3
+  (18.5 mm) is critical (the core declares a derailment near the full flange height). A modelling
+  choice, stated as such; both are parameters.
+- derailment coefficient: EN 14363:2016 / UIC 518 acceptance limit (Y/Q)lim = 0.8 (high confidence
+  for the value; the standard applies it to the 2 m sliding mean, here a 2 m persistence); Nadal's
+  limit (tan d - mu)/(1 + mu tan d) at the profile pair's maximum contact angle and the scenario's
+  friction (1.318 for LM on UIC60, mu = 0.3) is the physical flange-climbing limit.
+- wheel unloading ratio dP/P0 = (P0 - P)/P0: GB 5599-85 gives 0.60 (allowable) and 0.65 (danger
+  limit) (medium confidence: later Chinese codes, GB/T 5599-2019 and TB 10761, keep 0.6-0.65 for
+  the dynamic ratio but with different evaluation windows and speed classes).
+
+One event, one alert: a value must stay at or above its level over `debounce_m` of track (default
+2 m, the window length of EN 14363's Q/P sliding mean) before the alert is raised, and the channel
+re-arms only when the value has stayed below `rearm_fraction` x level (default 0.9) over `rearm_m`
+of track (default 50 m, two car lengths: the dynamic unloading in a transition oscillates around
+its level at a few metres' spacing). Each (criterion, level, wheel or wheelset) is its own channel.
+"""
+from __future__ import annotations
+
+import collections
+import functools
+import math
+from dataclasses import asdict, dataclass, fields
+
+import numpy as np
+
+CRITERIA = ("attack_angle", "wheel_lift", "derailment_coefficient", "wheel_unloading")
+UNITS = {"attack_angle": "rad", "wheel_lift": "m", "derailment_coefficient": "-", "wheel_unloading": "-"}
+SEVERITY_WARNING, SEVERITY_CRITICAL = 1, 2          # the Alert message's constants
+SEVERITY_NAMES = {SEVERITY_WARNING: "warning", SEVERITY_CRITICAL: "critical"}
+SIDES = ("left", "right")
+
+@dataclass(frozen=True)
+class Limits:
+    """Thresholds of every criterion (NaN disables a level) and the alerting behaviour.
+
+    The first four depend on the car and the profiles: take them from the model with
+    `limits_for_model` (or `default_limits` for the built-in scenario), never by hand."""
+    wheel_lift: float                                         # m, WARNING: 1/3 of the flange height
+    wheel_lift_critical: float                                # m: 2/3 of the flange height
+    derailment_coefficient_critical: float                    # -, Nadal's limit of the profile pair
+    static_wheel_load: float                                  # N, P0 of the unloading ratio
+    attack_angle: float = 0.06                                # rad, WARNING (Yu 2022)
+    attack_angle_critical: float = math.nan                   # rad
+    derailment_coefficient: float = 0.8                       # -, WARNING (EN 14363)
+    wheel_unloading: float = 0.60                             # -, WARNING (GB 5599-85 allowable)
+    wheel_unloading_critical: float = 0.65                    # -, GB 5599-85 danger limit
+    debounce_m: float = 2.0                                   # m of track at or above the level
+    rearm_fraction: float = 0.9                               # re-arm below this fraction of the level ...
+    rearm_m: float = 50.0                                     # ... held over this many m of track
+
+    def levels(self, criterion):
+        """[(severity, threshold)] of a criterion, enabled levels only."""
+        out = [(SEVERITY_WARNING, getattr(self, criterion)),
+               (SEVERITY_CRITICAL, getattr(self, criterion + "_critical"))]
+        return [(sev, float(thr)) for sev, thr in out if math.isfinite(thr)]
+
+    def validated(self):
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if not (math.isnan(value) or value > 0.0) and f.name not in ("debounce_m", "rearm_m"):
+                raise ValueError(f"{f.name} {value:g} must be positive (or NaN to disable a level)")
+        for criterion in CRITERIA:
+            warn, crit = getattr(self, criterion), getattr(self, criterion + "_critical")
+            if math.isfinite(warn) and math.isfinite(crit) and not warn < crit:
+                raise ValueError(f"{criterion} {warn:g} must be below {criterion}_critical {crit:g}")
+        if not (0.0 <= self.debounce_m <= 100.0):
+            raise ValueError(f"debounce_m {self.debounce_m:g} m is outside 0-100 m")
+        if not (0.0 <= self.rearm_m <= 10000.0):
+            raise ValueError(f"rearm_m {self.rearm_m:g} m is outside 0-10000 m")
+        if not (0.0 < self.rearm_fraction <= 1.0):
+            raise ValueError(f"rearm_fraction {self.rearm_fraction:g} is outside 0-1")
+        return self
+
+    def as_dict(self):
+        return asdict(self)
+
+
+def limits_for_model(model, friction, **changes):
+    """Limits whose model-dependent values (flange height, static wheel load, Nadal's limit at the
+    profile pair's maximum contact angle) come from a built `vehicle.assemble.Model`."""
+    from railderail_sim.contact.conicity import rigid_table
+    from railderail_sim.contact.nadal import nadal_limit
+    from railderail_sim.vehicle import layout
+
+    hf = float(model.vp[layout.V_FLANGE_HEIGHT])
+    table = rigid_table(model.cg)
+    delta = float(max(table.contact_angle_left.max(), table.contact_angle_right.max()))
+    values = dict(wheel_lift=hf / 3.0, wheel_lift_critical=2.0 * hf / 3.0,
+                  derailment_coefficient_critical=nadal_limit(delta, friction),
+                  static_wheel_load=float(model.static_wheel_load))
+    values.update(changes)
+    return Limits(**values).validated()
+
+
+@functools.lru_cache(maxsize=None)
+def default_limits():
+    """Limits of the built-in scenario (vehicle set hs19, LM on UIC60 at 1:40, its friction)."""
+    from railderail_sim.parameters import ContactParameters, TrackParameters, vehicle_parameters
+    from railderail_sim.vehicle.assemble import build_model
+    contact = ContactParameters()
+    return limits_for_model(build_model(vehicle_parameters(), TrackParameters(), contact),
+                            contact.friction_coefficient)
+
+
+# --- values of the criteria -------------------------------------------------------------------
+
+def front_attack_angle(attack_angle):
+    """Magnitude of the front wheelset's attack angle (rad) from (..., 4) attack angles."""
+    return np.abs(np.asarray(attack_angle, dtype=float)[..., 0])
+
+
+def unloading_ratio(vertical_force, static_wheel_load):
+    """Wheel unloading ratio dP/P0 = (P0 - P) / P0 (dimensionless; 1 = wheel fully unloaded)."""
+    if not static_wheel_load > 0.0:
+        raise ValueError(f"static wheel load {static_wheel_load:g} N must be positive")
+    return (static_wheel_load - np.asarray(vertical_force, dtype=float)) / static_wheel_load
+
+
+def rail_side(wheel_side, curvature):
+    """'inner' / 'outer' rail of a wheel on a curve of signed curvature (+ = curve to the left);
+    '' on straight track."""
+    if curvature == 0.0 or not math.isfinite(curvature):
+        return ""
+    inner = "left" if curvature > 0.0 else "right"
+    return "inner" if wheel_side == inner else "outer"
+
+
+# --- debounce and hysteresis ------------------------------------------------------------------
+
+class Detector:
+    """One alert per event on one channel: the value must stay >= threshold over `debounce_m` of
+    track to raise the alert; the channel re-arms once the value has stayed below
+    rearm_fraction x threshold over `rearm_m` of track. `update` returns True on the sample that
+    raises the alert."""
+
+    __slots__ = ("threshold", "rearm_level", "debounce_m", "rearm_m", "armed", "start")
+
+    def __init__(self, threshold, debounce_m=2.0, rearm_fraction=0.9, rearm_m=50.0):
+        self.threshold = float(threshold)
+        self.rearm_level = float(rearm_fraction) * self.threshold
+        self.debounce_m = float(debounce_m)
+        self.rearm_m = float(rearm_m)
+        self.armed = True
+        self.start = None      # track position where the value crossed (the level, or the re-arm level)
+
+    def update(self, value, position):
+        if not self.armed:
+            if value < self.rearm_level:
+                if self.start is None:
+                    self.start = position
+                if position - self.start >= self.rearm_m:
+                    self.armed = True
+                    self.start = None
+            else:
+                self.start = None
+            return False
+        if value >= self.threshold:
+            if self.start is None:
+                self.start = position
+            if position - self.start >= self.debounce_m:
+                self.armed = False
+                self.start = None
+                return True
+        else:
+            self.start = None
+        return False
+
+
+def detect(values, positions, threshold, debounce_m=2.0, rearm_fraction=0.9, rearm_m=50.0):
+    """Indices of the samples that raise an alert on one channel (the `Detector` over arrays)."""
+    values = np.asarray(values, dtype=float)
+    positions = np.asarray(positions, dtype=float)
+    above = np.flatnonzero(values >= threshold)
+    if above.size == 0:
+        return []
+    detector = Detector(threshold, debounce_m, rearm_fraction, rearm_m)
+    return [i for i in range(int(above[0]), len(values)) if detector.update(values[i], positions[i])]
+
+
+# --- the monitor --------------------------------------------------------------------------------
+
+@dataclass
+class AlertRecord:
+    """An alert, field for field the Alert message (time_s is the header stamp in seconds)."""
+    time_s: float
+    sample: int
+    criterion: str
+    severity: int
+    value: float
+    threshold: float
+    wheelset: int
+    wheel_side: str
+    rail_side: str
+    track_position: float
+    speed: float
+    message: str = ""
+
+    def as_dict(self):
+        return asdict(self)
+
+
+def describe(criterion, severity, value, threshold, wheelset, wheel_side, rail):
+    where = f"wheelset {wheelset}" + (f" {wheel_side}" if wheel_side else "") + (f" ({rail})" if rail else "")
+    if criterion == "wheel_lift":
+        amount = f"{value * 1e3:.1f} mm >= {threshold * 1e3:.1f} mm"
+    elif criterion == "attack_angle":
+        amount = f"{value:.4f} rad >= {threshold:.4f} rad"
+    else:
+        amount = f"{value:.3f} >= {threshold:.3f}"
+    return f"{SEVERITY_NAMES[severity]}: {criterion.replace('_', ' ')} {amount} on {where}"
+
+
+class Monitor:
+    """Every criterion over a stream of samples. Feed it `on_states` (wheelset states) and
+    `on_forces` (contact forces), each returning the list of AlertRecords the sample raised, and
+    `set_curvature` (vehicle status): an alert on sample i names the inner or outer rail from the
+    curvature (1/m, + left) of the latest status before sample i (so that the order in which the
+    three topics of one sample arrive does not matter)."""
+
+    def __init__(self, limits: Limits = None):
+        limits = (limits or default_limits()).validated()
+        self.limits = limits
+        d, r, rm = limits.debounce_m, limits.rearm_fraction, limits.rearm_m
+        self.channels = {}
+        for criterion in CRITERIA:
+            count = 1 if criterion == "attack_angle" else 8
+            self.channels[criterion] = [(sev, thr, [Detector(thr, d, r, rm) for _ in range(count)])
+                                        for sev, thr in limits.levels(criterion)]
+        self.curvatures = collections.deque(maxlen=256)       # (sample, curvature), arrival order
+
+    def set_curvature(self, sample, curvature):
+        self.curvatures.append((int(sample), float(curvature)))
+
+    def curvature_before(self, sample):
+        for s, k in reversed(self.curvatures):
+            if s < sample:
+                return k
+        return 0.0
+
+    def _check(self, criterion, values, t, sample, position, speed, wheelsets):
+        alerts = []
+        for sev, thr, detectors in self.channels[criterion]:
+            for k, detector in enumerate(detectors):
+                value = float(values[k])
+                if detector.update(value, position):
+                    if wheelsets is None:            # per wheel
+                        ws, side = k // 2, SIDES[k % 2]
+                        rail = rail_side(side, self.curvature_before(sample))
+                    else:
+                        ws, side, rail = wheelsets[k], "", ""
+                    alerts.append(AlertRecord(t, sample, criterion, sev, value, thr, ws, side, rail, position,
+                                              speed, describe(criterion, sev, value, thr, ws, side, rail)))
+        return alerts
+
+    def on_states(self, t, sample, position, speed, attack_angle, wheel_lift):
+        """Attack angle (4 wheelsets, rad) and wheel lift (8 wheels, m) of one sample."""
+        return (self._check("attack_angle", [abs(float(attack_angle[0]))], t, sample, position, speed, (0,))
+                + self._check("wheel_lift", wheel_lift, t, sample, position, speed, None))
+
+    def on_forces(self, t, sample, position, speed, derailment_coefficient, vertical_force):
+        """Q/P (8 wheels) and vertical forces P (8 wheels, N) of one sample."""
+        unloading = unloading_ratio(vertical_force, self.limits.static_wheel_load)
+        return (self._check("derailment_coefficient", derailment_coefficient, t, sample, position, speed, None)
+                + self._check("wheel_unloading", unloading, t, sample, position, speed, None))
+
+
+def alerts_of_run(arrays, limits: Limits = None):
+    """Alerts of a whole run, from the named arrays of `vehicle.simulate.Result.arrays()` (or the
+    same names from a recording); the same result as feeding a `Monitor` sample by sample, states
+    before forces. Sorted by sample, then in the monitor's order."""
+    limits = (limits or default_limits()).validated()
+    t, s, v = arrays["time"], arrays["position"], arrays["speed"]
+    curvature = np.asarray(arrays.get("curvature", np.zeros_like(t)), dtype=float)
+    curvature = np.concatenate(([0.0], curvature[:-1]))       # the status before each sample
+    samples = arrays.get("sample", np.arange(len(t)))
+    values = {"attack_angle": front_attack_angle(arrays["attack_angle"])[:, None],
+              "wheel_lift": np.asarray(arrays["wheel_lift"]),
+              "derailment_coefficient": np.asarray(arrays["derailment_coefficient"]),
+              "wheel_unloading": unloading_ratio(arrays["vertical_force"], limits.static_wheel_load)}
+    found = []
+    for order, criterion in enumerate(CRITERIA):
+        for level, (sev, thr) in enumerate(limits.levels(criterion)):
+            x = values[criterion]
+            for k in range(x.shape[1]):
+                for i in detect(x[:, k], s, thr, limits.debounce_m, limits.rearm_fraction, limits.rearm_m):
+                    if criterion == "attack_angle":
+                        ws, side, rail = 0, "", ""
+                    else:
+                        ws, side = k // 2, SIDES[k % 2]
+                        rail = rail_side(side, float(curvature[i]))
+                    value = float(x[i, k])
+                    record = AlertRecord(float(t[i]), int(samples[i]), criterion, sev, value, thr, ws, side, rail,
+                                         float(s[i]), float(v[i]),
+                                         describe(criterion, sev, value, thr, ws, side, rail))
+                    found.append(((i, order, level, k), record))
+    found.sort(key=lambda item: item[0])
+    return [record for _, record in found]
+
+
+def lead_times(alerts, derailment):
+    """First alert of each (criterion, severity) with its lead before the derailment.
+
+    `alerts`: AlertRecords (or dicts with the same keys); `derailment`: dict with time_s and
+    track_position_m (car-body centre), or None. Returns {"criterion/severity": {...}}, lead_s and
+    lead_m being NaN when no derailment follows (a false alarm)."""
+    first = {}
+    for a in alerts:
+        a = a.as_dict() if isinstance(a, AlertRecord) else a
+        key = f"{a['criterion']}/{SEVERITY_NAMES[a['severity']]}"
+        if key not in first:
+            first[key] = a
+    out = {}
+    for key, a in first.items():
+        lead_s = lead_m = math.nan
+        if derailment is not None:
+            lead_s = derailment["time_s"] - a["time_s"]
+            lead_m = derailment["track_position_m"] - a["track_position"]
+        out[key] = dict(time_s=a["time_s"], track_position_m=a["track_position"], speed_kmh=a["speed"] * 3.6,
+                        value=a["value"], threshold=a["threshold"], wheelset=a["wheelset"],
+                        wheel_side=a["wheel_side"], rail_side=a["rail_side"], lead_s=lead_s, lead_m=lead_m)
+    return out

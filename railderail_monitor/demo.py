@@ -1,0 +1,291 @@
+"""`railderail demo`: the main job, as real ROS 2 nodes in separate processes.
+
+Starts the recorder (railderail_monitor.recording), the monitor (railderail_monitor.node) and the
+simulator (railderail_sim.node) on the built-in scenario — R = 1000 m, the paper's progressive
+trial from 200 km/h until a wheel derails — at 200 Hz of simulated time, faster than real time
+(`--real-time-factor`, with /clock). It prints the alerts as they arrive on /railderail/alerts and,
+at the derailment, how long and how far before it each criterion warned. The run folder
+(`--out DIR`, default runs/demo-YYYYMMDD-HHMMSS) then holds:
+
+  demo.mcap     every topic (railderail record)        demo.rrd     the Rerun views (headless)
+  summary.json  alerts, derailment, lead times, rates   logs/        one log per node
+
+`--rerun` (or `--rerun-connect URL`) also runs the viewer node, live, beside the others.
+
+Ctrl-C stops the nodes in order (simulator and monitor, then the recorder, so the MCAP is complete)
+and exits with status 130; the .rrd is then not written (`railderail replay demo.mcap --no-publish
+--rrd demo.rrd` makes it).
+"""
+from __future__ import annotations
+
+import argparse
+import ctypes
+import datetime
+import json
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+from .criteria import SEVERITY_NAMES, default_limits, lead_times
+
+NODES = {  # name: python -m module
+    "recorder": "railderail_monitor.recording",
+    "monitor": "railderail_monitor.node",
+    "simulator": "railderail_sim.node",
+}
+
+
+def _child_setup():
+    """In the child: default SIGINT (a background job may inherit it ignored) and SIGTERM when the
+    demo dies, so that no node outlives it."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+    try:
+        ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGTERM)   # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass
+
+
+class Node:
+    """A child process whose stderr and stdout go to a log file; `echo(line)` sees stderr lines."""
+
+    def __init__(self, name, args, log_dir, echo=None):
+        self.name = name
+        self.log_path = log_dir / f"{name}.log"
+        self.log = open(self.log_path, "w")
+        self.process = subprocess.Popen(args, stdout=self.log, stderr=subprocess.PIPE, text=True,
+                                        start_new_session=True, preexec_fn=_child_setup)
+        self.lines = []
+        self.thread = threading.Thread(target=self._pump, args=(echo,), daemon=True)
+        self.thread.start()
+
+    def _pump(self, echo):
+        for line in self.process.stderr:
+            self.log.write(line)
+            self.log.flush()
+            self.lines.append(line)
+            if echo is not None:
+                echo(line)
+
+    def stop(self, timeout=15.0):
+        """SIGINT, then SIGKILL after `timeout`; returns the exit status."""
+        if self.process.poll() is None:
+            self.process.send_signal(signal.SIGINT)
+            try:
+                self.process.wait(timeout)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+                self.process.wait()
+        self.thread.join(5.0)
+        self.log.close()
+        return self.process.returncode
+
+
+def simulator_parameters(args):
+    return {"radius": float(args.radius), "speed_mode": "progressive", "speed_kmh": float(args.start_kmh),
+            "publish_rate": float(args.rate), "real_time_factor": float(args.real_time_factor),
+            "contact_model": args.contact_model, "wait_for_subscribers": 2}
+
+
+def ros_args(parameters):
+    out = ["--ros-args"]
+    for name, value in parameters.items():
+        out += ["-p", f"{name}:={value}"]
+    return out
+
+
+class Listener:
+    """The demo's own rclpy node: alerts, the derailment event and the final status."""
+
+    def __init__(self, say):
+        import rclpy
+        from rclpy.executors import SingleThreadedExecutor
+        from rclpy.signals import SignalHandlerOptions
+
+        from . import messages as m
+
+        self.rclpy, self.m = rclpy, m
+        rclpy.init(signal_handler_options=SignalHandlerOptions.NO)   # Ctrl-C stays a KeyboardInterrupt here
+        self.node = rclpy.create_node("railderail_demo")
+        self.executor = SingleThreadedExecutor()
+        self.executor.add_node(self.node)
+        self.say = say
+        self.alerts, self.derailment, self.final_status, self.final_state = [], None, None, None
+        self.received_at = {}
+        self.node.create_subscription(m.Alert, m.ALERTS, self.on_alert, m.ALERT_QOS)
+        self.node.create_subscription(m.DerailmentEvent, m.DERAILMENT, self.on_derailment, m.LATCHED)
+        self.node.create_subscription(m.VehicleStatus, m.FINAL_STATUS, self.on_final, m.LATCHED)
+
+    def on_alert(self, msg):
+        a = self.m.alert_dict(msg)
+        self.alerts.append(a)
+        self.say(f"  ALERT  t = {a['time_s']:7.3f} s  s = {a['track_position']:7.1f} m  "
+                 f"{a['speed'] * 3.6:5.1f} km/h  {a['message']}")
+
+    def on_derailment(self, msg):
+        self.derailment = self.m.derailment_dict(msg)
+
+    def on_final(self, msg):
+        self.final_status, self.final_state = msg.message, msg.state
+
+    def spin_once(self, timeout):
+        self.executor.spin_once(timeout_sec=timeout)
+
+    def close(self):
+        self.executor.shutdown()
+        self.node.destroy_node()
+        self.rclpy.try_shutdown()
+
+
+def lead_table(alerts, derailment):
+    """Lines: every alert with its lead (s, m) before the derailment."""
+    lines = []
+    for a in alerts:
+        lines.append(f"  {a['criterion']:23s} {SEVERITY_NAMES[a['severity']]:8s} ws{a['wheelset']} "
+                     f"{a['wheel_side'] or '-':5s} {a['rail_side'] or '-':5s} "
+                     f"{derailment['time_s'] - a['time_s']:7.2f} s {derailment['track_position_m'] - a['track_position']:8.1f} m"
+                     f"   ({a['speed'] * 3.6:.1f} km/h)")
+    return lines
+
+
+def run_demo(args, say=print):
+    started = time.monotonic()
+    out = Path(args.out) if args.out else Path("runs") / datetime.datetime.now().strftime("demo-%Y%m%d-%H%M%S")
+    (out / "logs").mkdir(parents=True, exist_ok=True)
+    mcap_path, rrd_path, summary_path = out / "demo.mcap", out / "demo.rrd", out / "summary.json"
+    limits = default_limits()
+    sim_params = simulator_parameters(args)
+    say(f"railderail demo: R = {args.radius:g} m, progressive trial from {args.start_kmh:g} km/h, "
+        f"{args.rate:g} Hz, {args.real_time_factor:g} x real time; run folder {out}")
+    say("starting the recorder, the monitor and the simulator (the first run in a fresh checkout also "
+        "compiles the core: about a minute)")
+    listener = Listener(say)
+    python = sys.executable
+    metadata = [f"monitor.{k}={v}" for k, v in limits.as_dict().items()]
+    metadata += [f"simulator.{k}={v}" for k, v in sim_params.items()]
+    nodes = {}
+
+    def echo_sim(line):
+        if ("samples/s" in line) or ("ERROR" in line) or ("error" in line) or ("ready:" in line):
+            say("  sim    " + line.split("]: ", 1)[-1].rstrip())
+
+    status = 0
+    try:
+        nodes["recorder"] = Node("recorder", [python, "-m", NODES["recorder"], str(mcap_path)]
+                                 + [a for kv in metadata for a in ("--metadata", kv)], out / "logs")
+        nodes["monitor"] = Node("monitor", [python, "-m", NODES["monitor"]], out / "logs")
+        if args.rerun or args.rerun_connect:
+            sink = ["--connect", args.rerun_connect] if args.rerun_connect else ["--spawn"]
+            nodes["viewer"] = Node("viewer", [python, "-m", "railderail_monitor.viewer"] + sink, out / "logs")
+        nodes["simulator"] = Node("simulator", [python, "-m", NODES["simulator"]] + ros_args(sim_params),
+                                  out / "logs", echo=echo_sim)
+        deadline = time.monotonic() + args.timeout
+        while nodes["simulator"].process.poll() is None:
+            listener.spin_once(0.1)
+            for name in ("recorder", "monitor"):
+                if nodes[name].process.poll() is not None:
+                    raise RuntimeError(f"the {name} node stopped (status {nodes[name].process.returncode}); "
+                                       f"see {nodes[name].log_path}")
+            if time.monotonic() > deadline:
+                raise RuntimeError(f"the run took longer than --timeout {args.timeout:g} s; stopped")
+        code = nodes["simulator"].process.wait()
+        linger = time.monotonic() + 1.5             # late alerts and the latched final messages
+        while time.monotonic() < linger or (listener.final_status is None and time.monotonic() < linger + 3):
+            listener.spin_once(0.1)
+        if code not in (0, 1):
+            raise RuntimeError(f"the simulator node failed (status {code}); see {nodes['simulator'].log_path}")
+        if "viewer" in nodes:
+            nodes.pop("viewer").stop()
+        monitor_code = nodes.pop("monitor").stop()
+        recorder_code = nodes.pop("recorder").stop()
+        if recorder_code != 0 or monitor_code != 0:
+            raise RuntimeError(f"monitor/recorder exit status {monitor_code}/{recorder_code}; see {out / 'logs'}")
+    except KeyboardInterrupt:
+        say("\nCtrl-C: stopping the nodes")
+        status = 130
+    except RuntimeError as error:
+        say(f"railderail demo: error: {error}")
+        status = 1
+    finally:
+        for name in ("simulator", "viewer", "monitor", "recorder"):   # the recorder last: its file must hold everything
+            if name in nodes:
+                nodes[name].stop()
+        listener.close()
+    if status == 130:
+        say(f"stopped; the recording so far is {mcap_path}")
+        return status
+    wall_run = time.monotonic() - started
+
+    d = listener.derailment
+    say("")
+    if d is not None:
+        say(f"DERAILED at t = {d['time_s']:.3f} s, s = {d['track_position_m']:.1f} m, {d['speed_kmh']:.1f} km/h: "
+            f"wheelset {d['wheelset']} {d['wheel_side']} ({d['rail_side']} rail), {d['mechanism'].replace('_', ' ')}")
+        if listener.alerts:
+            say("alerts and their lead before the derailment (criterion, level, wheel, rail, lead time, lead "
+                "distance, speed at the alert):")
+            for line in lead_table(listener.alerts, d):
+                say(line)
+        else:
+            say("no alert came before the derailment")
+    else:
+        say(f"the run stopped without a derailment: {listener.final_status or 'no final status received'}")
+    leads = lead_times(listener.alerts, d)
+    if leads:
+        say("first alert of each criterion:")
+        for key, v in sorted(leads.items(), key=lambda kv: kv[1]["time_s"]):
+            lead = f"{v['lead_s']:.2f} s / {v['lead_m']:.0f} m before" if d else "no derailment followed"
+            say(f"  {key:32s} t = {v['time_s']:7.3f} s  {lead}")
+    sim_log = (out / "logs" / "simulator.log").read_text()
+    mon_log = (out / "logs" / "monitor.log").read_text()
+    rate_line = next((l for l in sim_log.splitlines() if "published" in l), "")
+    mon_line = next((l for l in mon_log.splitlines() if "processed" in l), "")
+    if rate_line:
+        say("simulator: " + rate_line.split("; ", 1)[-1])
+    if mon_line:
+        say("monitor:   " + mon_line.split("] ", 1)[-1])
+    if not args.no_rrd:
+        from .replay import read_recording, write_rrd
+        t0 = time.monotonic()
+        write_rrd(read_recording(mcap_path), rrd_path, limits)
+        say(f"wrote {rrd_path} in {time.monotonic() - t0:.1f} s")
+    summary = dict(run_folder=str(out), mcap=str(mcap_path), rrd=None if args.no_rrd else str(rrd_path),
+                   simulator=sim_params, limits=limits.as_dict(), derailment=d, final_status=listener.final_status,
+                   alerts=listener.alerts, lead_times=leads, simulator_log=rate_line.split("]: ", 1)[-1],
+                   monitor_log=mon_line.split("] ", 1)[-1], wall_time_s=time.monotonic() - started,
+                   wall_time_run_s=wall_run)
+    summary_path.write_text(json.dumps(summary, indent=1))
+    say(f"run folder: {out}  (demo.mcap, {'' if args.no_rrd else 'demo.rrd, '}summary.json, logs/); "
+        f"wall time {summary['wall_time_s']:.0f} s")
+    say(f"review it: railderail replay {mcap_path} --no-publish   |   rerun {rrd_path}")
+    return 0 if d is not None or listener.final_state is not None else 1
+
+
+def add_arguments(parser):
+    parser.add_argument("--out", metavar="DIR", help="run folder (default runs/demo-YYYYMMDD-HHMMSS)")
+    parser.add_argument("--radius", type=float, default=1000.0, help="curve radius, m (default 1000)")
+    parser.add_argument("--start-kmh", type=float, default=200.0, help="staircase start speed, km/h (default 200)")
+    parser.add_argument("--rate", type=float, default=200.0, help="publish rate, Hz of simulated time (default 200)")
+    parser.add_argument("--real-time-factor", type=float, default=3.0,
+                        help="simulated seconds per second (default 3; 0 = as fast as possible)")
+    parser.add_argument("--contact-model", default="hertz", choices=("hertz", "discrete"))
+    parser.add_argument("--no-rrd", action="store_true", help="do not write the Rerun file")
+    parser.add_argument("--rerun", action="store_true", help="also show the run live in a Rerun viewer (spawned)")
+    parser.add_argument("--rerun-connect", metavar="URL", help="also stream it live to a running Rerun viewer")
+    parser.add_argument("--timeout", type=float, default=900.0, help="stop the run after this many s (900)")
+
+
+def command(parser: argparse.ArgumentParser):
+    add_arguments(parser)
+
+    def run(args):
+        if not 300.0 <= args.radius <= 20000.0:
+            raise ValueError(f"--radius {args.radius:g} m is outside 300-20000 m")
+        if not 1.0 <= args.rate <= 2000.0:
+            raise ValueError(f"--rate {args.rate:g} Hz is outside 1-2000 Hz")
+        if not 0.0 <= args.real_time_factor <= 100.0:
+            raise ValueError(f"--real-time-factor {args.real_time_factor:g} is outside 0-100")
+        return run_demo(args, say=lambda text: print(text, flush=True))
+    return run

@@ -1,0 +1,339 @@
+"""Recorder `railderail_recorder`: every railderail topic to an MCAP file.
+
+`railderail record OUT.mcap` (or `python -m railderail_monitor.recording OUT.mcap`) subscribes to
+the topics of railderail_monitor/messages.py and /clock from the start, and to any other topic
+under /railderail/ that appears later, all *raw*: the CDR bytes are written as published, with no
+decoding. The file is a standard MCAP with ROS 2 conventions, so the mcap CLI, Foxglove and
+`ros2 bag` (rosbag2_storage_mcap) read it:
+
+- schema per type: name `pkg/msg/Type`, encoding `ros2msg`, text = the installed `.msg` file and,
+  for every type it uses (recursively), a line of 80 `=`, `MSG: pkg/Type` and that `.msg`;
+- channel per topic: message encoding `cdr`, metadata `offered_qos_profiles` left out;
+- log_time = publish_time = the message's header stamp (simulation time, ns), for the clock its
+  time; a message with no stamp gets the latest stamp seen. So the file's timeline is simulation
+  time (it starts near 0 ns, i.e. 1970 for tools that show dates);
+- a metadata record `railderail` (recorder version, wall-clock start, `--metadata KEY=VALUE`).
+
+Durability: the file is written in place as OUT.mcap (no `.partial` name). Chunks are closed and
+the file flushed every `--flush-period` s (0.5): Ctrl-C or SIGTERM finish the file (summary and
+footer); after a SIGKILL or a power cut the messages up to the last flushed chunk are readable
+with a streaming reader (`railderail replay --allow-truncated`, `mcap recover`).
+"""
+from __future__ import annotations
+
+import argparse
+import datetime
+import os
+import re
+import struct
+import sys
+import time
+from pathlib import Path
+
+import mcap.writer
+from mcap.writer import CompressionType
+
+PRIMITIVES = {"bool", "byte", "char", "float32", "float64", "int8", "uint8", "int16", "uint16", "int32",
+              "uint32", "int64", "uint64", "string", "wstring"}
+SEPARATOR = "=" * 80
+
+
+# --- schemas ------------------------------------------------------------------------------------
+
+def msg_file(package, name):
+    """Path of the installed `.msg` of package/name (AMENT_PREFIX_PATH, then this Python's prefix)."""
+    prefixes = [p for p in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep) if p] + [sys.prefix]
+    for prefix in prefixes:
+        path = Path(prefix, "share", package, "msg", f"{name}.msg")
+        if path.is_file():
+            return path
+    raise FileNotFoundError(f"no {package}/msg/{name}.msg under {', '.join(prefixes)} (is {package} installed?)")
+
+
+def _split(type_name):
+    parts = type_name.split("/")
+    if len(parts) == 3:
+        return parts[0], parts[2]
+    if len(parts) == 2:
+        return parts[0], parts[1]
+    raise ValueError(f"type name {type_name!r} is not package/msg/Name")
+
+
+def _field_types(text, package):
+    """Complex types used by the fields of a .msg text, as (package, name)."""
+    found = []
+    for line in text.splitlines():
+        line = line.split("#", 1)[0].strip()
+        if not line:
+            continue
+        base = re.sub(r"\[.*\]$", "", line.split()[0])     # arrays: T[], T[8], T[<=8]
+        base = re.sub(r"<=\d+$", "", base)                  # bounded strings: string<=10
+        if base in PRIMITIVES:                               # constants are always primitive
+            continue
+        if base == "Header":
+            found.append(("std_msgs", "Header"))
+        elif "/" in base:
+            found.append(_split(base))
+        else:
+            found.append((package, base))
+    return found
+
+
+def schema_text(type_name):
+    """The ros2msg schema text of a type such as 'railderail_msgs/msg/Alert'."""
+    package, name = _split(type_name)
+    main = msg_file(package, name).read_text()
+    parts = [main]
+    seen = {(package, name)}
+    queue = _field_types(main, package)
+    while queue:
+        dep = queue.pop(0)
+        if dep in seen:
+            continue
+        seen.add(dep)
+        text = msg_file(*dep).read_text()
+        parts.append(f"{SEPARATOR}\nMSG: {dep[0]}/{dep[1]}\n{text}")
+        queue.extend(_field_types(text, dep[0]))
+    return "\n".join(parts)
+
+
+def starts_with_stamp(schema):
+    """True if the first field of the schema is a std_msgs/Header or a builtin_interfaces/Time."""
+    for line in schema.split(SEPARATOR, 1)[0].splitlines():
+        line = line.split("#", 1)[0].strip()
+        if line and "=" not in line:              # the first field that is not a constant
+            return line.split()[0] in ("std_msgs/Header", "Header", "builtin_interfaces/Time")
+    return False
+
+
+def cdr_stamp_ns(data):
+    """The leading builtin_interfaces/Time of a CDR message (after the 4-byte encapsulation), in ns."""
+    endian = "<" if data[1] & 1 else ">"
+    sec, nanosec = struct.unpack_from(endian + "iI", data, 4)
+    return sec * 1_000_000_000 + nanosec
+
+
+# --- writer -------------------------------------------------------------------------------------
+
+class McapRecording:
+    """An MCAP file of raw CDR messages; no ROS needed. Call `close()` (or use `with`)."""
+
+    def __init__(self, path, metadata=None, chunk_size=512 * 1024, flush_period_s=0.5,
+                 compression=CompressionType.ZSTD):
+        self.path = Path(path)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self.stream = open(self.path, "wb")
+        self.writer = mcap.writer.Writer(self.stream, chunk_size=chunk_size, compression=compression)
+        self.writer.start(profile="ros2", library=f"railderail recorder (mcap {mcap.__version__})")
+        self.flush_period_s = flush_period_s
+        self.last_flush = time.monotonic()
+        self.schemas = {}
+        self.channels = {}            # topic -> (channel id, stamped?)
+        self.sequence = {}
+        self.last_stamp = 0
+        self.messages = 0
+        self.bytes = 0
+        self.closed = False
+        meta = {"recorder": "railderail", "started_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(),
+                "log_time": "simulation time (header stamps)"}
+        meta.update(metadata or {})
+        self.writer.add_metadata("railderail", {k: str(v) for k, v in meta.items()})
+        self.flush()
+
+    def add_topic(self, topic, type_name):
+        if topic in self.channels:
+            return self.channels[topic][0]
+        if type_name not in self.schemas:
+            text = schema_text(type_name)
+            self.schemas[type_name] = (self.writer.register_schema(type_name, "ros2msg", text.encode()),
+                                       starts_with_stamp(text))
+        schema_id, stamped = self.schemas[type_name]
+        channel = self.writer.register_channel(topic, "cdr", schema_id)
+        self.channels[topic] = (channel, stamped)
+        self.sequence[topic] = 0
+        return channel
+
+    def write(self, topic, data):
+        """Write one CDR message (bytes as published) on a topic added before."""
+        channel, stamped = self.channels[topic]
+        if stamped and len(data) >= 12:
+            self.last_stamp = max(cdr_stamp_ns(data), 0)
+            stamp = self.last_stamp
+        else:
+            stamp = self.last_stamp
+        self.writer.add_message(channel, log_time=stamp, data=data, publish_time=stamp,
+                                sequence=self.sequence[topic])
+        self.sequence[topic] += 1
+        self.messages += 1
+        self.bytes += len(data)
+        if time.monotonic() - self.last_flush >= self.flush_period_s:
+            self.flush()
+
+    def flush(self):
+        """Close the current chunk and push everything to the file (survives a SIGKILL from here)."""
+        self.writer.flush()
+        self.last_flush = time.monotonic()
+
+    def close(self):
+        if not self.closed:
+            self.closed = True
+            self.writer.finish()
+            self.stream.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+def record_run(path, result, limits=None, metadata=None):
+    """Write a finished core run (`vehicle.simulate.Result`) to MCAP exactly as the nodes would have
+    published it — one WheelsetStates, ContactForces and VehicleStatus per sample, the monitor's
+    alerts, the derailment event and the final status — without a ROS graph (tests, examples).
+    Returns the alerts (criteria.AlertRecord)."""
+    from rclpy.serialization import serialize_message
+
+    from . import messages as m
+    from .criteria import alerts_of_run, default_limits
+
+    limits = limits or default_limits()
+    a = m.sample_arrays(result)
+    alerts = alerts_of_run(a, limits)
+    by_sample = {}
+    for alert in alerts:
+        by_sample.setdefault(alert.sample, []).append(alert)
+    convert = m.RowConverter()
+    meta = {f"monitor.{k}": v for k, v in limits.as_dict().items()}
+    meta.update(metadata or {})
+    with McapRecording(path, metadata=meta) as rec:
+        for topic, (type_name, *_) in m.TOPICS.items():
+            rec.add_topic(topic, type_name)
+        n = len(result.time)
+        for i in range(n):
+            rec.write(m.STATES, serialize_message(convert.states(a, i, i)))
+            rec.write(m.FORCES, serialize_message(convert.forces(a, i, i)))
+            rec.write(m.STATUS, serialize_message(convert.status(a, i, i)))
+            for alert in by_sample.get(i, ()):
+                rec.write(m.ALERTS, serialize_message(m.alert_message(alert)))
+        S = m.msgs.VehicleStatus
+        if result.derailment is not None:
+            d = result.derailment
+            rec.write(m.DERAILMENT, serialize_message(m.derailment_message(d, float(result.position[-1]))))
+            state, text = S.STATE_DERAILED, f"derailed: wheelset {d['wheelset']} {d['wheel_side']}"
+        else:
+            state, text = S.STATE_FINISHED, f"finished ({result.status})"
+        rec.write(m.FINAL_STATUS, serialize_message(convert.status(a, n - 1, n - 1, state=state, message=text)))
+    return alerts
+
+
+# --- the recorder node --------------------------------------------------------------------------
+
+def recorder_main(path, metadata=None, flush_period_s=0.5, log=print):
+    """Run the recorder node until Ctrl-C/SIGTERM; the file is complete when this returns."""
+    import rclpy
+    from rclpy.executors import ExternalShutdownException
+    from rclpy.node import Node
+    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+
+    from . import messages as m
+
+    rclpy.init()
+    recording = None
+    node = None
+    try:
+        recording = McapRecording(path, metadata=metadata, flush_period_s=flush_period_s)
+        node = Node("railderail_recorder")
+        subscriptions = {}
+
+        def subscribe(topic, type_name, qos):
+            if topic in subscriptions:
+                return
+            recording.add_topic(topic, type_name)
+            cls = m.message_class(type_name)
+            subscriptions[topic] = node.create_subscription(
+                cls, topic, lambda data, topic=topic: recording.write(topic, data), qos, raw=True)
+
+        for topic, (type_name, _, _, sub_qos) in {**m.TOPICS, **dict([m.clock_topic()])}.items():
+            subscribe(topic, type_name, sub_qos)
+
+        def discover():
+            for topic, types in node.get_topic_names_and_types():
+                if topic in subscriptions or not topic.startswith(m.NS + "/") or len(types) != 1:
+                    continue
+                infos = node.get_publishers_info_by_topic(topic)
+                if not infos:
+                    continue
+                reliable = all(i.qos_profile.reliability == ReliabilityPolicy.RELIABLE for i in infos)
+                latched = all(i.qos_profile.durability == DurabilityPolicy.TRANSIENT_LOCAL for i in infos)
+                qos = QoSProfile(depth=500,
+                                 reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
+                                 durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE)
+                try:
+                    subscribe(topic, types[0], qos)
+                    node.get_logger().info(f"recording {topic} ({types[0]}) too")
+                except (FileNotFoundError, ImportError, AttributeError, ValueError) as error:
+                    node.get_logger().warning(f"cannot record {topic}: {error}")
+
+        node.create_timer(1.0, discover)
+        node.create_timer(flush_period_s, recording.flush)
+        node.get_logger().info(f"recording {len(subscriptions)} topics to {recording.path}")
+        rclpy.spin(node)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        if recording is not None:
+            recording.close()
+            log(f"[railderail_recorder] wrote {recording.messages} messages ({recording.bytes / 1e6:.2f} MB of CDR) "
+                f"on {len(recording.channels)} topics to {recording.path}")
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()
+    return 0
+
+
+def _metadata(pairs):
+    out = {}
+    for pair in pairs or []:
+        key, sep, value = pair.partition("=")
+        if not sep or not key:
+            raise ValueError(f"metadata {pair!r} is not KEY=VALUE")
+        out[key] = value
+    return out
+
+
+def add_arguments(parser):
+    parser.add_argument("out", metavar="OUT.mcap", help="file to write (its folder is created)")
+    parser.add_argument("--metadata", action="append", metavar="KEY=VALUE",
+                        help="add KEY=VALUE to the file's `railderail` metadata record (repeatable)")
+    parser.add_argument("--flush-period", type=float, default=0.5,
+                        help="seconds between chunk flushes (what a SIGKILL can lose); default 0.5")
+
+
+def command(parser: argparse.ArgumentParser):
+    """`railderail record OUT.mcap`."""
+    add_arguments(parser)
+
+    def run(args):
+        if not 0.01 <= args.flush_period <= 60.0:
+            raise ValueError(f"--flush-period {args.flush_period:g} s is outside 0.01-60 s")
+        if not args.out.endswith(".mcap"):
+            raise ValueError(f"{args.out}: the recording's name must end in .mcap")
+        return recorder_main(args.out, _metadata(args.metadata), args.flush_period,
+                             log=lambda text: print(text, file=sys.stderr, flush=True))
+    return run
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(prog="python -m railderail_monitor.recording", description=__doc__.split("\n")[0])
+    run = command(parser)
+    args = parser.parse_args(argv)
+    try:
+        return run(args)
+    except ValueError as error:
+        print(f"{parser.prog}: error: {error}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

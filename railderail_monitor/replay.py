@@ -1,0 +1,377 @@
+"""`railderail replay FILE.mcap`: a recording back on the ROS topics, in Rerun, or as alerts.
+
+- Publishes every recorded topic again (raw CDR, the QoS of messages.TOPICS) at the recorded
+  timing — the messages' log times, which are simulation time — divided by `--rate` (2 = twice as
+  fast; 0 = as fast as possible), so that a monitor (or any node) can run offline against it. The
+  recorded alerts are left out unless `--include-alerts`, so that a live monitor's alerts are not
+  mixed with them. `--no-publish` skips ROS altogether.
+- Runs the monitor's criteria (criteria.Monitor, thresholds from the recording's metadata if the
+  demo wrote them, else the defaults) over the recorded samples and prints the alerts found, with
+  their lead before the recorded derailment; `--json` prints one JSON object instead.
+- `--rerun` shows the run in a Rerun viewer; `--rrd OUT.rrd` writes it to a file (headless).
+
+A missing, truncated (no footer), damaged or foreign (no railderail_msgs topics) file is refused
+with one line naming the file and the problem (exit status 2); `--allow-truncated` replays what a
+killed recorder left (the messages up to its last flushed chunk).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import struct
+import sys
+import time
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+
+from mcap.exceptions import McapError
+from mcap.reader import NonSeekingReader, make_reader
+from mcap_ros2.decoder import DecoderFactory
+
+from .criteria import Limits, default_limits, Monitor, lead_times
+
+MAGIC = b"\x89MCAP0\r\n"
+# what the mcap readers raise on a cut or damaged file (besides McapError)
+READ_ERRORS = (McapError, struct.error, EOFError, ValueError, KeyError)
+STATES, FORCES, STATUS = "/railderail/wheelset_states", "/railderail/contact_forces", "/railderail/vehicle_status"
+FINAL_STATUS, DERAILMENT, ALERTS = "/railderail/final_status", "/railderail/derailment", "/railderail/alerts"
+
+
+class RecordingError(ValueError):
+    """A recording that cannot be used; the message names the file and what is wrong."""
+
+
+@dataclass
+class Recording:
+    path: Path
+    messages: list                      # (topic, type name, log_time ns, CDR bytes, decoded or None)
+    metadata: dict = field(default_factory=dict)
+    truncated: bool = False
+    problem: str = ""
+
+    @property
+    def duration_s(self):
+        return (self.messages[-1][2] - self.messages[0][2]) * 1e-9 if self.messages else 0.0
+
+    def topics(self):
+        out = {}
+        for topic, type_name, *_ in self.messages:
+            out.setdefault(topic, [type_name, 0])[1] += 1
+        return out
+
+
+def _check_head(path):
+    path = Path(path)
+    if not path.exists():
+        raise RecordingError(f"{path}: no such file")
+    if path.is_dir():
+        raise RecordingError(f"{path} is a folder, not an MCAP file")
+    size = path.stat().st_size
+    with open(path, "rb") as f:
+        head = f.read(8)
+        if head != MAGIC:
+            what = "it is empty" if size == 0 else f"it starts with {head[:8]!r}, not the MCAP magic"
+            raise RecordingError(f"{path} is not an MCAP file ({what})")
+        f.seek(max(size - 8, 0))
+        return f.read(8) == MAGIC
+
+
+def _decoders():
+    """schema -> callable(bytes) -> message: the fast decoder of cdr.py, mcap_ros2's if it cannot."""
+    from .cdr import Decoder, UnsupportedSchema
+
+    cache = {}
+    fallback = DecoderFactory()
+
+    def decoder(schema):
+        d = cache.get(schema.id)
+        if d is None:
+            try:
+                d = Decoder(schema.name, schema.data.decode())
+            except (UnsupportedSchema, UnicodeDecodeError):
+                d = fallback.decoder_for("cdr", schema) or (lambda data: None)
+            cache[schema.id] = d
+        return d
+    return decoder
+
+
+def read_recording(path, allow_truncated=False, decode=True):
+    """All messages of a railderail MCAP in log-time order (RecordingError if it cannot be used)."""
+    path = Path(path)
+    complete = _check_head(path)
+    decoder = _decoders()
+    messages, problem = [], ""
+    metadata = {}
+
+    def collect(iterator):
+        for schema, channel, message in iterator:
+            name = schema.name if schema else ""
+            decoded = decoder(schema)(message.data) if decode and schema is not None and schema.encoding == "ros2msg" \
+                and channel.message_encoding == "cdr" else None
+            messages.append((channel.topic, name, message.log_time, message.data, decoded))
+
+    with open(path, "rb") as f:
+        if complete:
+            try:
+                reader = make_reader(f)
+                collect(reader.iter_messages(log_time_order=True))
+                for record in reader.iter_metadata():
+                    metadata[record.name] = dict(record.metadata)
+            except READ_ERRORS as error:
+                raise RecordingError(f"{path} is damaged ({type(error).__name__}: {error})") from None
+        else:
+            try:
+                collect(NonSeekingReader(f).iter_messages(log_time_order=False))
+            except READ_ERRORS:
+                pass                      # the cut: everything before it has been read
+            messages.sort(key=lambda item: item[2])
+            last = f" up to t = {messages[-1][2] * 1e-9:.2f} s" if messages else ""
+            problem = (f"{path} is truncated (no MCAP footer: the recording was cut off, e.g. the recorder was "
+                       f"killed); {len(messages)} messages{last} are readable")
+            if not messages:
+                raise RecordingError(problem + ": nothing to replay")
+            if not allow_truncated:
+                raise RecordingError(problem + ": add --allow-truncated to use them")
+    ours = {topic for topic, type_name, *_ in messages if type_name.startswith("railderail_msgs/")}
+    if not ours:
+        found = ", ".join(f"{t} ({n})" for t, (n, _) in Recording(path, messages).topics().items()) or "none"
+        raise RecordingError(f"{path} is not a railderail recording: it has no railderail_msgs topics "
+                             f"(topics: {found})")
+    return Recording(path, messages, metadata, truncated=not complete, problem=problem)
+
+
+def limits_of(recording):
+    """The monitor thresholds stored by the demo in the `railderail` metadata (key `monitor.NAME`),
+    else the defaults."""
+    meta = recording.metadata.get("railderail", {})
+    names = {f.name for f in fields(Limits)}
+    values = {key[len("monitor."):]: float(value) for key, value in meta.items()
+              if key.startswith("monitor.") and key[len("monitor."):] in names}
+    return Limits(**{**default_limits().as_dict(), **values}).validated()
+
+
+def _alert_dict(msg):
+    from .messages import alert_dict
+    return alert_dict(msg)
+
+
+def _derailment_dict(msg):
+    from .messages import derailment_dict
+    return derailment_dict(msg)
+
+
+@dataclass
+class Review:
+    """What a replay found."""
+    alerts: list = field(default_factory=list)           # criteria.AlertRecord
+    recorded_alerts: list = field(default_factory=list)  # dicts
+    derailment: dict = None
+    final_status: str = ""
+    samples: int = 0
+
+    def as_json(self, recording):
+        found = [a.as_dict() for a in self.alerts]
+        key = lambda a: (a["sample"], a["criterion"], a["severity"], a["wheelset"], a["wheel_side"])  # noqa: E731
+        return dict(file=str(recording.path), truncated=recording.truncated, messages=len(recording.messages),
+                    duration_s=recording.duration_s, samples=self.samples, derailment=self.derailment,
+                    final_status=self.final_status, alerts=found,
+                    lead_times=lead_times(self.alerts, self.derailment),
+                    recorded_alerts=self.recorded_alerts,
+                    same_as_recorded=sorted(map(key, found)) == sorted(map(key, self.recorded_alerts)))
+
+
+def review(recording, limits=None, on_message=None, on_alert=None):
+    """Run the criteria over a recording in log-time order; `on_message(topic, type, log_time, data,
+    decoded)` sees every message first (publishing, viewer), `on_alert(record)` every alert found."""
+    monitor = Monitor(limits or limits_of(recording))
+    out = Review()
+    for item in recording.messages:
+        topic, _, _, _, msg = item
+        if on_message is not None:
+            on_message(*item)
+        if msg is None:
+            continue
+        found = []
+        if topic == STATES:
+            out.samples += 1
+            found = monitor.on_states(msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec, msg.sample,
+                                      msg.track_position, msg.speed, msg.attack_angle, msg.wheel_lift)
+        elif topic == FORCES:
+            found = monitor.on_forces(msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec, msg.sample,
+                                      msg.track_position, msg.speed, msg.derailment_coefficient, msg.vertical_force)
+        elif topic == STATUS:
+            monitor.set_curvature(msg.sample, msg.curvature)
+        elif topic == ALERTS:
+            out.recorded_alerts.append(_alert_dict(msg))
+        elif topic == DERAILMENT:
+            out.derailment = _derailment_dict(msg)
+        elif topic == FINAL_STATUS:
+            out.final_status = msg.message
+        for alert in found:
+            out.alerts.append(alert)
+            if on_alert is not None:
+                on_alert(alert)
+    return out
+
+
+# --- publishing -----------------------------------------------------------------------------------
+
+class Publisher:
+    """Republishes recorded messages on their topics at the recorded timing / rate."""
+
+    def __init__(self, recording, rate, include_alerts, wait_for_subscribers, log):
+        import rclpy
+        from rclpy.qos import QoSProfile
+
+        from . import messages as m
+
+        self.rclpy = rclpy
+        rclpy.init()
+        self.node = rclpy.create_node("railderail_replay")
+        qos = {**{t: q for t, (_, _, q, _) in m.TOPICS.items()}, m.CLOCK: m.CLOCK_QOS}
+        self.publishers = {}
+        for topic, (type_name, _) in recording.topics().items():
+            if topic == ALERTS and not include_alerts:
+                continue
+            try:
+                cls = m.message_class(type_name)
+            except (ImportError, AttributeError, ValueError):
+                log(f"replay: cannot publish {topic}: type {type_name} is not installed")
+                continue
+            self.publishers[topic] = self.node.create_publisher(cls, topic, qos.get(topic, QoSProfile(depth=100)))
+        self.rate = rate
+        self.t0_log = recording.messages[0][2] if recording.messages else 0
+        self.t0_wall = None
+        if wait_for_subscribers > 0:
+            deadline = time.monotonic() + 30.0
+            watched = [p for t, p in self.publishers.items() if t in (STATES, FORCES)]
+            while min((p.get_subscription_count() for p in watched), default=0) < wait_for_subscribers:
+                if time.monotonic() > deadline:
+                    raise RecordingError(f"replay: no {wait_for_subscribers} subscribers on {STATES} after 30 s")
+                rclpy.spin_once(self.node, timeout_sec=0.1)
+            time.sleep(0.5)
+
+    def __call__(self, topic, type_name, log_time, data, decoded):
+        publisher = self.publishers.get(topic)
+        if publisher is None:
+            return
+        if self.rate > 0:
+            if self.t0_wall is None:
+                self.t0_wall = time.monotonic()
+            delay = self.t0_wall + (log_time - self.t0_log) * 1e-9 / self.rate - time.monotonic()
+            if delay > 0:
+                time.sleep(delay)
+        publisher.publish(data)
+
+    def close(self):
+        for publisher in self.publishers.values():
+            if publisher.qos_profile.reliability == 1:          # RELIABLE: let late subscribers catch up
+                publisher.wait_for_all_acked(self.rclpy.duration.Duration(seconds=2.0))
+        self.node.destroy_node()
+        self.rclpy.try_shutdown()
+
+
+# --- Rerun --------------------------------------------------------------------------------------
+
+def feed_viewer(viewer):
+    """An on_message callback that shows the recorded topics in a viewer.RunViewer."""
+    handlers = {STATES: viewer.on_states, FORCES: viewer.on_forces, STATUS: viewer.on_status,
+                ALERTS: viewer.on_alert, DERAILMENT: viewer.on_derailment, FINAL_STATUS: viewer.on_final_status}
+
+    def on_message(topic, type_name, log_time, data, decoded):
+        handler = handlers.get(topic)
+        if handler is not None and decoded is not None:
+            handler(decoded)
+    return on_message
+
+
+def write_rrd(recording, rrd_path, limits=None):
+    """The Rerun file of a recording (headless)."""
+    from .viewer import RunViewer
+
+    viewer = RunViewer(limits or limits_of(recording), flush_every=5000)
+    viewer.save(rrd_path)
+    try:
+        for item in recording.messages:
+            feed_viewer(viewer)(*item)
+    finally:
+        viewer.close()
+    return Path(rrd_path)
+
+
+# --- command ------------------------------------------------------------------------------------
+
+def format_alert(a, derailment=None):
+    lead = ""
+    if derailment is not None:
+        lead = (f"  [{derailment['time_s'] - a.time_s:.2f} s, {derailment['track_position_m'] - a.track_position:.0f} m "
+                "before the derailment]")
+    return f"t = {a.time_s:8.3f} s  s = {a.track_position:7.1f} m  {a.speed * 3.6:5.1f} km/h  {a.message}{lead}"
+
+
+def command(parser: argparse.ArgumentParser):
+    parser.add_argument("file", metavar="FILE.mcap", help="a recording of `railderail demo` or `railderail record`")
+    parser.add_argument("--rate", type=float, default=1.0,
+                        help="replay speed: 1 = recorded (simulation) timing, 2 = twice as fast, 0 = as fast as "
+                        "possible (default 1)")
+    parser.add_argument("--no-publish", action="store_true", help="do not publish on ROS topics (review only)")
+    parser.add_argument("--include-alerts", action="store_true", help="republish the recorded alerts too")
+    parser.add_argument("--wait-for-subscribers", type=int, default=0, metavar="N",
+                        help="start publishing once N nodes subscribe to the state topics (default 0)")
+    parser.add_argument("--rerun", action="store_true", help="show the run in a Rerun viewer (spawned)")
+    parser.add_argument("--rrd", metavar="OUT.rrd", help="write the Rerun views to a file")
+    parser.add_argument("--json", action="store_true", help="print the alerts found as one JSON object")
+    parser.add_argument("--allow-truncated", action="store_true",
+                        help="replay the readable part of a truncated recording instead of refusing it")
+
+    def run(args):
+        if not 0.0 <= args.rate <= 1000.0:
+            raise ValueError(f"--rate {args.rate:g} is outside 0-1000 (0 = as fast as possible)")
+        if args.rrd and not args.rrd.endswith(".rrd"):
+            raise ValueError(f"--rrd {args.rrd}: the file name must end in .rrd")
+        recording = read_recording(args.file, allow_truncated=args.allow_truncated)
+        err = lambda text: print(text, file=sys.stderr, flush=True)  # noqa: E731
+        if recording.truncated:
+            err(f"railderail: warning: {recording.problem}; replaying them")
+        limits = limits_of(recording)
+        callbacks = []
+        publisher = None
+        viewer = None
+        if not args.no_publish:
+            publisher = Publisher(recording, args.rate, args.include_alerts, args.wait_for_subscribers, err)
+            callbacks.append(publisher)
+            err(f"replaying {len(recording.messages)} messages ({recording.duration_s:.1f} s of simulation) from "
+                f"{recording.path} on {len(publisher.publishers)} topics"
+                + (f" at {args.rate:g} x" if args.rate else " as fast as possible"))
+        if args.rerun or args.rrd:
+            from .viewer import RunViewer
+            viewer = RunViewer(limits, flush_every=20 if args.rerun else 5000)
+            viewer.spawn() if args.rerun else viewer.save(args.rrd)
+            callbacks.append(feed_viewer(viewer))
+        derailment = next((_derailment_dict(msg) for topic, _, _, _, msg in recording.messages
+                           if topic == DERAILMENT and msg is not None), None)
+        on_alert = None if args.json else (lambda a: print(format_alert(a, derailment), flush=True))
+        try:
+            result = review(recording, limits, on_message=(lambda *item: [c(*item) for c in callbacks]),
+                            on_alert=on_alert)
+        finally:
+            if viewer is not None:
+                viewer.close()
+            if publisher is not None:
+                publisher.close()
+        if args.json:
+            print(json.dumps(result.as_json(recording), indent=1, allow_nan=True))
+        else:
+            if derailment is not None:
+                print(f"derailment: t = {derailment['time_s']:.3f} s, s = {derailment['track_position_m']:.1f} m, "
+                      f"wheelset {derailment['wheelset']} {derailment['wheel_side']} ({derailment['rail_side']}), "
+                      f"{derailment['mechanism'].replace('_', ' ')}, {derailment['speed_kmh']:.1f} km/h")
+            elif result.final_status:
+                print(f"no derailment: {result.final_status}")
+            same = result.as_json(recording)["same_as_recorded"]
+            print(f"{len(result.alerts)} alerts found; the recording holds {len(result.recorded_alerts)} "
+                  f"({'the same' if same else 'they differ'})")
+        if args.rrd:
+            err(f"wrote {args.rrd}")
+        return 0
+    return run

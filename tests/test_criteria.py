@@ -1,0 +1,208 @@
+"""The derailment criteria (railderail_monitor.criteria): hand-computed cases, no ROS."""
+import math
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from railderail_monitor import criteria as C
+
+
+def test_default_limits_come_from_the_model():
+    """Flange height, static wheel load and Nadal's limit of the built-in car and profiles (LM on
+    UIC60 1:40: flange 27.79 mm, largest contact angle 69.5 deg, mu 0.3; 56.06 kN per wheel)."""
+    lim = C.default_limits()
+    assert lim.wheel_lift == pytest.approx(0.027793 / 3, rel=1e-3)
+    assert lim.static_wheel_load == pytest.approx((32000 / 4 + 3300 / 2 + 1780) * 9.81 / 2, rel=1e-9)
+    assert lim.derailment_coefficient_critical == pytest.approx(1.318, abs=2e-3)
+
+
+def test_unloading_ratio_by_hand():
+    p0 = 56064.15
+    assert C.unloading_ratio([p0, 0.0, 0.5 * p0, 0.4 * p0], p0) == pytest.approx([0.0, 1.0, 0.5, 0.6])
+    assert C.unloading_ratio(1.2 * p0, p0) == pytest.approx(-0.2)       # an overloaded wheel
+    with pytest.raises(ValueError, match="static wheel load"):
+        C.unloading_ratio([1.0], 0.0)
+
+
+def test_front_attack_angle_is_the_magnitude_of_wheelset_0():
+    a = np.array([[0.01, 0.07, 0.0, 0.0], [-0.065, 0.0, 0.0, 0.0]])
+    assert C.front_attack_angle(a) == pytest.approx([0.01, 0.065])
+
+
+def test_rail_side():
+    assert C.rail_side("left", 1e-3) == "inner"          # curve to the left: the left rail is inner
+    assert C.rail_side("right", 1e-3) == "outer"
+    assert C.rail_side("left", -1e-3) == "outer"
+    assert C.rail_side("right", -1e-3) == "inner"
+    assert C.rail_side("left", 0.0) == ""                # straight track
+
+
+def test_default_levels_are_the_documented_ones():
+    lim = C.default_limits()
+    assert lim.levels("attack_angle") == [(C.SEVERITY_WARNING, 0.06)]                 # no critical level
+    assert lim.levels("wheel_lift") == [(1, pytest.approx(0.027793 / 3, rel=1e-4)),
+                                        (2, pytest.approx(2 * 0.027793 / 3, rel=1e-4))]
+    assert lim.levels("derailment_coefficient") == [(1, 0.8), (2, pytest.approx(1.318, abs=2e-3))]
+    assert lim.levels("wheel_unloading") == [(1, 0.60), (2, 0.65)]
+    assert lim.debounce_m == 2.0 and lim.rearm_fraction == 0.9 and lim.rearm_m == 50.0
+
+
+def _limits(**changes):
+    return replace(C.default_limits(), **changes)
+
+
+def test_limits_validation():
+    with pytest.raises(ValueError, match="attack_angle"):
+        _limits(attack_angle=-0.06).validated()
+    with pytest.raises(ValueError, match="rearm_fraction"):
+        _limits(rearm_fraction=1.5).validated()
+    with pytest.raises(ValueError, match="debounce_m"):
+        _limits(debounce_m=-1.0).validated()
+    with pytest.raises(ValueError, match="wheel_lift 0.02 must be below wheel_lift_critical 0.0185"):
+        _limits(wheel_lift=0.02).validated()
+    assert _limits(wheel_lift_critical=math.nan).levels("wheel_lift") == [(1, pytest.approx(0.009264, abs=2e-6))]
+
+
+# --- debounce and hysteresis ------------------------------------------------------------------
+
+def test_debounce_over_distance():
+    # threshold 1, debounce 2 m, samples every 1 m: above from index 3 on -> alert at index 5
+    values = [0, 0, 0, 1.2, 1.1, 1.3, 1.4, 1.5]
+    positions = np.arange(len(values), dtype=float)
+    assert C.detect(values, positions, 1.0, debounce_m=2.0) == [5]
+    # a 1-m spike does not pass a 2-m debounce
+    assert C.detect([0, 2, 2, 0, 0], np.arange(5.0), 1.0, debounce_m=2.0) == []
+    # no debounce: the first sample at the level
+    assert C.detect([0, 0.5, 1.0, 2.0], np.arange(4.0), 1.0, debounce_m=0.0) == [2]
+
+
+def test_one_event_one_alert_with_hysteresis():
+    thr = 1.0
+    # 500 samples above the level (one event), then back below the re-arm level (0.9) over 60 m,
+    # then above again: two alerts, not hundreds
+    values = [1.5] * 500 + [0.5] * 60 + [1.5] * 10
+    positions = np.arange(len(values), dtype=float)
+    assert C.detect(values, positions, thr, debounce_m=0.0, rearm_m=50.0) == [0, 560]
+    # dips to 0.95 (above the re-arm level) do not re-arm
+    wobble = [1.5, 0.95, 1.5, 0.95, 1.5] * 40
+    assert C.detect(wobble, np.arange(200.0), thr, debounce_m=0.0, rearm_m=0.0) == [0]
+    # a dip below the re-arm level that is shorter than rearm_m does not re-arm either
+    dip = [1.5] * 5 + [0.5] * 10 + [1.5] * 5
+    assert C.detect(dip, np.arange(20.0), thr, debounce_m=0.0, rearm_m=50.0) == [0]
+    assert C.detect(dip, np.arange(20.0), thr, debounce_m=0.0, rearm_m=5.0) == [0, 15]
+
+
+def test_detector_matches_detect():
+    rng = np.random.default_rng(7)
+    values = 1.0 + 0.5 * np.sin(np.arange(3000) / 150.0) + rng.normal(0.0, 0.05, 3000)
+    positions = np.cumsum(rng.uniform(0.2, 0.5, 3000))
+    d = C.Detector(1.0, 2.0, 0.9, 10.0)
+    stream = [i for i in range(3000) if d.update(values[i], positions[i])]
+    assert stream == C.detect(values, positions, 1.0, 2.0, 0.9, 10.0)
+    assert len(stream) >= 2
+
+
+# --- the monitor ------------------------------------------------------------------------------
+
+def synthetic_run(n=400):
+    """Arrays of a made-up run: the left wheels unload, then the front-left wheel lifts."""
+    t = np.arange(n) * 0.005
+    s = 100.0 + 80.0 * t
+    p = np.full((n, 8), C.default_limits().static_wheel_load)
+    p[:, 0::2] *= np.clip(1.0 - t[:, None] / 1.2, 0.0, 1.0)        # dP/P0 = t / 1.2
+    lift = np.zeros((n, 8))
+    lift[:, 0] = np.clip((t - 1.0) * 0.03, 0.0, None)            # 0.03 m/s from t = 1 s
+    qp = np.zeros((n, 8))
+    qp[:, 1] = 0.9 * np.sin(np.pi * t / t[-1])                   # Q/P up to 0.9 on ws0 right
+    attack = np.zeros((n, 4))
+    attack[:, 0] = np.where(t > 1.5, 0.07, 0.01)
+    return dict(time=t, position=s, speed=np.full(n, 80.0), curvature=np.full(n, 1e-3), attack_angle=attack,
+                wheel_lift=lift, derailment_coefficient=qp, vertical_force=p)
+
+
+def test_monitor_by_hand():
+    a = synthetic_run()
+    alerts = C.alerts_of_run(a, _limits(debounce_m=0.0))
+    first = {(x.criterion, x.severity, x.wheelset, x.wheel_side): x for x in alerts}
+    # unloading 0.60 at t = 0.72 s and 0.65 at t = 0.78 s on every left wheel (inner: curve to the left)
+    for ws in range(4):
+        assert first[("wheel_unloading", 1, ws, "left")].time_s == pytest.approx(0.72, abs=0.006)
+        assert first[("wheel_unloading", 2, ws, "left")].time_s == pytest.approx(0.78, abs=0.006)
+        assert first[("wheel_unloading", 1, ws, "left")].rail_side == "inner"
+    # lift 9.26 mm at t = 1 + 0.00926/0.03 = 1.309 s; Q/P 0.8 at asin(0.8/0.9)/pi * 1.995 = 0.70 s
+    assert first[("wheel_lift", 1, 0, "left")].time_s == pytest.approx(1.309, abs=0.006)
+    assert first[("derailment_coefficient", 1, 0, "right")].time_s == pytest.approx(0.70, abs=0.006)
+    assert first[("attack_angle", 1, 0, "")].value == pytest.approx(0.07)
+    # one alert per event and level: 4 + 4 unloading, 2 lift, 1 Q/P, 1 attack angle
+    assert len(alerts) == 12
+
+
+def test_streaming_monitor_equals_the_batch():
+    a = synthetic_run()
+    monitor = C.Monitor(C.default_limits())
+    streamed = []
+    for i in range(len(a["time"])):
+        streamed += monitor.on_states(a["time"][i], i, a["position"][i], 80.0, a["attack_angle"][i], a["wheel_lift"][i])
+        streamed += monitor.on_forces(a["time"][i], i, a["position"][i], 80.0, a["derailment_coefficient"][i],
+                                      a["vertical_force"][i])
+        monitor.set_curvature(i, a["curvature"][i])
+    assert [x.as_dict() for x in streamed] == [x.as_dict() for x in C.alerts_of_run(a, C.default_limits())]
+
+
+def test_rail_side_comes_from_the_status_before_the_sample():
+    monitor = C.Monitor(_limits(debounce_m=0.0))
+    monitor.set_curvature(4, 0.0)
+    monitor.set_curvature(5, 1e-3)       # arrives before the states of sample 5: not used for sample 5
+    (alert,) = monitor.on_states(0.025, 5, 10.0, 80.0, [0, 0, 0, 0], [0.02, 0, 0, 0, 0, 0, 0, 0])[:1]
+    assert alert.rail_side == ""
+    (alert,) = monitor.on_states(0.03, 6, 10.4, 80.0, [0, 0, 0, 0], [0, 0.02, 0, 0, 0, 0, 0, 0])[:1]
+    assert (alert.wheel_side, alert.rail_side) == ("right", "outer")
+
+
+def test_lead_times_by_hand():
+    alerts = [dict(criterion="wheel_unloading", severity=1, time_s=10.0, track_position=800.0, speed=80.0,
+                   value=0.61, threshold=0.6, wheelset=1, wheel_side="left", rail_side="inner"),
+              dict(criterion="wheel_unloading", severity=1, time_s=11.0, track_position=880.0, speed=80.0,
+                   value=0.62, threshold=0.6, wheelset=3, wheel_side="left", rail_side="inner")]
+    leads = C.lead_times(alerts, dict(time_s=12.5, track_position_m=1000.0))
+    assert leads["wheel_unloading/warning"]["lead_s"] == pytest.approx(2.5)
+    assert leads["wheel_unloading/warning"]["lead_m"] == pytest.approx(200.0)
+    assert leads["wheel_unloading/warning"]["speed_kmh"] == pytest.approx(288.0)
+    assert math.isnan(C.lead_times(alerts, None)["wheel_unloading/warning"]["lead_s"])   # false alarm
+
+
+# --- warning-quality scoring (railderail warnings) -----------------------------------------------
+
+def test_operating_speeds_by_hand():
+    from railderail_monitor.warning_quality import cant_deficiency_speed_kmh
+    # balance: v^2 / R = g h / e -> sqrt(1000 * 9.81 * 0.175 / 1.5) = 33.83 m/s = 121.8 km/h
+    assert cant_deficiency_speed_kmh(1000.0, 0.0) == pytest.approx(121.8, abs=0.1)
+    # 100 mm of cant deficiency: sqrt(1000 * 9.81 * 0.275 / 1.5) = 42.41 m/s = 152.7 km/h
+    assert cant_deficiency_speed_kmh(1000.0, 0.1) == pytest.approx(152.7, abs=0.1)
+
+
+def test_summary_counts_leads_and_false_alarms(tmp_path):
+    from railderail_monitor import warning_quality as W
+    lead = dict(lead_s=2.0, lead_m=160.0, time_s=1.0, speed_kmh=300.0)
+    runs = [dict(radius_m=1000.0, case="critical", derailed=True, diverged="",
+                 first={"wheel_unloading/warning": lead, "wheel_lift/warning": dict(lead, lead_s=0.5, lead_m=40.0)}),
+            dict(radius_m=1200.0, case="critical", derailed=True, diverged="",
+                 first={"wheel_unloading/warning": dict(lead, lead_s=4.0, lead_m=320.0)}),
+            dict(radius_m=1000.0, case="near", derailed=False, diverged="",
+                 first={"wheel_unloading/warning": dict(lead, lead_s=math.nan, lead_m=math.nan)}),
+            dict(radius_m=1000.0, case="balance", derailed=False, diverged="", first={})]
+    s = W.summarize(runs)
+    assert s["wheel_unloading/warning"]["warned"] == 2 and s["wheel_unloading/warning"]["derailments"] == 2
+    assert s["wheel_unloading/warning"]["min_lead_s"] == 2.0 and s["wheel_unloading/warning"]["median_lead_m"] == 240.0
+    assert s["wheel_unloading/warning"]["false_alarm_runs"] == 1
+    assert s["wheel_unloading/warning"]["false_alarm_cases"] == ["R1000/near"]
+    assert s["wheel_lift/warning"]["warned"] == 1 and s["wheel_lift/warning"]["false_alarm_runs"] == 0
+    assert s["attack_angle/warning"]["warned"] == 0
+    crit = tmp_path / "sweep.json"
+    crit.write_text('[{"radius_m": 800, "refined_speed_kmh": 265.0}, '
+                    '{"radius_m": 1000, "refined_speed_kmh": null, "critical_derailment_speed_kmh": 300.0}]')
+    assert W.load_critical(crit) == {800.0: 265.0, 1000.0: 300.0}
+    crit.write_text("not json")
+    with pytest.raises(ValueError, match="sweep.json is not JSON"):
+        W.load_critical(crit)

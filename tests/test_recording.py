@@ -1,0 +1,200 @@
+"""MCAP recording: ros2msg schemas, CDR decoding, the recorder node under Ctrl-C and SIGKILL."""
+import signal
+import sys
+import time
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from mcap.reader import NonSeekingReader, make_reader
+from mcap_ros2.decoder import DecoderFactory
+from rclpy.serialization import serialize_message
+
+import railderail_msgs.msg as msgs
+from railderail_monitor import messages as m
+from railderail_monitor.cdr import Decoder
+from railderail_monitor.recording import cdr_stamp_ns, record_run, schema_text, starts_with_stamp
+from railderail_monitor.replay import RecordingError, read_recording
+
+SEPARATOR = "=" * 80
+
+
+def test_schema_text_has_the_ros2_dependencies():
+    text = schema_text("railderail_msgs/msg/Alert")
+    main, header, time_ = text.split(SEPARATOR)
+    assert "string criterion" in main and "uint8 SEVERITY_CRITICAL=2" in main
+    assert header.startswith("\nMSG: std_msgs/Header\n") and "builtin_interfaces/Time stamp" in header
+    assert time_.startswith("\nMSG: builtin_interfaces/Time\n") and "uint32 nanosec" in time_
+    assert starts_with_stamp(text)
+    assert starts_with_stamp(schema_text("rosgraph_msgs/msg/Clock"))
+    with pytest.raises(FileNotFoundError, match="no_such_msgs/msg/Nothing.msg"):
+        schema_text("no_such_msgs/msg/Nothing")
+
+
+def sample_messages():
+    """One message of every recorded type, from a real core row."""
+    from railderail_sim.vehicle.simulate import Simulation, Result, scenario
+
+    sim = Simulation(replace(scenario(radius=1000.0, speed_kmh=300.0), output_rate=200.0))
+    rows = sim.advance(0.01)
+    a = m.sample_arrays(Result(rows=rows, scenario=sim.scenario, status=""))
+    c = m.RowConverter()
+    alert = msgs.Alert(criterion="wheel_lift", severity=2, value=0.02, threshold=0.0185, wheelset=1,
+                       wheel_side="left", rail_side="inner", track_position=12.5, speed=80.0, sample=3,
+                       message="critical: wheel lift")
+    m.stamp(alert, 1.25)
+    event = dict(time_s=2.5, wheelset=0, wheel_side="left", rail_side="inner", mechanism="wheel_unloading",
+                 speed_kmh=300.0, wheel_lift_m=0.028, lateral_displacement_m=-0.018)
+    from rosgraph_msgs.msg import Clock
+    clock = Clock()
+    clock.clock.sec, clock.clock.nanosec = 3, 5
+    return {"railderail_msgs/msg/WheelsetStates": c.states(a, 1, 1),
+            "railderail_msgs/msg/ContactForces": c.forces(a, 1, 1),
+            "railderail_msgs/msg/VehicleStatus": c.status(a, 1, 1, state=1, message="derailed: ünïcode"),
+            "railderail_msgs/msg/Alert": alert,
+            "railderail_msgs/msg/DerailmentEvent": m.derailment_message(event, 200.0),
+            "rosgraph_msgs/msg/Clock": clock}
+
+
+def same(a, b, path=""):
+    """Field-by-field equality of an rclpy message and a decoded one."""
+    for name in a.get_fields_and_field_types():
+        x, y = getattr(a, name), getattr(b, name)
+        if hasattr(x, "get_fields_and_field_types"):
+            same(x, y, f"{path}{name}.")
+        elif isinstance(x, str):
+            assert x == y, path + name
+        else:
+            y = list(y) if isinstance(y, bytes) else y         # mcap_ros2 gives uint8 arrays as bytes
+            assert np.array_equal(np.asarray(x), np.asarray(y)), path + name
+
+
+def test_fast_decoder_equals_rclpy_and_mcap_ros2():
+    from mcap.records import Schema
+    factory = DecoderFactory()
+    for schema_id, (type_name, message) in enumerate(sample_messages().items(), start=1):
+        data = serialize_message(message)
+        text = schema_text(type_name)
+        fast = Decoder(type_name, text)(data)
+        same(message, fast)
+        reference = factory.decoder_for("cdr", Schema(id=schema_id, name=type_name, encoding="ros2msg",
+                                                      data=text.encode()))(data)
+        same(message, reference)
+    assert cdr_stamp_ns(serialize_message(sample_messages()["railderail_msgs/msg/Alert"])) == 1_250_000_000
+
+
+@pytest.fixture(scope="module")
+def short_run():
+    from railderail_sim.vehicle.simulate import scenario, simulate
+    return simulate(replace(scenario(radius=1000.0, speed_kmh=310.0), output_rate=200.0))
+
+
+def test_record_run_is_a_ros2_mcap(short_run, tmp_path):
+    path = tmp_path / "run.mcap"
+    alerts = record_run(path, short_run)
+    assert short_run.derailment is not None and alerts
+    with open(path, "rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        assert reader.get_header().profile == "ros2"
+        summary = reader.get_summary()
+        assert {s.encoding for s in summary.schemas.values()} == {"ros2msg"}
+        assert {c.message_encoding for c in summary.channels.values()} == {"cdr"}
+        topics = {c.topic for c in summary.channels.values()}
+        assert {m.STATES, m.FORCES, m.STATUS, m.ALERTS, m.DERAILMENT, m.FINAL_STATUS} <= topics
+        n = len(short_run.time)
+        counts = {summary.channels[k].topic: v for k, v in summary.statistics.channel_message_counts.items()}
+        assert counts[m.STATES] == counts[m.FORCES] == counts[m.STATUS] == n
+        assert counts[m.ALERTS] == len(alerts)
+        for schema, channel, message, decoded in reader.iter_decoded_messages(topics=[m.STATES]):
+            # log time = header stamp = simulation time
+            assert message.log_time == decoded.header.stamp.sec * 10**9 + decoded.header.stamp.nanosec
+        assert decoded.sample == n - 1
+        assert np.allclose(decoded.wheel_lift, short_run.wheel("wheel_lift")[-1])
+        meta = {r.name: r.metadata for r in reader.iter_metadata()}
+        assert meta["railderail"]["monitor.debounce_m"] == "2.0"
+
+
+PUBLISHER = """
+import rclpy, numpy as np
+from rclpy.executors import ExternalShutdownException
+from railderail_monitor import messages as m
+rclpy.init()
+try:
+    node = rclpy.create_node("railderail_test_states")
+    pub = node.create_publisher(m.WheelsetStates, m.STATES, m.SENSOR)
+    n = [0]
+    def tick():
+        msg = m.WheelsetStates(sample=n[0], track_position=0.4 * n[0])
+        m.stamp(msg, 0.005 * n[0])
+        msg.wheel_lift = np.full(8, 1e-3)
+        pub.publish(msg)
+        n[0] += 1
+    node.create_timer(0.005, tick)
+    node.get_logger().info("publishing")
+    rclpy.spin(node)
+except (KeyboardInterrupt, ExternalShutdownException):
+    pass
+finally:
+    rclpy.try_shutdown()
+"""
+
+
+def flushed(path):
+    """Messages readable so far in a file being written."""
+    count = 0
+    try:
+        with open(path, "rb") as f:
+            for _ in NonSeekingReader(f).iter_messages(log_time_order=False):
+                count += 1
+    except Exception:
+        pass
+    return count
+
+
+@pytest.mark.timeout(180)
+def test_recorder_survives_ctrl_c_and_sigkill(spawn, read_until, tmp_path):
+    """Ctrl-C leaves a complete file; SIGKILL a file whose flushed chunks are readable."""
+    publisher = spawn([sys.executable, "-c", PUBLISHER])
+    read_until(publisher, "publishing", timeout=30)
+    complete, killed = tmp_path / "complete.mcap", tmp_path / "killed.mcap"
+    rec_int = spawn([sys.executable, "-m", "railderail_monitor.recording", str(complete)])
+    rec_kill = spawn([sys.executable, "-m", "railderail_monitor.recording", str(killed), "--flush-period", "0.5"])
+    read_until(rec_int, "recording", timeout=30)
+    read_until(rec_kill, "recording", timeout=30)
+    deadline = time.monotonic() + 60                        # discovery: until both files receive messages
+    while min(flushed(complete), flushed(killed)) < 20:
+        assert time.monotonic() < deadline, "the recorders received nothing within 60 s"
+        time.sleep(0.25)
+    time.sleep(2.0)
+    rec_kill.send_signal(signal.SIGKILL)
+    rec_int.send_signal(signal.SIGINT)
+    assert rec_int.wait(timeout=20) == 0
+    rec_kill.wait(timeout=20)
+    publisher.send_signal(signal.SIGINT)
+
+    with open(complete, "rb") as f:
+        reader = make_reader(f)
+        summary = reader.get_summary()
+        last_complete = summary.statistics.message_end_time
+    counts = {summary.channels[k].topic: v for k, v in summary.statistics.channel_message_counts.items()}
+    assert counts[m.STATES] > 100                           # 2 s or more at 200 Hz (less on a busy machine)
+
+    with open(killed, "rb") as f:
+        f.seek(-8, 2)
+        assert f.read(8) != b"\x89MCAP0\r\n"                 # no footer: it was killed
+        f.seek(0)
+        recovered = []
+        try:
+            for _, channel, message in NonSeekingReader(f).iter_messages(log_time_order=False):
+                recovered.append(message.log_time)
+        except Exception:
+            pass
+    # both recorders were stopped at the same moment: the killed one lost at most the last flush
+    # period (0.5 s) and kept everything before it (stamps every 5 ms)
+    assert len(recovered) > 50
+    assert max(recovered) >= last_complete - 1_000_000_000
+    span = (max(recovered) - min(recovered)) / 5e6 + 1
+    assert len(recovered) >= 0.9 * span
+    with pytest.raises(RecordingError, match="killed.mcap is truncated .* add --allow-truncated"):
+        read_recording(killed)
+    assert len(read_recording(killed, allow_truncated=True).messages) == len(recovered)

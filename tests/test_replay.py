@@ -1,0 +1,85 @@
+"""`railderail replay`: clear refusals of bad files, and the same alerts as the recording."""
+import json
+from dataclasses import replace
+
+import pytest
+
+from railderail_monitor.criteria import alerts_of_run, default_limits
+from railderail_monitor.messages import sample_arrays
+from railderail_monitor.recording import McapRecording, record_run
+from railderail_monitor.replay import RecordingError, read_recording, review
+from railderail_sim.cli import main
+
+
+@pytest.fixture(scope="module")
+def recorded(tmp_path_factory):
+    """A short derailing run (R = 1000 m at 310 km/h) written as the nodes would have published it."""
+    from railderail_sim.vehicle.simulate import scenario, simulate
+
+    result = simulate(replace(scenario(radius=1000.0, speed_kmh=310.0), output_rate=200.0))
+    path = tmp_path_factory.mktemp("replay") / "run.mcap"
+    alerts = record_run(path, result)
+    return path, result, alerts
+
+
+def key(alert):
+    """An alert without its float noise: the stamp went through integer nanoseconds."""
+    d = alert if isinstance(alert, dict) else alert.as_dict()
+    return {**d, "time_s": round(d["time_s"], 6)}
+
+
+def error_line(capsys, argv):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("railderail: error: ")
+    return err
+
+
+def test_missing_foreign_and_not_mcap_files_are_refused(capsys, tmp_path):
+    assert "nothere.mcap: no such file" in error_line(capsys, ["replay", str(tmp_path / "nothere.mcap")])
+    text = tmp_path / "notes.mcap"
+    text.write_text("hello")
+    assert "notes.mcap is not an MCAP file" in error_line(capsys, ["replay", str(text), "--no-publish"])
+    foreign = tmp_path / "chatter.mcap"
+    with McapRecording(foreign) as rec:
+        rec.add_topic("/chatter", "std_msgs/msg/String")
+        rec.write("/chatter", b"\x00\x01\x00\x00\x06\x00\x00\x00hello\x00")
+    err = error_line(capsys, ["replay", str(foreign), "--no-publish"])
+    assert "chatter.mcap is not a railderail recording" in err and "/chatter (std_msgs/msg/String)" in err
+
+
+def test_truncated_file_is_refused_unless_allowed(capsys, recorded, tmp_path):
+    path, _, _ = recorded
+    data = path.read_bytes()
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(data[: len(data) // 2])
+    err = error_line(capsys, ["replay", str(cut), "--no-publish"])
+    assert "cut.mcap is truncated" in err and "--allow-truncated" in err
+    partial = read_recording(cut, allow_truncated=True)
+    assert partial.truncated and 0 < len(partial.messages) < len(read_recording(path).messages)
+    tiny = tmp_path / "tiny.mcap"
+    tiny.write_bytes(data[:40])
+    with pytest.raises(RecordingError, match="tiny.mcap is truncated .* nothing to replay"):
+        read_recording(tiny, allow_truncated=True)
+
+
+def test_review_finds_the_recorded_alerts(recorded):
+    path, result, alerts = recorded
+    recording = read_recording(path)
+    found = review(recording)
+    assert [key(a) for a in found.alerts] == [key(a) for a in alerts]
+    assert [key(a) for a in found.recorded_alerts] == [key(a) for a in alerts]
+    assert [a.as_dict() for a in alerts] == [a.as_dict() for a in alerts_of_run(sample_arrays(result), default_limits())]
+    assert found.derailment["time_s"] == pytest.approx(result.derailment["time_s"])
+    assert found.as_json(recording)["same_as_recorded"]
+
+
+def test_json_output(capsys, recorded):
+    path, result, alerts = recorded
+    assert main(["replay", str(path), "--no-publish", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["same_as_recorded"] and len(out["alerts"]) == len(alerts) == len(out["recorded_alerts"])
+    assert out["derailment"]["mechanism"] == result.derailment["mechanism"]
+    assert out["samples"] == len(result.time)
+    first = min(out["lead_times"].values(), key=lambda v: v["time_s"])
+    assert first["lead_s"] > 0 and first["lead_m"] > 0

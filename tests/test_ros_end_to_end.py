@@ -1,0 +1,208 @@
+"""End to end with real rclpy nodes in separate processes: simulator -> monitor -> alerts before
+the ground-truth derailment, all recorded to MCAP; the recording replays to the same alerts (offline
+and through a fresh monitor node); `railderail demo` runs on a short staircase.
+
+Which criterion fires first, and how early, is for the physics to decide: nothing here forces it.
+The waits allow for a cold numba compile in the simulator node (about a minute; it happens when the
+physics code changed since the cache was written).
+"""
+import json
+import signal
+import sys
+import time
+
+import pytest
+import rclpy
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.signals import SignalHandlerOptions
+
+from railderail_monitor import messages as m
+from railderail_monitor.replay import read_recording, review
+
+PY = sys.executable
+# a constant over-speed on R = 1000 m: the car derails about 5 s after the start (in the transition)
+SIMULATOR = [PY, "-m", "railderail_sim.node", "--ros-args", "-p", "speed_mode:=constant", "-p", "speed_kmh:=310.0",
+             "-p", "radius:=1000.0", "-p", "real_time_factor:=1.0", "-p", "wait_for_subscribers:=2"]
+
+
+class Listener:
+    """The test's own node (own context): alerts, derailment event, final status."""
+
+    def __init__(self):
+        self.context = rclpy.Context()
+        rclpy.init(context=self.context, signal_handler_options=SignalHandlerOptions.NO)
+        self.node = rclpy.create_node("railderail_test_listener", context=self.context)
+        self.executor = SingleThreadedExecutor(context=self.context)
+        self.executor.add_node(self.node)
+        self.alerts, self.derailment, self.final = [], None, None
+        self.node.create_subscription(m.Alert, m.ALERTS, lambda msg: self.alerts.append(m.alert_dict(msg)),
+                                      m.ALERT_QOS)
+        self.node.create_subscription(m.DerailmentEvent, m.DERAILMENT,
+                                      lambda msg: setattr(self, "derailment", m.derailment_dict(msg)), m.LATCHED)
+        self.node.create_subscription(m.VehicleStatus, m.FINAL_STATUS, lambda msg: setattr(self, "final", msg),
+                                      m.LATCHED)
+
+    def spin_until(self, condition, timeout):
+        deadline = time.monotonic() + timeout
+        while not condition() and time.monotonic() < deadline:
+            self.executor.spin_once(timeout_sec=0.1)
+        return condition()
+
+    def spin_for(self, seconds):
+        self.spin_until(lambda: False, seconds)
+
+    def close(self):
+        self.executor.shutdown()
+        self.node.destroy_node()
+        rclpy.shutdown(context=self.context)
+
+
+def keys(alerts):
+    return sorted((a["sample"], a["criterion"], a["severity"], a["wheelset"], a["wheel_side"], a["rail_side"])
+                  for a in alerts)
+
+
+def stop(process, timeout=20):
+    process.send_signal(signal.SIGINT)
+    return process.wait(timeout=timeout)
+
+
+@pytest.mark.timeout(500)
+def test_nodes_warn_before_the_derailment_and_the_recording_replays_to_the_same_alerts(spawn, read_until, tmp_path):
+    mcap = tmp_path / "e2e.mcap"
+    listener = Listener()
+    try:
+        recorder = spawn([PY, "-m", "railderail_monitor.recording", str(mcap)])
+        monitor = spawn([PY, "-m", "railderail_monitor.node"])
+        read_until(recorder, "recording", timeout=60)
+        read_until(monitor, "monitoring", timeout=60)
+        simulator = spawn(SIMULATOR)
+        assert listener.spin_until(lambda: listener.final is not None, timeout=300), \
+            f"no final status; simulator stderr: {simulator.stderr.read() if simulator.poll() is not None else ''}"
+        assert simulator.wait(timeout=30) == 0
+        listener.spin_for(1.0)                                       # the last alerts
+        assert listener.final.state == m.msgs.VehicleStatus.STATE_DERAILED
+        d = listener.derailment
+        assert d is not None and d["mechanism"] in ("flange_climbing", "wheel_unloading")
+
+        # alerts came, every one of them before the ground-truth derailment
+        live = listener.alerts
+        assert live, "no alert before the derailment"
+        assert all(a["time_s"] <= d["time_s"] for a in live)
+        assert min(a["time_s"] for a in live) < d["time_s"]
+        assert all(a["criterion"] in ("attack_angle", "wheel_lift", "derailment_coefficient", "wheel_unloading")
+                   for a in live)
+        # one alert per event: no (criterion, level, wheel) repeats within this short run
+        assert len(set((a["criterion"], a["severity"], a["wheelset"], a["wheel_side"]) for a in live)) == len(live)
+
+        assert stop(monitor) == 0
+        monitor_log = monitor.stderr.read()
+        assert "processed" in monitor_log and f"{len(live)} alerts" in monitor_log
+        assert stop(recorder) == 0
+
+        # the recording: complete, and the criteria over it give the alerts the monitor raised
+        recording = read_recording(mcap)
+        found = review(recording)
+        assert keys(found.recorded_alerts) == keys(live)
+        assert keys(a.as_dict() for a in found.alerts) == keys(live)
+        assert found.derailment["time_s"] == pytest.approx(d["time_s"])
+
+        # replayed on the topics to a fresh monitor node: the same alerts again
+        listener.alerts.clear()
+        monitor2 = spawn([PY, "-m", "railderail_monitor.node"])
+        read_until(monitor2, "monitoring", timeout=60)
+        replay = spawn([PY, "-m", "railderail_sim.cli", "replay", str(mcap), "--rate", "1",
+                        "--wait-for-subscribers", "1"])
+        assert replay.wait(timeout=120) == 0, replay.stderr.read()
+        listener.spin_until(lambda: len(listener.alerts) >= len(live), timeout=10)
+        listener.spin_for(1.0)
+        assert stop(monitor2) == 0
+        assert keys(listener.alerts) == keys(live)
+    finally:
+        listener.close()
+
+
+@pytest.mark.timeout(560)
+def test_demo_command(tmp_path):
+    """`railderail demo` on a short staircase (from 295 km/h instead of 200): nodes, alerts, files."""
+    import subprocess
+
+    out = tmp_path / "demo"
+    done = subprocess.run([PY, "-m", "railderail_sim.cli", "demo", "--start-kmh", "295", "--out", str(out),
+                           "--real-time-factor", "2"], capture_output=True, text=True, timeout=540)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert "DERAILED" in done.stdout and "ALERT" in done.stdout and "before the derailment" in done.stdout
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["derailment"] is not None and summary["alerts"]
+    assert (out / "demo.mcap").stat().st_size > 0 and (out / "demo.rrd").stat().st_size > 0
+    assert {p.name for p in (out / "logs").iterdir()} == {"recorder.log", "monitor.log", "simulator.log"}
+    assert keys(review(read_recording(out / "demo.mcap")).recorded_alerts) == keys(summary["alerts"])
+
+
+DIVERGING_SIMULATOR = """
+import importlib, sys
+simulate = importlib.import_module("railderail_sim.vehicle.simulate")   # the module, not the function
+
+calls = [0]
+advance = simulate.Simulation.advance
+
+def failing_advance(self, duration):
+    calls[0] += 1
+    if calls[0] > 50:      # the model runs away after a quarter of a second
+        raise simulate.SimulationDiverged("the simulation diverged at t = 0.2500 s, track position 21.53 m: "
+                                          "wheelset_1 lateral displacement = 0.6 ran away (test)")
+    return advance(self, duration)
+
+simulate.Simulation.advance = failing_advance
+from railderail_sim.node import main
+sys.exit(main())
+"""
+
+
+@pytest.mark.timeout(400)
+def test_divergence_gives_a_clear_error_and_a_final_status(spawn):
+    listener = Listener()
+    try:
+        simulator = spawn([PY, "-c", DIVERGING_SIMULATOR, "--ros-args", "-p", "speed_mode:=constant",
+                           "-p", "speed_kmh:=300.0", "-p", "real_time_factor:=0.0", "-p", "linger_s:=3.0"])
+        assert listener.spin_until(lambda: listener.final is not None, timeout=300)
+        assert simulator.wait(timeout=30) == 1
+        assert listener.final.state == m.msgs.VehicleStatus.STATE_DIVERGED
+        assert "diverged at t = 0.2500 s" in listener.final.message
+        assert "diverged at t = 0.2500 s" in simulator.stderr.read()
+        assert listener.derailment is None
+    finally:
+        listener.close()
+
+
+@pytest.mark.timeout(400)
+def test_demo_stops_cleanly_on_ctrl_c(spawn, read_until, tmp_path):
+    out = tmp_path / "stopped"
+    demo = spawn([PY, "-u", "-m", "railderail_sim.cli", "demo", "--out", str(out)])
+    deadline = time.monotonic() + 300
+    lines = []
+    while not any("samples/s" in line or "subscribers present" in line for line in lines):
+        assert time.monotonic() < deadline and demo.poll() is None, lines
+        lines.append(demo.stdout.readline())
+    time.sleep(2.0)
+    demo.send_signal(signal.SIGINT)
+    assert demo.wait(timeout=60) == 130
+    assert "Ctrl-C: stopping the nodes" in demo.stdout.read()
+    with open(out / "demo.mcap", "rb") as f:                 # the recorder finished its file
+        f.seek(-8, 2)
+        assert f.read(8) == b"\x89MCAP0\r\n"
+    time.sleep(1.0)
+    assert not nodes_running(str(out)), "a node outlived the demo"
+
+
+def nodes_running(text):
+    """Processes whose command line contains `text` (the demo passes its run folder to the recorder)."""
+    from pathlib import Path
+    found = []
+    for p in Path("/proc").iterdir():
+        try:
+            if p.name.isdigit() and text.encode() in (p / "cmdline").read_bytes():
+                found.append(int(p.name))
+        except OSError:
+            pass
+    return found
