@@ -64,7 +64,8 @@ P_HERTZ_A, P_HERTZ_B = 16, 17        # Hertz semi-axes at the same load (m)
 P_XI_X, P_XI_Y, P_SPIN = 18, 19, 20  # creepages: longitudinal, lateral (-), spin (1/m)
 P_FX, P_FT, P_MZ = 21, 22, 23        # creep forces on the wheel: longitudinal, lateral in the contact plane (N),
                                      # spin moment (N m)
-P_COLS = 24
+P_WEIGHT = 24                        # share weight of an equivalent-elliptic patch (see _set_weights)
+P_COLS = 25
 MAX_PATCHES = 3
 COARSE_STRIDE = 8                    # coarse search every 8th wheel grid point (1 mm on the 0.125 mm grid)
 COARSE_WINDOW_GAP = 1.5e-3           # m; coarse minima below this are searched on the fine grid (the
@@ -72,7 +73,7 @@ COARSE_WINDOW_GAP = 1.5e-3           # m; coarse minima below this are searched 
 NO_RAIL_GAP = 1.0                    # m; gap reported where there is no rail under the wheel
 TRACK_GAP = 1.0e-3                   # m; near-contacts below this are followed during a time step
 MAX_CANDIDATES = 6
-RIDGE_MERGE = 0.5                    # see _same_run
+PROMINENCE_FULL = 0.5                # see _set_weights
 
 
 def pack_contact_geometry(wheel, rail, nominal_radius, rolling_circle_half_distance, gauge, gauge_depth,
@@ -314,10 +315,9 @@ def find_patches(cg, y, z, phi, psi, gap, ys, patches, cand):
     Coarse-to-fine search: the gap is sampled every COARSE_STRIDE grid points; around each coarse local
     minimum below COARSE_WINDOW_GAP the fine grid is searched for the true local minimum (the threshold
     covers the dip that can hide between two coarse samples on these profiles). Minima with a negative gap
-    are patches; minima joined by a deeply submerged ridge are one patch (the deepest, see `_same_run`), so
-    a wide conformal contact is not counted twice. Each patch row gets the contact point, its gap, rail slope,
-    wheel profile coordinate and radius, the Hertz half relative curvatures A and B, and the fine grid
-    index of its minimum (P_JM).
+    are patches, in order across the wheel; each gets its share weight (`_set_weights`). Each patch row gets
+    the contact point, its gap, rail slope, wheel profile coordinate and radius, the Hertz half relative
+    curvatures A and B, the fine grid index of its minimum (P_JM) and the weight (P_WEIGHT).
 
     `cand` receives the fine minima worth following within the next integration step (patches and
     near-contacts below TRACK_GAP): cand[0] = count, cand[1:] = grid indices (see `track_patches`).
@@ -341,12 +341,7 @@ def find_patches(cg, y, z, phi, psi, gap, ys, patches, cand):
         if g < COARSE_WINDOW_GAP and g <= left and g < right:
             jm = _fine_minimum(cg, pose, j, j0, j1, gap, ys)
             if gap[jm] < 0.0:
-                if prev_min >= 0 and _same_run(cg, pose, prev_min, jm, gap, ys):
-                    if gap[jm] < patches[count - 1, P_GAP]:
-                        _fill_patch(cg, pose, jm, j0, j1, gap, patches, count - 1)
-                        cand[ncand] = jm     # replaces the previous patch's entry
-                        prev_min = jm
-                elif count < MAX_PATCHES:
+                if jm != prev_min and count < MAX_PATCHES:
                     _fill_patch(cg, pose, jm, j0, j1, gap, patches, count)
                     count += 1
                     prev_min = jm
@@ -358,6 +353,7 @@ def find_patches(cg, y, z, phi, psi, gap, ys, patches, cand):
                 cand[ncand] = jm
         j += S
     cand[0] = ncand
+    _set_weights(cg, pose, patches, count, gap, ys)
     return count, gmin
 
 
@@ -402,6 +398,7 @@ def track_patches(cg, y, z, phi, psi, gap, ys, patches, cand):
             _fill_patch(cg, pose, jm, j0, j1, gap, patches, count)
             count += 1
             prev = jm
+    _set_weights(cg, pose, patches, count, gap, ys)
     return count
 
 
@@ -439,40 +436,52 @@ def _fine_minimum(cg, pose, jc, j0, j1, gap, ys):
 
 
 @numba.njit(cache=True)
-def _same_run(cg, pose, ja, jb, gap, ys):
-    """True if minima ja < jb form one patch: the ridge between them lies deeper than RIDGE_MERGE times the
-    shallower minimum's interpenetration. A ridge that only just dips below zero leaves two patches (tread
-    and flange root stay two contacts, as the half-space solution shows them); a shallow ripple inside one
-    conformal region is one patch (not counted twice)."""
-    level = RIDGE_MERGE * max(gap[ja], gap[jb])
-    _scan(cg, pose, ja + 1, jb, 1, gap, ys)
-    for k in range(ja + 1, jb):
-        if gap[k] >= level:
-            return False
-    return True
+def _set_weights(cg, pose, patches, count, gap, ys):
+    """Share weight of each patch (P_WEIGHT) for equivalent-elliptic normal contact.
+
+    Neighbouring minima of the gap are separate patches (tread and flange root stay two contacts, as the
+    half-space solution shows them). Where the ridge between a patch and a deeper neighbour rises less
+    than PROMINENCE_FULL times the patch's own interpenetration above its minimum, the two are parts of
+    one contact that one ellipse cannot describe: the shallower patch's force is scaled by
+    prominence / (PROMINENCE_FULL depth), from 1 down to 0 as the ridge sinks to its level. The force
+    stays continuous when two minima are born or merge, and a ripple in a conformal contact is not counted
+    twice. The patches are in order across the wheel (increasing P_JM).
+    """
+    for k in range(count):
+        patches[k, P_WEIGHT] = 1.0
+    for k in range(count - 1):
+        ja = int(patches[k, P_JM])
+        jb = int(patches[k + 1, P_JM])
+        _scan(cg, pose, ja + 1, jb, 1, gap, ys)
+        ridge = gap[ja]
+        for q in range(ja + 1, jb):
+            if gap[q] > ridge:
+                ridge = gap[q]
+        s = k if patches[k, P_GAP] > patches[k + 1, P_GAP] else k + 1     # the shallower one
+        depth = -patches[s, P_GAP]
+        w = (ridge - patches[s, P_GAP]) / (PROMINENCE_FULL * depth)
+        w = min(1.0, max(0.0, w))
+        if w < patches[s, P_WEIGHT]:
+            patches[s, P_WEIGHT] = w
 
 
 @numba.njit(cache=True)
 def run_bounds(cg, y, z, phi, psi, jm, gap, ys):
     """Fine-grid extent [ja, jb] of the patch around its minimum jm (fills gap/ys on it): the
-    interpenetration run, cut at a ridge that stands above RIDGE_MERGE times this patch's depth (beyond
-    it lies another patch, see `_same_run`)."""
+    interpenetration run, cut at the top of a ridge (beyond it lies the next patch's minimum)."""
     pose = pose_constants(cg, y, z, phi, psi)
     j0, j1 = wheel_range(cg, pose)
     _scan(cg, pose, jm, jm + 1, 1, gap, ys)
-    level = RIDGE_MERGE * gap[jm]
     ja = jm
     while ja - 1 >= j0:
         _scan(cg, pose, ja - 1, ja, 1, gap, ys)
-        g = gap[ja - 1]
-        if g >= 0.0 or (g < gap[ja] and gap[ja] >= level):
+        if gap[ja - 1] >= 0.0 or gap[ja - 1] < gap[ja]:
             break
         ja -= 1
     jb = jm
     while jb + 1 < j1:
         _scan(cg, pose, jb + 1, jb + 2, 1, gap, ys)
-        g = gap[jb + 1]
-        if g >= 0.0 or (g < gap[jb] and gap[jb] >= level):
+        if gap[jb + 1] >= 0.0 or gap[jb + 1] < gap[jb]:
             break
         jb += 1
     _scan(cg, pose, ja, jb + 1, 1, gap, ys)

@@ -123,7 +123,8 @@ def left_wheel(cg, cp, y, z, phi, psi, vel, omega, spin, speed, gap, ys, patches
         if not discrete or record:
             ac, bc, stiff = hertz_shape(patches[k, geo.P_A], patches[k, geo.P_B], estar)
         if not discrete:
-            n_el = stiff * d * math.sqrt(d)
+            # a part of a wider contact carries its share only (geometry._set_weights)
+            n_el = patches[k, geo.P_WEIGHT] * stiff * d * math.sqrt(d)
             a = ac * n_el ** (1.0 / 3.0)
             b = bc * n_el ** (1.0 / 3.0)
             a_eq = a
