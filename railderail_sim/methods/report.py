@@ -307,8 +307,8 @@ def _discussion(locus, cyc, results, numbers, phases, sens, sets, nadal):
         cog = next((v for label, v in sens if "1.71" in label), None) if sens else None
         ref = sens[0][1] if sens else None
         out.append(f"* **Critical derailment speed** {min(diffs):+.0f} to {max(diffs):+.0f} % from the paper over the "
-                   f"radii, with the same growth with radius. How this model derails: {'; '.join(how)} (wheel unloading "
-                   "of the inner wheel is the start of overturning outward; the paper: wheel lift grows 'until the train "
+                   f"radii, with the same growth with radius. How this model derails: {'; '.join(how)} (wheelsets "
+                   "numbered 0-3 from the front; wheel unloading of the inner wheel is the start of overturning outward; the paper: wheel lift grows 'until the train "
                    "turns over'). The overturning limit rests on the car-body centre-of-gravity height, a stand-in "
                    "(1.52 m, CRH380A)"
                    + (f": at 1.71 m the R = 1000 m speed drops from {ref:.0f} to {cog:.0f} km/h." if cog else "."))
