@@ -151,11 +151,10 @@ def test_two_point_contact_force_is_continuous(model):
     z0, phi, _, _ = geo.rigid_contact(cg, 0.005, 0.0, gap, ys)
     forces = []
     for dz in np.arange(20e-6, 160e-6, 2e-6):
-        f, m, rec = np.zeros(3), np.zeros(3), np.zeros(ws.W_SIZE)
-        ws.wheel_forces(cg, cp, 0, 0.005, z0 - dz, phi, 0.0, np.array([83.3, 0.0, 0.0]), np.zeros(3), 181.0, 83.3,
-                        gap, ys, patches, cand, False, np.zeros((4, nw)), np.zeros(nw, dtype=np.int64),
-                        np.zeros((1, kp.NPROP)), f, m, rec, np.zeros(12))
-        forces.append(f[2])
+        fm = ws.wheel_forces(cg, cp, 0, 0.005, z0 - dz, phi, 0.0, 83.3, 0.0, 0.0, 0.0, 0.0, 0.0, 181.0, 83.3,
+                             gap, ys, patches, cand, False, np.zeros((4, nw)), np.zeros(nw, dtype=np.int64),
+                             np.zeros((1, kp.NPROP)), np.zeros(ws.W_SIZE))
+        forces.append(fm[2])
     steps = np.diff(forces)
     assert np.all(steps > 0.0)                          # monotonic
     assert np.max(steps) < 2.5 * np.median(steps)       # no jump

@@ -47,21 +47,18 @@ STEP = (2e-5, 0.0, 1e-5, 1e-5)                                 # pose change wit
 
 @numba.njit(cache=False)
 def _eval_loop(n, poses, step, cg, cp, speed, spin, tracked, gap, ys, patches, cands, kpbuf, kpid, kprow,
-               force, moment, recs, scratch, vel, omega):
+               recs):
     acc = 0.0
     for it in range(n):
         f = 1.0 if it % 2 == 1 else 0.0
         for w in range(8):
             i = w // 2
             side = w % 2
-            for q in range(3):
-                force[q] = 0.0
-                moment[q] = 0.0
-            ws.wheel_forces(cg, cp, side, poses[i, 0] + f * step[0], poses[i, 1] + f * step[1],
-                            poses[i, 2] + f * step[2], poses[i, 3] + f * step[3], vel, omega, spin, speed,
-                            gap, ys, patches, cands[w], tracked, kpbuf, kpid, kprow, force, moment, recs[w],
-                            scratch)
-            acc += force[2]
+            fm = ws.wheel_forces(cg, cp, side, poses[i, 0] + f * step[0], poses[i, 1] + f * step[1],
+                                 poses[i, 2] + f * step[2], poses[i, 3] + f * step[3], speed, 0.0, 0.0, 0.0,
+                                 0.0, 0.0, spin, speed, gap, ys, patches, cands[w], tracked, kpbuf, kpid, kprow,
+                                 recs[w])
+            acc += fm[2]
     return acc
 
 
@@ -127,16 +124,14 @@ def run() -> dict:
         spin = speed / setup.radius
         bufs = dict(gap=np.zeros(nw), ys=np.zeros(nw), patches=np.zeros((geo.MAX_PATCHES, geo.P_COLS)),
                     cands=np.zeros((8, 1 + geo.MAX_CANDIDATES)), kpbuf=np.zeros((4, nw)),
-                    kpid=np.zeros(nw, dtype=np.int64), kprow=np.zeros((1, kp.NPROP)), force=np.zeros(3),
-                    moment=np.zeros(3), recs=np.zeros((8, ws.W_SIZE)), scratch=np.zeros(12),
-                    vel=np.array([speed, 0.0, 0.0]), omega=np.zeros(3))
+                    kpid=np.zeros(nw, dtype=np.int64), kprow=np.zeros((1, kp.NPROP)),
+                    recs=np.zeros((8, ws.W_SIZE)))
         step = np.array(STEP)
 
         def evaluate(n, tracked=False):
             b = bufs
             return _eval_loop(n, poses, step, cg, cp, speed, spin, tracked, b["gap"], b["ys"], b["patches"],
-                              b["cands"], b["kpbuf"], b["kpid"], b["kprow"], b["force"], b["moment"],
-                              b["recs"], b["scratch"], b["vel"], b["omega"])
+                              b["cands"], b["kpbuf"], b["kpid"], b["kprow"], b["recs"])
 
         t0 = time.perf_counter()
         evaluate(1)

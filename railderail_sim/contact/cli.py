@@ -576,14 +576,11 @@ def _wheel_forces(cg, cp, side, pose, speed, spin, tracked=False):
     y, z, phi, psi = pose
     nw = int(cg[geo.H_NW])
     gap, ys = _buffers(cg)
-    force = np.zeros(3)
-    moment = np.zeros(3)
     rec = np.zeros(ws.W_SIZE)
-    ws.wheel_forces(cg, cp, side, y, z, phi, psi, np.array([speed, 0.0, 0.0]), np.zeros(3), spin, speed,
-                    gap, ys, np.zeros((geo.MAX_PATCHES, geo.P_COLS)), np.zeros(1 + geo.MAX_CANDIDATES),
-                    tracked, np.zeros((4, nw)), np.zeros(nw, dtype=np.int64), np.zeros((1, kp.NPROP)),
-                    force, moment, rec, np.zeros(12))
-    return force, moment, rec
+    fm = ws.wheel_forces(cg, cp, side, y, z, phi, psi, speed, 0.0, 0.0, 0.0, 0.0, 0.0, spin, speed,
+                         gap, ys, np.zeros((geo.MAX_PATCHES, geo.P_COLS)), np.zeros(1 + geo.MAX_CANDIDATES),
+                         tracked, np.zeros((4, nw)), np.zeros(nw, dtype=np.int64), np.zeros((1, kp.NPROP)), rec)
+    return np.array(fm[:3]), np.array(fm[3:]), rec
 
 
 def _vertical_force(cg, cp, pose, speed, spin):
@@ -625,10 +622,10 @@ def wheel_patch_details(setup: Setup, cp, pose, speed, spin, model, grid):
     gap, ys = _buffers(cg)
     nw = len(gap)
     patches = np.zeros((geo.MAX_PATCHES, geo.P_COLS))
-    force, moment, rec = np.zeros(3), np.zeros(3), np.zeros(ws.W_SIZE)
-    ws.left_wheel(cg, cp, y, z, phi, psi, np.array([speed, 0.0, 0.0]), np.zeros(3), spin, speed, gap, ys,
-                  patches, np.zeros(1 + geo.MAX_CANDIDATES), False, np.zeros((4, nw)),
-                  np.zeros(nw, dtype=np.int64), np.zeros((1, kp.NPROP)), force, moment, rec)
+    rec = np.zeros(ws.W_SIZE)
+    ws.left_wheel(cg, cp, y, z, phi, psi, speed, 0.0, 0.0, 0.0, 0.0, 0.0, spin, speed, gap, ys, patches,
+                  np.zeros(1 + geo.MAX_CANDIDATES), False, np.zeros((4, nw)), np.zeros(nw, dtype=np.int64),
+                  np.zeros((1, kp.NPROP)), rec)
     count = int(rec[ws.W_COUNT])
     E = setup.contact.youngs_modulus
     nu = cp[ws.C_NU]

@@ -48,14 +48,15 @@ W_SIZE = W_PATCH0 + geo.MAX_PATCHES * W_PATCH_COLS
 
 
 @numba.njit(cache=True)
-def left_wheel(cg, cp, y, z, phi, psi, vel, omega, spin, speed, gap, ys, patches, cand, tracked, kpbuf,
-               kpid, kprow, force, moment, rec):
+def left_wheel(cg, cp, y, z, phi, psi, vx0, vy0, vz0, ox, oy, oz, spin, speed, gap, ys, patches, cand, tracked,
+               kpbuf, kpid, kprow, rec):
     """Contact forces of the left wheel of a wheelset.
 
-    y, z, phi, psi: pose relative to the rails (m, rad); vel: absolute velocity of the wheelset centre,
-    omega: absolute angular velocity without spin (track axes); spin: rolling angular speed (rad/s) about
-    the axle; speed: forward speed for the creepages (m/s). Adds the force on the wheel and its moment
-    about the wheelset centre (track axes) into `force`, `moment`; fills the output record `rec`.
+    y, z, phi, psi: pose relative to the rails (m, rad); vx0, vy0, vz0: absolute velocity of the wheelset
+    centre, ox, oy, oz: its absolute angular velocity without spin (track axes); spin: rolling angular
+    speed (rad/s) about the axle; speed: forward speed for the creepages (m/s). Returns the force on the
+    wheel and its moment about the wheelset centre, (Fx, Fy, Fz, Mx, My, Mz) in track axes (scalars, not
+    arrays: this runs 48 times per time step); fills the output record `rec` on full searches.
     `tracked`: follow the minima listed in `cand` by the last full search (inside a time step) instead of
     searching the whole profile (`geometry.track_patches`).
     """
@@ -75,9 +76,9 @@ def left_wheel(cg, cp, y, z, phi, psi, vel, omega, spin, speed, gap, ys, patches
     ax_x = -spsi * cphi
     ax_y = cpsi * cphi
     ax_z = sphi
-    wx = omega[0] + spin * ax_x
-    wy = omega[1] + spin * ax_y
-    wz = omega[2] + spin * ax_z
+    wx = ox + spin * ax_x
+    wy = oy + spin * ax_y
+    wz = oz + spin * ax_z
     estar = cp[C_ESTAR]
     shear = cp[C_G]
     nu = cp[C_NU]
@@ -87,6 +88,9 @@ def left_wheel(cg, cp, y, z, phi, psi, vel, omega, spin, speed, gap, ys, patches
     fy_tot = 0.0
     fz_tot = 0.0
     fx_tot = 0.0
+    mx_tot = 0.0
+    my_tot = 0.0
+    mz_tot = 0.0
     nmax = -1.0
     # the output record is written on full searches only (the states that are output or checked)
     record = not tracked
@@ -111,9 +115,9 @@ def left_wheel(cg, cp, y, z, phi, psi, vel, omega, spin, speed, gap, ys, patches
         ry = patches[k, geo.P_Y] - y
         rz = patches[k, geo.P_Z] - (r0 + z)
         # velocity of the wheel material point at the contact
-        vx = vel[0] + wy * rz - wz * ry
-        vy = vel[1] + wz * rx - wx * rz
-        vz = vel[2] + wx * ry - wy * rx
+        vx = vx0 + wy * rz - wz * ry
+        vy = vy0 + wz * rx - wx * rz
+        vz = vz0 + wx * ry - wy * rx
         approach_rate = -(vy * nY + vz * nZ)
         discrete = int(cp[C_NORMAL]) == NORMAL_DISCRETE
         if discrete:
@@ -125,8 +129,9 @@ def left_wheel(cg, cp, y, z, phi, psi, vel, omega, spin, speed, gap, ys, patches
         if not discrete:
             # a part of a wider contact carries its share only (geometry._set_weights)
             n_el = patches[k, geo.P_WEIGHT] * stiff * d * math.sqrt(d)
-            a = ac * n_el ** (1.0 / 3.0)
-            b = bc * n_el ** (1.0 / 3.0)
+            cube_root = n_el ** (1.0 / 3.0)
+            a = ac * cube_root
+            b = bc * cube_root
             a_eq = a
             b_eq = b
         # Hunt-Crossley damping scales the load; the patch is the elastic one
@@ -156,13 +161,10 @@ def left_wheel(cg, cp, y, z, phi, psi, vel, omega, spin, speed, gap, ys, patches
         Fx = fx
         Fy = normal * nY + ft * tY
         Fz = normal * nZ + ft * tZ
-        force[0] += Fx
-        force[1] += Fy
-        force[2] += Fz
         # moment of the force about the wheelset centre, plus the spin moment about the normal
-        moment[0] += ry * Fz - rz * Fy
-        moment[1] += rz * Fx - rx * Fz + mz * nY
-        moment[2] += rx * Fy - ry * Fx + mz * nZ
+        mx_tot += ry * Fz - rz * Fy
+        my_tot += rz * Fx - rx * Fz + mz * nY
+        mz_tot += rx * Fy - ry * Fx + mz * nZ
         fx_tot += Fx
         fy_tot += Fy
         fz_tot += Fz
@@ -181,12 +183,13 @@ def left_wheel(cg, cp, y, z, phi, psi, vel, omega, spin, speed, gap, ys, patches
             rec[W_LEN] = 2.0 * a
             rec[W_WID] = 2.0 * b
     if not record:
-        return
+        return fx_tot, fy_tot, fz_tot, mx_tot, my_tot, mz_tot
     # forces on the rail: Q toward the left rail's field side (+Y), P downward
     rec[W_Q] = -fy_tot
     rec[W_P] = fz_tot
     rec[W_FX] = -fx_tot
     rec[W_QP] = rec[W_Q] / rec[W_P] if rec[W_P] > cp[C_QP_MIN_LOAD] else 0.0
+    return fx_tot, fy_tot, fz_tot, mx_tot, my_tot, mz_tot
 
 
 @numba.njit(cache=True)
@@ -234,36 +237,17 @@ def _discrete_normal(cg, y, z, phi, psi, jm, gmin, cos_angle, gap, ys, kpbuf, kp
 
 
 @numba.njit(cache=True)
-def wheel_forces(cg, cp, side, y, z, phi, psi, vel, omega, spin, speed, gap, ys, patches, cand, tracked,
-                 kpbuf, kpid, kprow, force, moment, rec, scratch):
-    """Contact forces of wheel `side` (0 left, 1 right): adds to force/moment (track axes).
+def wheel_forces(cg, cp, side, y, z, phi, psi, vx, vy, vz, ox, oy, oz, spin, speed, gap, ys, patches, cand,
+                 tracked, kpbuf, kpid, kprow, rec):
+    """Contact force and moment of wheel `side` (0 left, 1 right): (Fx, Fy, Fz, Mx, My, Mz), track axes.
 
     The right wheel is the left wheel of the wheelset mirrored in the x-z plane: y, phi, psi, the lateral
     velocity and the x and z angular velocities change sign; the resulting lateral force and the x and z
     moments change sign back.
     """
     if side == 0:
-        left_wheel(cg, cp, y, z, phi, psi, vel, omega, spin, speed, gap, ys, patches, cand, tracked, kpbuf,
-                   kpid, kprow, force, moment, rec)
-        return
-    mvel = scratch[0:3]
-    mom = scratch[3:6]
-    f = scratch[6:9]
-    m = scratch[9:12]
-    mvel[0] = vel[0]
-    mvel[1] = -vel[1]
-    mvel[2] = vel[2]
-    mom[0] = -omega[0]
-    mom[1] = omega[1]
-    mom[2] = -omega[2]
-    for i in range(3):
-        f[i] = 0.0
-        m[i] = 0.0
-    left_wheel(cg, cp, -y, z, -phi, -psi, mvel, mom, spin, speed, gap, ys, patches, cand, tracked, kpbuf, kpid,
-               kprow, f, m, rec)
-    force[0] += f[0]
-    force[1] -= f[1]
-    force[2] += f[2]
-    moment[0] -= m[0]
-    moment[1] += m[1]
-    moment[2] -= m[2]
+        return left_wheel(cg, cp, y, z, phi, psi, vx, vy, vz, ox, oy, oz, spin, speed, gap, ys, patches, cand,
+                          tracked, kpbuf, kpid, kprow, rec)
+    fx, fy, fz, mx, my, mz = left_wheel(cg, cp, -y, z, -phi, -psi, vx, -vy, vz, -ox, oy, -oz, spin, speed, gap, ys,
+                                        patches, cand, tracked, kpbuf, kpid, kprow, rec)
+    return fx, -fy, fz, -mx, my, -mz

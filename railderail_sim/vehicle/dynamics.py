@@ -311,7 +311,7 @@ def suspension(x, dx, vp, bush, damp, bump, arb, kin):
 
 @numba.njit(cache=True)
 def rhs(x, dx, bodies, vp, bush, damp, bump, arb, track, sp, cg, cp, kin, gap, ys, patches, cands, tracked,
-        kpbuf, kpid, kprow, ftrack, recs, scratch):
+        kpbuf, kpid, kprow, recs):
     """dx = f(x). Wheel records of the 8 wheels are left in recs (8 x W_SIZE).
 
     cands (8 x (1 + MAX_CANDIDATES)): contact minima per wheel, written by a full search (tracked False)
@@ -349,23 +349,28 @@ def rhs(x, dx, bodies, vp, bush, damp, bump, arb, track, sp, cg, cp, kin, gap, y
         is_ws = bodies[b, L.B_WHEELSET] > 0.5
         wy = wty if is_ws else x[ov + 3]
         spin = x[ov + 3]                          # wheelsets: spin about the axle (rad/s)
+        # wheel-rail force and moment of both wheels of a wheelset (track axes, about its centre)
+        cx = cy = cz = cmx = cmy = cmz = 0.0
         if is_ws:
-            for i in range(6):
-                ftrack[i] = 0.0
-            sb = s + bodies[b, L.B_STATION]
-            yd, dyd = trk.lateral_defect(track, sb)
+            yd, dyd = trk.lateral_defect(track, s + bodies[b, L.B_STATION])
             wheel = b - L.WHEELSETS[0]
             for side in range(2):
-                ws.wheel_forces(cg, cp, side, x[o] - yd, x[o + 1], x[o + 2], x[o + 4] - dyd,
-                                kin[b, K_VT:K_VT + 3], _omega(scratch, wx, wy, wz),
-                                spin, v, gap, ys, patches, cands[2 * wheel + side], tracked, kpbuf, kpid,
-                                kprow, ftrack[0:3], ftrack[3:6], recs[2 * wheel + side], scratch[3:15])
-            fx += ftrack[0]
-            fy += ftrack[1]
-            fz += ftrack[2]
-            mx += ftrack[3]
-            my += ftrack[4]
-            mz += ftrack[5]
+                f0, f1, f2, m0, m1, m2 = ws.wheel_forces(
+                    cg, cp, side, x[o] - yd, x[o + 1], x[o + 2], x[o + 4] - dyd, vtx, vty, vtz, wx, wy, wz, spin,
+                    v, gap, ys, patches, cands[2 * wheel + side], tracked, kpbuf, kpid, kprow,
+                    recs[2 * wheel + side])
+                cx += f0
+                cy += f1
+                cz += f2
+                cmx += m0
+                cmy += m1
+                cmz += m2
+            fx += cx
+            fy += cy
+            fz += cz
+            mx += cmx
+            my += cmy
+            mz += cmz
         m = bodies[b, L.B_MASS]
         ix = bodies[b, L.B_IX]
         iy = bodies[b, L.B_IY]
@@ -387,7 +392,7 @@ def rhs(x, dx, bodies, vp, bush, damp, bump, arb, track, sp, cg, cp, kin, gap, y
             gx += hs * (wy * ax_z - wz * ax_y)
             gz += hs * (wx * ax_y - wy * ax_x)
             # spin: the contact forces' moment about the axle (the axle boxes do not turn with the wheels)
-            dx[ov + 3] = ((ftrack[3] * ax_x + ftrack[4] * ax_y + ftrack[5] * ax_z) + traction) / spin_i
+            dx[ov + 3] = ((cmx * ax_x + cmy * ax_y + cmz * ax_z) + traction) / spin_i
         else:
             dx[ov + 3] = (my - gy) / iy
         dx[ov + 2] = (mx - gx) / ix
@@ -402,11 +407,3 @@ def rhs(x, dx, bodies, vp, bush, damp, bump, arb, track, sp, cg, cp, kin, gap, y
     dx[L.I_S] = v
     return v
 
-
-@numba.njit(cache=True)
-def _omega(scratch, wx, wy, wz):
-    w = scratch[0:3]
-    w[0] = wx
-    w[1] = wy
-    w[2] = wz
-    return w

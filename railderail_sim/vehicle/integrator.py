@@ -50,15 +50,15 @@ def workspace(cg):
                 gap=np.zeros(nw), ys=np.zeros(nw), patches=np.zeros((geo.MAX_PATCHES, geo.P_COLS)),
                 cands=np.zeros((8, 1 + geo.MAX_CANDIDATES)), kpbuf=np.zeros((4, nw)),
                 kpid=np.zeros(nw, dtype=np.int64), kprow=np.zeros((1, kp.NPROP)),
-                ftrack=np.zeros(6), recs=np.zeros((8, ws.W_SIZE)), scratch=np.zeros(15),
+                recs=np.zeros((8, ws.W_SIZE)),
                 event=np.zeros(EV_SIZE))
 
 
 @numba.njit(cache=True)
 def _rhs(x, dx, bodies, vp, bush, damp, bump, arb, track, sp, cg, cp, kin, gap, ys, patches, cands,
-         tracked, kpbuf, kpid, kprow, ftrack, recs, scratch):
+         tracked, kpbuf, kpid, kprow, recs):
     return dyn.rhs(x, dx, bodies, vp, bush, damp, bump, arb, track, sp, cg, cp, kin, gap, ys, patches,
-                   cands, tracked, kpbuf, kpid, kprow, ftrack, recs, scratch)
+                   cands, tracked, kpbuf, kpid, kprow, recs)
 
 
 @numba.njit(cache=True)
@@ -182,7 +182,7 @@ _E = np.array([71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 3
 def advance(x, t, duration, out_dt, first_row, hstate, s_end, stop_on_derailment, atol, rtol, h_min, h_max,
             bodies, vp,
             bush, damp, bump, arb, track, sp, cg, cp, ks, xt, cand_save, kin, gap, ys, patches, cands, kpbuf,
-            kpid, kprow, ftrack, recs, scratch, event, out):
+            kpid, kprow, recs, event, out):
     """Advance x in place over `duration` s from time t (a multiple of out_dt) with Dormand-Prince 5(4).
 
     Adaptive steps under the error control (atol per state, rtol) land exactly on every output instant;
@@ -198,7 +198,7 @@ def advance(x, t, duration, out_dt, first_row, hstate, s_end, stop_on_derailment
     nout = out.shape[0]
     k0 = ks[0]
     v = _rhs(x, k0, bodies, vp, bush, damp, bump, arb, track, sp, cg, cp, kin, gap, ys, patches, cands,
-             False, kpbuf, kpid, kprow, ftrack, recs, scratch)
+             False, kpbuf, kpid, kprow, recs)
     n_intervals = int(round(duration / out_dt))
     h_prop = hstate[0]
     for interval in range(n_intervals + 1):
@@ -228,7 +228,7 @@ def advance(x, t, duration, out_dt, first_row, hstate, s_end, stop_on_derailment
                     xt[i] = x[i] + h * acc
                 full = st == 6
                 vt = _rhs(xt, ks[st], bodies, vp, bush, damp, bump, arb, track, sp, cg, cp, kin, gap, ys,
-                          patches, cands, not full, kpbuf, kpid, kprow, ftrack, recs, scratch)
+                          patches, cands, not full, kpbuf, kpid, kprow, recs)
             # xt holds the 5th-order solution (stage 7 is evaluated there: FSAL)
             err = 0.0
             for i in range(n):

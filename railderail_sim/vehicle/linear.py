@@ -23,7 +23,7 @@ def rhs_function(model, speed_kmh):
         dx = np.zeros(L.N_STATE)
         itg._rhs(x, dx, model.bodies, model.vp, model.bush, model.damp, model.bump, model.arb, model.track,
                  sp, model.cg, model.cp, w["kin"], w["gap"], w["ys"], w["patches"], w["cands"], False,
-                 w["kpbuf"], w["kpid"], w["kprow"], w["ftrack"], w["recs"], w["scratch"])
+                 w["kpbuf"], w["kpid"], w["kprow"], w["recs"])
         return dx
     return f
 

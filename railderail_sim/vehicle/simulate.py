@@ -189,7 +189,7 @@ class Simulation:
             self.scenario.stop_on_derailment, self.atol, self.scenario.rtol, MIN_STEP, MAX_STEP, m.bodies,
             m.vp, m.bush, m.damp, m.bump, m.arb, m.track, self.speed_table, m.cg, m.cp, w["ks"], w["xt"],
             w["cand_save"], w["kin"], w["gap"], w["ys"], w["patches"], w["cands"], w["kpbuf"], w["kpid"],
-            w["kprow"], w["ftrack"], w["recs"], w["scratch"], self.event, out)
+            w["kprow"], w["recs"], self.event, out)
         self.rows_written += rows
         self.status = status
         if status == itg.DIVERGED:
