@@ -554,12 +554,7 @@ def geometry_command(parser: argparse.ArgumentParser):
             if plot is not None:
                 plot_geometry(report, setup, plot)
                 report["plot"] = str(plot)
-        if args.json:
-            print(json.dumps(report))
-        else:
-            print(geometry_text(report))
-            if plot is not None:
-                print(f"  plot written to {plot}")
+        _print_result(args, report, geometry_text, plot)
     return run
 
 
@@ -1053,18 +1048,23 @@ def case_command(parser: argparse.ArgumentParser):
             if plot_path is not None:
                 plot_case(result, plot, plot_path)
                 result["plot"] = str(plot_path)
-        if args.json:
-            print(json.dumps(result))
-        else:
-            print(case_text(result))
-            if plot_path is not None:
-                print(f"  plot written to {plot_path}")
+        _print_result(args, result, case_text, plot_path)
     return run
 
 
 # ------------------------------------------------------------------------------------------------
 # shared
 # ------------------------------------------------------------------------------------------------
+def _print_result(args, result, text, plot_path):
+    """The command's result as JSON (--json) or as text, with where the plot went."""
+    if args.json:
+        print(json.dumps(result))
+    else:
+        print(text(result))
+        if plot_path is not None:
+            print(f"  plot written to {plot_path}")
+
+
 def _pair_arguments(parser):
     parser.add_argument("--wheel", default="lm", metavar="NAME_OR_FILE",
                         help="wheel profile: lm, s1002 or a file (default %(default)s)")

@@ -150,8 +150,9 @@ def left_wheel(cg, cp, y, z, phi, psi, vx0, vy0, vz0, ox, oy, oz, spin, speed, g
             row[geo.P_HALF_WIDTH] = b
             row[geo.P_AEQ] = a_eq
             row[geo.P_BEQ] = b_eq
-            row[geo.P_HERTZ_A] = ac * normal ** (1.0 / 3.0)
-            row[geo.P_HERTZ_B] = bc * normal ** (1.0 / 3.0)
+            cube_root = normal ** (1.0 / 3.0)
+            row[geo.P_HERTZ_A] = ac * cube_root
+            row[geo.P_HERTZ_B] = bc * cube_root
             row[geo.P_XI_X] = xi_x
             row[geo.P_XI_Y] = xi_y
             row[geo.P_SPIN] = phi_s
@@ -176,12 +177,12 @@ def left_wheel(cg, cp, y, z, phi, psi, vx0, vy0, vz0, ox, oy, oz, spin, speed, g
             rec[o + 3] = 2.0 * b
             rec[o + 4] = normal
             rec[o + 5] = math.atan(slope)
-        if record and normal > nmax:
-            nmax = normal
-            rec[W_CPOS] = patches[k, geo.P_Y] - cg[geo.H_RAIL_AXIS_Y]
-            rec[W_CANGLE] = math.atan(slope)
-            rec[W_LEN] = 2.0 * a
-            rec[W_WID] = 2.0 * b
+            if normal > nmax:           # the main patch: the most loaded one
+                nmax = normal
+                rec[W_CPOS] = rec[o]
+                rec[W_CANGLE] = rec[o + 5]
+                rec[W_LEN] = rec[o + 2]
+                rec[W_WID] = rec[o + 3]
     if not record:
         return fx_tot, fy_tot, fz_tot, mx_tot, my_tot, mz_tot
     # forces on the rail: Q toward the left rail's field side (+Y), P downward
