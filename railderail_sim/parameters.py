@@ -259,6 +259,9 @@ class ContactParameters:
                                                 "wheel load; an unloaded wheel's ratio is meaningless")
     normal_model: str = _p("hertz", "-", "model", "A", "hertz | discrete")
     creep_model: str = _p("she", "-", "model", "A", "she (Shen-Hedrick-Elkins) | polach | fastsim | linear")
+    contact_geometry: str = _p("table", "-", "model", "A",
+                               "table (precomputed over lateral shift and roll, online search outside it; "
+                               "contact.table) | online (the exact search at every evaluation)")
 
     @property
     def rolling_circle_half_distance(self):

@@ -17,10 +17,15 @@ so the tracked search has to follow the minima. Keys:
 
     contact_eval_us_hertz            full contact search + Hertz + Shen-Hedrick-Elkins
     contact_eval_us_hertz_tracked    the in-step tracked search (`geometry.track_patches`) + Hertz + SHE
+    contact_eval_us_table            contact table lookup (`contact.table`, the vehicle model's default) +
+                                     Hertz + SHE; wheelset 4's yaw is at the table's limit (10 mrad): its
+                                     moved pose (10.01 mrad) is searched online, as in a simulation
     contact_eval_us_fastsim          full search + Hertz + FASTSIM (20 x 20)
     contact_eval_us_discrete         full search + Kik-Piotrowski + SHE on its equivalent ellipse
     contact_search_us_full           `geometry.find_patches` alone, eight wheels
     contact_search_us_online         `geometry.track_patches` alone, eight wheels
+    contact_lookup_us_table          `table.table_patches` alone, eight wheels (-1 = online fallback counted)
+    contact_table_build_s            building the contact table (`table.attach`, after compilation)
     halfspace_patch_ms_64            one exact half-space solve (`halfspace.halfspace_patch`) of the centred
                                      tread patch on a 64 x 64 grid (force control), milliseconds
     contact_compile_s                first call of the timing loops (numba compilation or cache load)
@@ -37,6 +42,7 @@ import numpy as np
 from . import geometry as geo
 from . import halfspace as hs
 from . import kik_piotrowski as kp
+from . import table as tab
 from . import wheelset as ws
 
 REPEATS = 7
@@ -63,7 +69,7 @@ def _eval_loop(n, poses, step, cg, cp, speed, spin, tracked, gap, ys, patches, c
 
 
 @numba.njit(cache=False)
-def _search_loop(n, poses, step, cg, tracked, gap, ys, patches, cands):
+def _search_loop(n, poses, step, cg, tracked, lookup, gap, ys, patches, cands):
     count = 0
     for it in range(n):
         f = 1.0 if it % 2 == 1 else 0.0
@@ -74,7 +80,10 @@ def _search_loop(n, poses, step, cg, tracked, gap, ys, patches, cands):
             z = poses[i, 1] + f * step[1]
             phi = m * (poses[i, 2] + f * step[2])
             psi = m * (poses[i, 3] + f * step[3])
-            if tracked:
+            if tracked and lookup:
+                c, _ = tab.table_patches(cg, y, z, phi, psi, patches, cands[w])
+                count += c
+            elif tracked:
                 count += geo.track_patches(cg, y, z, phi, psi, gap, ys, patches, cands[w])
             else:
                 c, _ = geo.find_patches(cg, y, z, phi, psi, gap, ys, patches, cands[w])
@@ -128,10 +137,10 @@ def run() -> dict:
                     recs=np.zeros((8, ws.W_SIZE)))
         step = np.array(STEP)
 
-        def evaluate(n, tracked=False):
+        def evaluate(n, tracked=False, geometry=cg):
             b = bufs
-            return _eval_loop(n, poses, step, cg, cp, speed, spin, tracked, b["gap"], b["ys"], b["patches"],
-                              b["cands"], b["kpbuf"], b["kpid"], b["kprow"], b["recs"])
+            return _eval_loop(n, poses, step, geometry, cp, speed, spin, tracked, b["gap"], b["ys"],
+                              b["patches"], b["cands"], b["kpbuf"], b["kpid"], b["kprow"], b["recs"])
 
         t0 = time.perf_counter()
         evaluate(1)
@@ -141,17 +150,26 @@ def run() -> dict:
             evaluate(1)                                  # full search at the pose: fills the candidates
             figures["contact_eval_us_hertz_tracked"] = _median_us(lambda n: evaluate(n, True), 1)
 
-            def search(n, tracked=False):
+            def search(n, tracked=False, lookup=False, geometry=cg):
                 b = bufs
-                return _search_loop(n, poses, step, cg, tracked, b["gap"], b["ys"], b["patches"], b["cands"])
+                return _search_loop(n, poses, step, geometry, tracked, lookup, b["gap"], b["ys"], b["patches"],
+                                    b["cands"])
 
             t0 = time.perf_counter()
             search(1)
             search(1, True)
+            table_cg = tab.attach(cg)
+            evaluate(1, geometry=table_cg)
+            search(1, True, True, table_cg)
             compile_s += time.perf_counter() - t0
             figures["contact_search_us_full"] = _median_us(search, 1)
             search(1)
             figures["contact_search_us_online"] = _median_us(lambda n: search(n, True), 1)
+            figures["contact_lookup_us_table"] = _median_us(lambda n: search(n, True, True, table_cg), 1)
+            figures["contact_eval_us_table"] = _median_us(lambda n: evaluate(n, True, table_cg), 1)
+            t0 = time.perf_counter()
+            tab.attach(cg)
+            figures["contact_table_build_s"] = time.perf_counter() - t0
             hertz_poses = poses
 
     # one 64 x 64 half-space solve of the centred tread patch at the static wheel load

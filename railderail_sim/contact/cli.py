@@ -227,9 +227,10 @@ def build_setup(wheel="lm", rail="uic60", *, gauge_mm=1435.0, inclination="1/40"
     w = _profile(wheel, "wheel")
     r = _profile(rail, "rail")
     normal, creep, _ = MODELS[model]
+    # the contact calculator answers with the exact search (the contact table is the time loop's shortcut)
     contact = ContactParameters(wheel_profile=w, back_to_back=b2b, youngs_modulus=E, poisson_ratio=nu,
                                 friction_coefficient=mu, contact_damping=0.0, normal_model=normal,
-                                creep_model=creep)
+                                creep_model=creep, contact_geometry="online")
     track = TrackParameters(gauge=gauge, rail_inclination=incl, rail_profile=r)
     cg = pack_geometry(contact, track, radius)
     setup = Setup(wheel=w, rail=r, contact=contact, track=track, radius=radius,

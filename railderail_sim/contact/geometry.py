@@ -44,7 +44,10 @@ H_FLANGE_HEIGHT = 10                 # flange height above the nominal rolling c
 H_FLANGE_TIP_YP = 11                 # profile y_p of the flange tip (m)
 H_RAIL_HEAD_WIDTH = 12               # rail head width at the gauge-measuring depth (m)
 H_GAUGE_Y = 13                       # track-frame Y of the gauge point (m)
-H_SIZE = 16
+# contact table (`contact.table`), 0 in H_TABLE when there is none: offset of the nodes in cg, the grid over
+# the lateral axis u (first value, step) and roll phi, and the largest yaw its second-order yaw terms serve
+H_TABLE, H_TAB_NY, H_TAB_Y0, H_TAB_DY, H_TAB_NPHI, H_TAB_PHI0, H_TAB_DPHI, H_TAB_PSI_MAX = range(14, 22)
+H_SIZE = 24
 
 # One patch found by the search: columns of the `patches` array.
 P_Y, P_Z, P_X = 0, 1, 2              # contact point on the rail, track frame (left-wheel form), m
@@ -65,7 +68,9 @@ P_XI_X, P_XI_Y, P_SPIN = 18, 19, 20  # creepages: longitudinal, lateral (-), spi
 P_FX, P_FT, P_MZ = 21, 22, 23        # creep forces on the wheel: longitudinal, lateral in the contact plane (N),
                                      # spin moment (N m)
 P_WEIGHT = 24                        # share weight of an equivalent-elliptic patch (see _set_weights)
-P_COLS = 25
+P_HERTZ_C1 = 25                      # Hertz shape at E* = 1 Pa from the contact table (a/N^(1/3), b/N^(1/3),
+                                     # stiffness; scale by E*^(-1/3), E*^(-1/3), E*), or 0: not given
+P_COLS = 28
 MAX_PATCHES = 3
 COARSE_STRIDE = 8                    # coarse search every 8th wheel grid point (1 mm on the 0.125 mm grid)
 COARSE_WINDOW_GAP = 1.5e-3           # m; coarse minima below this are searched on the fine grid (the
@@ -339,7 +344,7 @@ def find_patches(cg, y, z, phi, psi, gap, ys, patches, cand):
         left = gap[j - S] if j - S >= j0 else NO_RAIL_GAP
         right = gap[j + S] if j + S <= jl else NO_RAIL_GAP
         if g < COARSE_WINDOW_GAP and g <= left and g < right:
-            jm = _fine_minimum(cg, pose, j, j0, j1, gap, ys)
+            jm = local_minimum(cg, pose, j, j0, j1, S, gap, ys)
             if gap[jm] < 0.0:
                 if jm != prev_min and count < MAX_PATCHES:
                     _fill_patch(cg, pose, jm, j0, j1, gap, patches, count)
@@ -362,8 +367,8 @@ def track_patches(cg, y, z, phi, psi, gap, ys, patches, cand):
     """Patches near the minima listed in `cand` by the last `find_patches` (a cheap local search).
 
     Used inside one integration step, where the wheelset moves by a fraction of a millimetre: each
-    listed minimum is followed downhill on the fine grid and refined as in `find_patches`; minima that
-    meet are counted once.
+    listed minimum is followed downhill on the fine grid (`local_minimum`) and refined as in
+    `find_patches`; minima that meet are counted once.
     """
     pose = pose_constants(cg, y, z, phi, psi)
     j0, j1 = wheel_range(cg, pose)
@@ -373,27 +378,7 @@ def track_patches(cg, y, z, phi, psi, gap, ys, patches, cand):
         jc = int(cand[c + 1])
         if jc < j0 or jc >= j1:
             continue
-        a = max(jc - 2, j0)
-        b = min(jc + 3, j1)
-        _scan(cg, pose, a, b, 1, gap, ys)
-        jm = a
-        for k in range(a, b):
-            if gap[k] < gap[jm]:
-                jm = k
-        while jm == a and a > j0:
-            a -= 1
-            _scan(cg, pose, a, a + 1, 1, gap, ys)
-            if gap[a] < gap[jm]:
-                jm = a
-            else:
-                break
-        while jm == b - 1 and b < j1:
-            _scan(cg, pose, b, b + 1, 1, gap, ys)
-            if gap[b] < gap[jm]:
-                jm = b
-                b += 1
-            else:
-                break
+        jm = local_minimum(cg, pose, jc, j0, j1, 2, gap, ys)
         if gap[jm] < 0.0 and abs(jm - prev) > 1 and count < MAX_PATCHES:
             _fill_patch(cg, pose, jm, j0, j1, gap, patches, count)
             count += 1
@@ -403,11 +388,11 @@ def track_patches(cg, y, z, phi, psi, gap, ys, patches, cand):
 
 
 @numba.njit(cache=True)
-def _fine_minimum(cg, pose, jc, j0, j1, gap, ys):
-    """Fine-grid local minimum near coarse point jc (walks downhill beyond the window if needed)."""
-    S = COARSE_STRIDE
-    a = max(jc - S, j0)
-    b = min(jc + S + 1, j1)
+def local_minimum(cg, pose, jc, j0, j1, half, gap, ys):
+    """Fine-grid local minimum within `half` grid steps of jc, walking downhill beyond that window if
+    needed; its two neighbours are scanned too (for the parabola of `_fill_patch`)."""
+    a = max(jc - half, j0)
+    b = min(jc + half + 1, j1)
     _scan(cg, pose, a, b, 1, gap, ys)
     jm = a
     for k in range(a, b):
@@ -471,7 +456,19 @@ def run_bounds(cg, y, z, phi, psi, jm, gap, ys):
     interpenetration run, cut at the top of a ridge (beyond it lies the next patch's minimum)."""
     pose = pose_constants(cg, y, z, phi, psi)
     j0, j1 = wheel_range(cg, pose)
+    jm = min(max(jm, j0), j1 - 1)
     _scan(cg, pose, jm, jm + 1, 1, gap, ys)
+    # start from the local minimum (a tabulated contact gives its grid point to within one step)
+    while jm - 1 >= j0:
+        _scan(cg, pose, jm - 1, jm, 1, gap, ys)
+        if gap[jm - 1] >= gap[jm]:
+            break
+        jm -= 1
+    while jm + 1 < j1:
+        _scan(cg, pose, jm + 1, jm + 2, 1, gap, ys)
+        if gap[jm + 1] >= gap[jm]:
+            break
+        jm += 1
     ja = jm
     while ja - 1 >= j0:
         _scan(cg, pose, ja - 1, ja, 1, gap, ys)
@@ -515,6 +512,7 @@ def _fill_patch(cg, pose, jm, j0, j1, gap, patches, slot):
     patches[slot, P_B] = 0.5 * (-kw - kr)
     patches[slot, P_A] = 0.5 / (radius * math.sqrt(1.0 + sw * sw))
     patches[slot, P_JM] = jm
+    patches[slot, P_HERTZ_C1 + 2] = 0.0           # the Hertz shape is computed from A and B
 
 
 @numba.njit(cache=True)

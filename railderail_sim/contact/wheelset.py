@@ -22,11 +22,13 @@ from . import geometry as geo
 from .creep import creep_forces
 from .hertz import hertz_shape
 from . import kik_piotrowski as kp
+from . import table as tab
 
 # Contact parameter array cp
 C_ESTAR, C_G, C_NU, C_MU, C_CHI, C_NORMAL, C_CREEP = 0, 1, 2, 3, 4, 5, 6
 C_QP_MIN_LOAD = 7     # vertical load below which Q/P is not evaluated (N): an unloaded wheel's ratio means nothing
-C_SIZE = 8
+C_ESTAR_CBRT = 8      # E*^(1/3): scales the contact table's Hertz shape (given at E* = 1 Pa)
+C_SIZE = 9
 NORMAL_HERTZ, NORMAL_DISCRETE = 0, 1
 KP_MIN_STRIPS = 24    # strips across a Kik-Piotrowski patch at least (a flange patch spans 4-6 grid points)
 
@@ -57,16 +59,20 @@ def left_wheel(cg, cp, y, z, phi, psi, vx0, vy0, vz0, ox, oy, oz, spin, speed, g
     speed (rad/s) about the axle; speed: forward speed for the creepages (m/s). Returns the force on the
     wheel and its moment about the wheelset centre, (Fx, Fy, Fz, Mx, My, Mz) in track axes (scalars, not
     arrays: this runs 48 times per time step); fills the output record `rec` on full searches.
-    `tracked`: follow the minima listed in `cand` by the last full search (inside a time step) instead of
-    searching the whole profile (`geometry.track_patches`).
+    The patches come from the contact table when cg carries one and the pose is inside it
+    (`contact.table`); otherwise from the exact search: `tracked` then follows the minima listed in `cand`
+    by the last full search (inside a time step) instead of searching the whole profile
+    (`geometry.track_patches`).
     """
-    if tracked:
-        count = geo.track_patches(cg, y, z, phi, psi, gap, ys, patches, cand)
-        gmin = 0.0
-        for k in range(count):
-            gmin = min(gmin, patches[k, geo.P_GAP])
-    else:
-        count, gmin = geo.find_patches(cg, y, z, phi, psi, gap, ys, patches, cand)
+    count, gmin = tab.table_patches(cg, y, z, phi, psi, patches, cand)
+    if count < 0:                       # no table, or the pose is outside it: exact online search
+        if tracked:
+            count = geo.track_patches(cg, y, z, phi, psi, gap, ys, patches, cand)
+            gmin = 0.0
+            for k in range(count):
+                gmin = min(gmin, patches[k, geo.P_GAP])
+        else:
+            count, gmin = geo.find_patches(cg, y, z, phi, psi, gap, ys, patches, cand)
     r0 = cg[geo.H_R0]
     cphi = math.cos(phi)
     sphi = math.sin(phi)
@@ -125,7 +131,12 @@ def left_wheel(cg, cp, y, z, phi, psi, vx0, vy0, vz0, ox, oy, oz, spin, speed, g
                                                       patches[k, geo.P_GAP], cd, gap, ys, kpbuf, kpid,
                                                       kprow, cp[C_ESTAR], nu)
         if not discrete or record:
-            ac, bc, stiff = hertz_shape(patches[k, geo.P_A], patches[k, geo.P_B], estar)
+            if patches[k, geo.P_HERTZ_C1 + 2] > 0.0:     # from the contact table, at E* = 1 Pa
+                ac = patches[k, geo.P_HERTZ_C1] / cp[C_ESTAR_CBRT]
+                bc = patches[k, geo.P_HERTZ_C1 + 1] / cp[C_ESTAR_CBRT]
+                stiff = patches[k, geo.P_HERTZ_C1 + 2] * estar
+            else:
+                ac, bc, stiff = hertz_shape(patches[k, geo.P_A], patches[k, geo.P_B], estar)
         if not discrete:
             # a part of a wider contact carries its share only (geometry._set_weights)
             n_el = patches[k, geo.P_WEIGHT] * stiff * d * math.sqrt(d)

@@ -20,6 +20,9 @@ def _common(parser):
     parser.add_argument("--creep", default="she", choices=("she", "polach", "fastsim", "linear"),
                         help="creep force law")
     parser.add_argument("--friction", type=float, default=0.3, help="wheel-rail friction coefficient")
+    parser.add_argument("--geometry", default="table", choices=("table", "online"),
+                        help="contact geometry: the precomputed contact table (online search outside it) or "
+                             "the exact online search at every evaluation")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
 
 
@@ -29,7 +32,8 @@ def base_scenario(args, **track):
     return Scenario(vehicle=vehicle_parameters(args.vehicle_set),
                     track=TrackParameters(rail_profile=args.rail, **track),
                     contact=ContactParameters(wheel_profile=args.wheel, normal_model=args.contact,
-                                              creep_model=args.creep, friction_coefficient=args.friction))
+                                              creep_model=args.creep, friction_coefficient=args.friction,
+                                              contact_geometry=args.geometry))
 
 
 def _emit(args, obj, human):

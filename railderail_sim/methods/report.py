@@ -255,6 +255,7 @@ def _sensitivity(radius, stair, workers):
         ("wheel S1002 instead of LM", dict(contact=dict(wheel_profile="s1002"))),
         ("friction 0.3 -> 0.4", dict(contact=dict(friction_coefficient=0.4))),
         ("discrete (Kik-Piotrowski) normal contact", dict(contact=dict(normal_model="discrete"))),
+        ("exact online contact search instead of the contact table", dict(contact=dict(contact_geometry="online"))),
     ]
     from concurrent.futures import ProcessPoolExecutor
     with ProcessPoolExecutor(max_workers=workers) as pool:

@@ -10,7 +10,7 @@ import math
 import numpy as np
 
 from .. import profiles
-from ..contact import creep, geometry, wheelset
+from ..contact import creep, geometry, table, wheelset
 from ..parameters import GRAVITY, ContactParameters, TrackParameters, VehicleParameters
 from ..track import alignment
 from . import layout as L
@@ -19,6 +19,7 @@ WHEEL_GRID_STEP = 1.25e-4      # m; with parabolic refinement the gap minimum is
 CREEP_MODELS = {"linear": creep.LINEAR, "she": creep.SHEN_HEDRICK_ELKINS, "polach": creep.POLACH,
                 "fastsim": creep.FASTSIM}
 NORMAL_MODELS = {"hertz": wheelset.NORMAL_HERTZ, "discrete": wheelset.NORMAL_DISCRETE}
+CONTACT_GEOMETRIES = ("table", "online")
 
 
 @dataclass
@@ -128,12 +129,17 @@ def element_tables(vp: VehicleParameters, bodies):
 
 
 def contact_geometry(contact: ContactParameters, track: TrackParameters, rolling_radius):
+    """Packed contact geometry, with the contact table appended if contact.contact_geometry is "table"."""
+    if contact.contact_geometry not in CONTACT_GEOMETRIES:
+        raise ValueError(f"contact geometry {contact.contact_geometry!r} is unknown; choose one of "
+                         f"{', '.join(CONTACT_GEOMETRIES)}")
     wheel = profiles.resolve(contact.wheel_profile, "wheel")
     rail = profiles.resolve(track.rail_profile, "rail")
     wt = profiles.ProfileTable.from_profile(wheel, dy=WHEEL_GRID_STEP)
     rt = profiles.ProfileTable.from_profile(rail, dy=5.0e-5)
-    return geometry.pack_contact_geometry(wt, rt, rolling_radius, contact.rolling_circle_half_distance,
-                                          track.gauge, track.gauge_depth, track.rail_inclination)
+    cg = geometry.pack_contact_geometry(wt, rt, rolling_radius, contact.rolling_circle_half_distance,
+                                        track.gauge, track.gauge_depth, track.rail_inclination)
+    return table.attach(cg) if contact.contact_geometry == "table" else cg
 
 
 def contact_array(contact: ContactParameters, static_wheel_load=0.0):
@@ -149,6 +155,7 @@ def contact_array(contact: ContactParameters, static_wheel_load=0.0):
     E, nu = contact.youngs_modulus, contact.poisson_ratio
     cp = np.zeros(wheelset.C_SIZE)
     cp[wheelset.C_ESTAR] = E / (2.0 * (1.0 - nu * nu))
+    cp[wheelset.C_ESTAR_CBRT] = cp[wheelset.C_ESTAR] ** (1.0 / 3.0)
     cp[wheelset.C_G] = contact.shear_modulus
     cp[wheelset.C_NU] = nu
     cp[wheelset.C_MU] = contact.friction_coefficient

@@ -1,0 +1,280 @@
+"""Contact table: the exact contact search done once, ahead of the time loop, over lateral shift and roll.
+
+Why. The exact search of `geometry.find_patches` costs about 3 us per wheel, and the Hertz shape from the
+elliptic integrals (`hertz.hertz_shape`) about 0.3 us per patch; a vehicle step needs both dozens of times.
+Everything they give depends on the wheel's pose only through (y, phi, psi) plus an additive z, so it can
+be computed beforehand, the way Simpack's and VAMPIRE's contact tables are, without changing the model:
+
+- The vertical displacement z of the wheelset shifts the whole gap function g(y_p) by z (`geometry._scan`:
+  the wheel centre's height enters as a sum): z is exact, not tabulated.
+- Lateral shift and roll are the table's grid, bilinear. Rolling the wheelset by phi about its centre
+  also moves the wheel r0 phi sideways at the rail, so the lateral axis is u = y + r0 phi - lw phi^2/2
+  (the nominal rolling circle's lateral position over the rail, lw its distance from the centre): at
+  fixed u a change of roll only turns the profile, and cells are as fine across the rail in both
+  directions (0.1 mm in u, 1 mrad in phi).
+- Where the contact point runs quickly across the profile (from the flange root to the flank the contact
+  angle turns by 50 degrees within 0.2 mm of lateral shift) the gap's envelope bends too sharply for
+  linear interpolation; a cell whose nodes' tan(contact angle) spread by more than SLOPE_SPREAD is not
+  used (the interpolation error of the gap is about spread x step / 8, under a micrometre elsewhere).
+- Yaw psi moves the contact point along the rail (lead) and lifts the wheel's trace line, by r(1 - cos
+  theta) with sin theta ~ r' psi: second order in psi on the tread, but tens of micrometres on a flange at
+  10 mrad. Each tabulated quantity q therefore keeps q(psi) = q0 + q1 psi + q2 psi^2, from the exact
+  search at psi = 0 and +-PSI_FIT (the minimum searched again at each yaw, so the terms are those of the
+  minimum itself, not of a fixed wheel point).
+
+At each node the gap along the whole trace line is computed on the fine wheel grid and every local
+minimum below STORE_GAP is kept (up to MAX_PATCHES, the deepest): a patch at run time wherever
+g + z < 0, a candidate for the in-step search below TRACK_GAP. Each keeps its contact point, rail slope,
+wheel radius, the Hertz half curvature sums A and B, the Hertz shape at E* = 1 Pa (semi-axis coefficients
+scale as E*^(-1/3), the stiffness as E*: exact, `hertz.hertz_shape`), and the highest gap between it and the
+next minimum (the ridge that sets the share weight of `geometry._set_weights`).
+
+Where the table does not apply, `table_patches` returns -1 and the wheel is searched online
+(`geometry.find_patches` / `track_patches`), exactly as without a table:
+- outside the grid (a wheel climbing beyond U_MAX, rolled beyond PHI_MAX) or |psi| > PSI_MAX;
+- in a cell where the contact angle turns fast (SLOPE_SPREAD, above);
+- where the four surrounding nodes do not have the same minima (a contact appearing or vanishing, or a
+  minimum jumping across the profile between nodes), since interpolating there would blend two contacts.
+`tests/test_contact_table.py` compares the two over random poses.
+"""
+import math
+
+import numba
+import numpy as np
+
+from . import geometry as geo
+from .hertz import hertz_shape
+
+# Grid (left-wheel form: the right wheel is the mirrored left one, so one table serves both rails)
+U_MIN, U_MAX, DU = -0.020, 0.030, 2.5e-5       # m; lateral axis u (above), + toward the rail
+PHI_MAX, DPHI = 0.030, 2.0e-3                   # rad; roll relative to the track
+PSI_MAX = 0.010                                 # rad; yaw served by the second-order yaw terms
+PSI_FIT = 0.008                                 # rad; yaw of the two extra searches that give them
+STORE_GAP = 0.030                               # m; minima kept per node (a wheel lifted by more is far from contact)
+JUMP = 24                                       # wheel grid steps (3 mm); a minimum moving more between
+                                                # nodes (or between yaws) is not the same contact
+SLOPE_SPREAD = 0.30                             # largest spread of tan(contact angle) over a cell's nodes
+
+# Quantities of one tabulated minimum, each with three yaw coefficients (q0, q1, q2)
+Q_GAP, Q_Y, Q_X, Q_QZ, Q_SLOPE, Q_YP, Q_RADIUS, Q_A, Q_B, Q_AC, Q_BC, Q_C = range(12)
+NQ = 12
+S_RIDGE = 3 * NQ                                # highest gap between this minimum and the next one (m)
+S_J = S_RIDGE + 1                               # wheel grid index at psi = 0
+S_COLS = S_J + 1
+N_COUNT, N_GMIN = 0, 1                          # per node: minima kept (-1: node unusable), smallest gap
+N_SLOT0 = 2
+N_COLS = N_SLOT0 + geo.MAX_PATCHES * S_COLS
+MAX_MINIMA = 16                                 # local minima looked at per node
+
+
+def attach(cg):
+    """cg with the contact table appended (a new array; the input is left as it is)."""
+    ny = int(round((U_MAX - U_MIN) / DU)) + 1
+    nphi = int(round(2.0 * PHI_MAX / DPHI)) + 1
+    base = cg.shape[0]
+    out = np.zeros(base + ny * nphi * N_COLS)
+    out[:base] = cg
+    out[geo.H_TABLE] = base
+    out[geo.H_TAB_NY], out[geo.H_TAB_Y0], out[geo.H_TAB_DY] = ny, U_MIN, DU
+    out[geo.H_TAB_NPHI], out[geo.H_TAB_PHI0], out[geo.H_TAB_DPHI] = nphi, -PHI_MAX, DPHI
+    out[geo.H_TAB_PSI_MAX] = PSI_MAX
+    nw = int(cg[geo.H_NW])
+    _build(out, np.zeros(nw), np.zeros(nw), np.zeros((geo.MAX_PATCHES, geo.P_COLS)),
+           np.zeros((3, geo.MAX_PATCHES, NQ)))
+    return out
+
+
+@numba.njit(cache=True)
+def _quantities(cg, row, q):
+    """Tabulated quantities of one patch row of `geometry._fill_patch` (at z = 0) into q[:]."""
+    q[Q_GAP] = row[geo.P_GAP]
+    q[Q_Y] = row[geo.P_Y]
+    q[Q_X] = row[geo.P_X]
+    q[Q_QZ] = row[geo.P_Z] - cg[geo.H_R0]
+    q[Q_SLOPE] = row[geo.P_SLOPE]
+    q[Q_YP] = row[geo.P_YP]
+    q[Q_RADIUS] = row[geo.P_RADIUS]
+    q[Q_A] = row[geo.P_A]
+    q[Q_B] = row[geo.P_B]
+    q[Q_AC], q[Q_BC], q[Q_C] = hertz_shape(row[geo.P_A], row[geo.P_B], 1.0)
+
+
+@numba.njit(cache=True)
+def _build(cg, gap, ys, patches, qs):
+    base = int(cg[geo.H_TABLE])
+    ny = int(cg[geo.H_TAB_NY])
+    nphi = int(cg[geo.H_TAB_NPHI])
+    minima = np.zeros(MAX_MINIMA, dtype=np.int64)
+    h = PSI_FIT
+    for iy in range(ny):
+        u = cg[geo.H_TAB_Y0] + iy * cg[geo.H_TAB_DY]
+        for ip in range(nphi):
+            phi = cg[geo.H_TAB_PHI0] + ip * cg[geo.H_TAB_DPHI]
+            y = u - phi * (cg[geo.H_R0] - 0.5 * cg[geo.H_LW] * phi)
+            o = base + (iy * nphi + ip) * N_COLS
+            pose = geo.pose_constants(cg, y, 0.0, phi, 0.0)
+            j0, j1 = geo.wheel_range(cg, pose)
+            geo._scan(cg, pose, j0, j1, 1, gap, ys)
+            gmin = geo.NO_RAIL_GAP
+            nmin = 0
+            for j in range(j0, j1):
+                gmin = min(gmin, gap[j])
+                if (j > j0 and j < j1 - 1 and gap[j] < STORE_GAP and gap[j] < gap[j - 1]
+                        and gap[j] <= gap[j + 1] and nmin < MAX_MINIMA):
+                    minima[nmin] = j
+                    nmin += 1
+            # keep the MAX_PATCHES deepest, in order across the wheel
+            while nmin > geo.MAX_PATCHES:
+                worst = 0
+                for k in range(nmin):
+                    if gap[minima[k]] > gap[minima[worst]]:
+                        worst = k
+                for k in range(worst, nmin - 1):
+                    minima[k] = minima[k + 1]
+                nmin -= 1
+            cg[o + N_GMIN] = gmin
+            for k in range(nmin):
+                s = o + N_SLOT0 + k * S_COLS
+                ridge = geo.NO_RAIL_GAP
+                if k + 1 < nmin:
+                    ridge = gap[minima[k]]
+                    for j in range(minima[k] + 1, minima[k + 1]):
+                        ridge = max(ridge, gap[j])
+                cg[s + S_RIDGE] = ridge
+                cg[s + S_J] = minima[k]
+            usable = True
+            for k in range(nmin):
+                jm = minima[k]
+                geo._fill_patch(cg, pose, jm, j0, j1, gap, patches, 0)
+                _quantities(cg, patches[0], qs[0, k])
+            # the same minima searched again at yaw +-h (the gap array is reused: ridges are stored)
+            for side in range(2):
+                psi = h if side == 0 else -h
+                pose_y = geo.pose_constants(cg, y, 0.0, phi, psi)
+                a0, a1 = geo.wheel_range(cg, pose_y)
+                for k in range(nmin):
+                    jc = int(cg[o + N_SLOT0 + k * S_COLS + S_J])
+                    jm = geo.local_minimum(cg, pose_y, min(max(jc, a0), a1 - 1), a0, a1, 1, gap, ys)
+                    if abs(jm - jc) > JUMP:
+                        usable = False
+                    geo._fill_patch(cg, pose_y, jm, a0, a1, gap, patches, 0)
+                    _quantities(cg, patches[0], qs[1 + side, k])
+            for k in range(nmin):
+                s = o + N_SLOT0 + k * S_COLS
+                for q in range(NQ):
+                    q0 = qs[0, k, q]
+                    qp = qs[1, k, q]
+                    qm = qs[2, k, q]
+                    cg[s + 3 * q] = q0
+                    cg[s + 3 * q + 1] = (qp - qm) / (2.0 * h)
+                    cg[s + 3 * q + 2] = (qp + qm - 2.0 * q0) / (2.0 * h * h)
+            cg[o + N_COUNT] = nmin if usable else -1
+
+
+@numba.njit(cache=True)
+def _at_yaw(cg, i, psi):
+    """One node's yaw polynomial q0 + q1 psi + q2 psi^2 stored at cg[i:i+3]."""
+    return cg[i] + psi * (cg[i + 1] + psi * cg[i + 2])
+
+
+@numba.njit(cache=True)
+def _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, col, psi):
+    """Bilinear interpolation of the yaw polynomial q0 + q1 psi + q2 psi^2 stored at column col."""
+    c0 = w00 * cg[n00 + col] + w01 * cg[n01 + col] + w10 * cg[n10 + col] + w11 * cg[n11 + col]
+    c1 = w00 * cg[n00 + col + 1] + w01 * cg[n01 + col + 1] + w10 * cg[n10 + col + 1] + w11 * cg[n11 + col + 1]
+    c2 = w00 * cg[n00 + col + 2] + w01 * cg[n01 + col + 2] + w10 * cg[n10 + col + 2] + w11 * cg[n11 + col + 2]
+    return c0 + psi * (c1 + psi * c2)
+
+
+@numba.njit(cache=True)
+def table_patches(cg, y, z, phi, psi, patches, cand):
+    """Patches of the left wheel from the contact table: (count, smallest gap), count -1 where the table
+    does not apply (the caller then searches online).
+
+    Fills the same patch columns as `geometry.find_patches` (contact point, gap, slope, wheel coordinate and
+    radius, A, B, grid index, share weight) plus the Hertz shape at E* = 1 (P_HERTZ_C1...), and lists the
+    minima below TRACK_GAP in `cand` for the in-step search, should a later stage leave the table.
+    """
+    base = int(cg[geo.H_TABLE])
+    if base == 0 or abs(psi) > cg[geo.H_TAB_PSI_MAX]:
+        return -1, 0.0
+    u = (y + phi * (cg[geo.H_R0] - 0.5 * cg[geo.H_LW] * phi) - cg[geo.H_TAB_Y0]) / cg[geo.H_TAB_DY]
+    v = (phi - cg[geo.H_TAB_PHI0]) / cg[geo.H_TAB_DPHI]
+    ny = int(cg[geo.H_TAB_NY])
+    nphi = int(cg[geo.H_TAB_NPHI])
+    if not (u >= 0.0 and u < ny - 1 and v >= 0.0 and v < nphi - 1):
+        return -1, 0.0
+    i = int(u)
+    k = int(v)
+    ty = u - i
+    tp = v - k
+    n00 = base + (i * nphi + k) * N_COLS
+    n01 = n00 + N_COLS
+    n10 = n00 + nphi * N_COLS
+    n11 = n10 + N_COLS
+    count = cg[n00 + N_COUNT]
+    if count < 0 or cg[n01 + N_COUNT] != count or cg[n10 + N_COUNT] != count or cg[n11 + N_COUNT] != count:
+        return -1, 0.0
+    nmin = int(count)
+    for s in range(nmin):
+        col = N_SLOT0 + s * S_COLS + S_J
+        j = cg[n00 + col]
+        lo = min(j, cg[n01 + col], cg[n10 + col], cg[n11 + col])
+        hi = max(j, cg[n01 + col], cg[n10 + col], cg[n11 + col])
+        if hi - lo > JUMP:
+            return -1, 0.0
+        col = N_SLOT0 + s * S_COLS + 3 * Q_SLOPE
+        s00 = _at_yaw(cg, n00 + col, psi)
+        s01 = _at_yaw(cg, n01 + col, psi)
+        s10 = _at_yaw(cg, n10 + col, psi)
+        s11 = _at_yaw(cg, n11 + col, psi)
+        if max(s00, s01, s10, s11) - min(s00, s01, s10, s11) > SLOPE_SPREAD:
+            return -1, 0.0
+    w00 = (1.0 - ty) * (1.0 - tp)
+    w01 = (1.0 - ty) * tp
+    w10 = ty * (1.0 - tp)
+    w11 = ty * tp
+    gmin = w00 * cg[n00 + N_GMIN] + w01 * cg[n01 + N_GMIN] + w10 * cg[n10 + N_GMIN] + w11 * cg[n11 + N_GMIN] + z
+    r0z = cg[geo.H_R0] + z
+    count = 0
+    ncand = 0
+    ridge = -geo.NO_RAIL_GAP               # highest gap since the last patch
+    for s in range(nmin):
+        o = N_SLOT0 + s * S_COLS
+        g = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_GAP, psi) + z
+        gmin = min(gmin, g)
+        yp = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_YP, psi)
+        jm = int(round((yp - cg[geo.H_WY0]) / cg[geo.H_DW]))
+        if g < geo.TRACK_GAP and ncand < geo.MAX_CANDIDATES:
+            ncand += 1
+            cand[ncand] = jm
+        if g < 0.0 and count < geo.MAX_PATCHES:
+            row = patches[count]
+            row[geo.P_GAP] = g
+            row[geo.P_Y] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_Y, psi)
+            row[geo.P_X] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_X, psi)
+            row[geo.P_Z] = r0z + _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_QZ, psi)
+            row[geo.P_SLOPE] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_SLOPE, psi)
+            row[geo.P_YP] = yp
+            row[geo.P_RADIUS] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_RADIUS, psi)
+            row[geo.P_A] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_A, psi)
+            row[geo.P_B] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_B, psi)
+            row[geo.P_HERTZ_C1] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_AC, psi)
+            row[geo.P_HERTZ_C1 + 1] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_BC, psi)
+            row[geo.P_HERTZ_C1 + 2] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_C, psi)
+            row[geo.P_JM] = jm
+            row[geo.P_WEIGHT] = 1.0
+            if count > 0:
+                # share weights as in geometry._set_weights, the ridge from the table
+                prev = patches[count - 1]
+                sh = prev if prev[geo.P_GAP] > g else row
+                depth = -sh[geo.P_GAP]
+                wgt = min(1.0, max(0.0, (ridge + z - sh[geo.P_GAP]) / (geo.PROMINENCE_FULL * depth)))
+                if wgt < sh[geo.P_WEIGHT]:
+                    sh[geo.P_WEIGHT] = wgt
+            count += 1
+            ridge = -geo.NO_RAIL_GAP
+        ridge = max(ridge, w00 * cg[n00 + o + S_RIDGE] + w01 * cg[n01 + o + S_RIDGE]
+                    + w10 * cg[n10 + o + S_RIDGE] + w11 * cg[n11 + o + S_RIDGE])
+    cand[0] = ncand
+    return count, gmin
