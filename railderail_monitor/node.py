@@ -11,7 +11,7 @@ import sys
 
 import rclpy
 from rclpy.exceptions import InvalidParameterTypeException
-from rclpy.executors import ExternalShutdownException
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 
 from . import messages as m
@@ -85,6 +85,9 @@ class MonitorNode(Node):
 
 def main(argv=None) -> int:
     rclpy.init(args=argv)
+    # an executor of our own, shut down before the node and the context: rclpy's global one would be
+    # torn down at interpreter exit, after them
+    executor = SingleThreadedExecutor()
     node = None
     try:  # from here on, Ctrl-C (KeyboardInterrupt) or SIGTERM ends the node cleanly
         try:
@@ -92,10 +95,12 @@ def main(argv=None) -> int:
         except (ValueError, InvalidParameterTypeException) as error:
             print(f"railderail-monitor: error: {error}", file=sys.stderr)
             return 2
-        rclpy.spin(node)
+        executor.add_node(node)
+        executor.spin()
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
+        executor.shutdown()
         if node is not None:
             print(f"[railderail_monitor] {node.summary()}", file=sys.stderr, flush=True)
             node.destroy_node()

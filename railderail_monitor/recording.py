@@ -232,13 +232,14 @@ def record_run(path, result, limits=None, metadata=None):
 def recorder_main(path, metadata=None, flush_period_s=0.5, log=print):
     """Run the recorder node until Ctrl-C/SIGTERM; the file is complete when this returns."""
     import rclpy
-    from rclpy.executors import ExternalShutdownException
+    from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
     from rclpy.node import Node
     from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
     from . import messages as m
 
     rclpy.init()
+    executor = SingleThreadedExecutor()      # shut down before the node and the context (see node.main)
     recording = None
     node = None
     try:
@@ -278,10 +279,12 @@ def recorder_main(path, metadata=None, flush_period_s=0.5, log=print):
         node.create_timer(1.0, discover)
         node.create_timer(flush_period_s, recording.flush)
         node.get_logger().info(f"recording {len(subscriptions)} topics to {recording.path}")
-        rclpy.spin(node)
+        executor.add_node(node)
+        executor.spin()
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
+        executor.shutdown()
         if recording is not None:
             recording.close()
             log(f"[railderail_recorder] wrote {recording.messages} messages ({recording.bytes / 1e6:.2f} MB of CDR) "

@@ -314,7 +314,7 @@ class RunViewer:
 
 def viewer_node_main(args):
     import rclpy
-    from rclpy.executors import ExternalShutdownException
+    from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
     from rclpy.node import Node
 
     from . import messages as m
@@ -327,6 +327,7 @@ def viewer_node_main(args):
     else:
         viewer.spawn()
     rclpy.init()
+    executor = SingleThreadedExecutor()      # shut down before the node and the context (see node.main)
     node = None
     try:
         node = Node("railderail_viewer")
@@ -336,10 +337,12 @@ def viewer_node_main(args):
         for topic, (_, cls, _, qos) in m.TOPICS.items():
             node.create_subscription(cls, topic, handlers[topic], qos)
         node.get_logger().info("showing /railderail in Rerun" + (f" (saving {args.rrd})" if args.rrd else ""))
-        rclpy.spin(node)
+        executor.add_node(node)
+        executor.spin()
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
+        executor.shutdown()
         viewer.close()
         if node is not None:
             node.destroy_node()

@@ -15,7 +15,7 @@ from dataclasses import replace
 
 import rclpy
 from rclpy.exceptions import InvalidParameterTypeException
-from rclpy.executors import ExternalShutdownException
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.task import Future
 
@@ -206,6 +206,9 @@ class SimulatorNode(Node):
 
 def main(argv=None) -> int:
     rclpy.init(args=argv)
+    # an executor of our own, shut down before the node and the context: rclpy's global one would be
+    # torn down at interpreter exit, after them
+    executor = SingleThreadedExecutor()
     node = None
     try:  # from here on, Ctrl-C (KeyboardInterrupt) or SIGTERM ends the node cleanly
         try:
@@ -216,21 +219,23 @@ def main(argv=None) -> int:
         except RuntimeError as error:      # SimulationDiverged on the very first period
             print(f"railderail-simulator: error: {error}", file=sys.stderr)
             return 1
+        executor.add_node(node)
         if node.p["exit_when_done"]:
-            rclpy.spin_until_future_complete(node, node.done)
+            executor.spin_until_future_complete(node.done)
             end = time.monotonic() + node.p["linger_s"]
             while time.monotonic() < end:
-                rclpy.spin_once(node, timeout_sec=0.05)
+                executor.spin_once(timeout_sec=0.05)
             for topic in (m.FINAL_STATUS, m.DERAILMENT):
                 node.pubs[topic].wait_for_all_acked(rclpy.duration.Duration(seconds=2.0))
         else:
-            rclpy.spin(node)
+            executor.spin()
         return node.exit_code
     except (KeyboardInterrupt, ExternalShutdownException):
         if node is not None:
             node.get_logger().info(f"stopped (Ctrl-C/SIGTERM) after {node.sample} samples")
         return 0
     finally:
+        executor.shutdown()
         if node is not None:
             node.destroy_node()
         rclpy.try_shutdown()

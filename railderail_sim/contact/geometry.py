@@ -78,6 +78,7 @@ COARSE_WINDOW_GAP = 1.5e-3           # m; coarse minima below this are searched 
 NO_RAIL_GAP = 1.0                    # m; gap reported where there is no rail under the wheel
 TRACK_GAP = 1.0e-3                   # m; near-contacts below this are followed during a time step
 MAX_CANDIDATES = 6
+RUN_BLOCK = 16                       # grid points scanned at a time when a patch's extent is walked out
 PROMINENCE_FULL = 0.5                # see _set_weights
 
 
@@ -469,19 +470,28 @@ def run_bounds(cg, y, z, phi, psi, jm, gap, ys):
         if gap[jm + 1] >= gap[jm]:
             break
         jm += 1
+    # walk out from the minimum; the gap is scanned RUN_BLOCK points ahead at a time (a loop over a
+    # block costs a fraction of one call per point), so [lo, hi) is always scanned
+    lo = jm
+    hi = jm + 1
     ja = jm
     while ja - 1 >= j0:
-        _scan(cg, pose, ja - 1, ja, 1, gap, ys)
+        if ja - 1 < lo:
+            new_lo = max(j0, lo - RUN_BLOCK)
+            _scan(cg, pose, new_lo, lo, 1, gap, ys)
+            lo = new_lo
         if gap[ja - 1] >= 0.0 or gap[ja - 1] < gap[ja]:
             break
         ja -= 1
     jb = jm
     while jb + 1 < j1:
-        _scan(cg, pose, jb + 1, jb + 2, 1, gap, ys)
+        if jb + 1 >= hi:
+            new_hi = min(j1, hi + RUN_BLOCK)
+            _scan(cg, pose, hi, new_hi, 1, gap, ys)
+            hi = new_hi
         if gap[jb + 1] >= 0.0 or gap[jb + 1] < gap[jb]:
             break
         jb += 1
-    _scan(cg, pose, ja, jb + 1, 1, gap, ys)
     return ja, jb
 
 
