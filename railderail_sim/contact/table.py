@@ -10,8 +10,8 @@ be computed beforehand, the way Simpack's and VAMPIRE's contact tables are, with
 - Lateral shift and roll are the table's grid, bilinear. Rolling the wheelset by phi about its centre
   also moves the wheel r0 phi sideways at the rail, so the lateral axis is u = y + r0 phi - lw phi^2/2
   (the nominal rolling circle's lateral position over the rail, lw its distance from the centre): at
-  fixed u a change of roll only turns the profile, and cells are as fine across the rail in both
-  directions (0.1 mm in u, 1 mrad in phi).
+  fixed u a change of roll only turns the profile (0.025 mm steps in u; a 2 mrad step in phi moves a
+  flange point about 0.03 mm across the rail, (r - r0) phi).
 - Where the contact point runs quickly across the profile (from the flange root to the flank the contact
   angle turns by 50 degrees within 0.2 mm of lateral shift) the gap's envelope bends too sharply for
   linear interpolation; a cell whose nodes' tan(contact angle) spread by more than SLOPE_SPREAD is not
