@@ -117,7 +117,7 @@ def default_limits():
     """Limits of the built-in scenario (vehicle set hs19, LM on UIC60 at 1:40, its friction)."""
     from railderail_sim.parameters import ContactParameters, TrackParameters, vehicle_parameters
     from railderail_sim.vehicle.assemble import build_model
-    contact = ContactParameters()
+    contact = ContactParameters(contact_geometry="online")     # the limits need no contact table
     return limits_for_model(build_model(vehicle_parameters(), TrackParameters(), contact),
                             contact.friction_coefficient)
 

@@ -457,19 +457,8 @@ def run_bounds(cg, y, z, phi, psi, jm, gap, ys):
     interpenetration run, cut at the top of a ridge (beyond it lies the next patch's minimum)."""
     pose = pose_constants(cg, y, z, phi, psi)
     j0, j1 = wheel_range(cg, pose)
-    jm = min(max(jm, j0), j1 - 1)
-    _scan(cg, pose, jm, jm + 1, 1, gap, ys)
     # start from the local minimum (a tabulated contact gives its grid point to within one step)
-    while jm - 1 >= j0:
-        _scan(cg, pose, jm - 1, jm, 1, gap, ys)
-        if gap[jm - 1] >= gap[jm]:
-            break
-        jm -= 1
-    while jm + 1 < j1:
-        _scan(cg, pose, jm + 1, jm + 2, 1, gap, ys)
-        if gap[jm + 1] >= gap[jm]:
-            break
-        jm += 1
+    jm = local_minimum(cg, pose, min(max(jm, j0), j1 - 1), j0, j1, 1, gap, ys)
     # walk out from the minimum; the gap is scanned RUN_BLOCK points ahead at a time (a loop over a
     # block costs a fraction of one call per point), so [lo, hi) is always scanned
     lo = jm

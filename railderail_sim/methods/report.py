@@ -279,7 +279,8 @@ def nadal_of(sc):
     from ..contact import conicity
     from ..contact.nadal import nadal_limit
     from ..vehicle.assemble import contact_geometry
-    t = conicity.rigid_table(contact_geometry(sc.contact, sc.track, sc.vehicle.rolling_radius), 0.012, 1e-4)
+    exact = replace(sc.contact, contact_geometry="online")          # rigid contact needs no contact table
+    t = conicity.rigid_table(contact_geometry(exact, sc.track, sc.vehicle.rolling_radius), 0.012, 1e-4)
     angle = float(max(t.contact_angle_left.max(), t.contact_angle_right.max()))
     return angle, nadal_limit(angle, sc.contact.friction_coefficient)
 
