@@ -36,7 +36,7 @@ setup(
     install_requires=[
         "numpy>=2,<2.6",  # numba needs <2.6, rerun-sdk >=2
         "scipy",
-        "numba",
+        "numba>=0.60,<0.69",  # railderail_sim/jit.py uses numba's private `_nrt` option: checked on 0.68
         "matplotlib",
         "tqdm",
         "dask[distributed]",

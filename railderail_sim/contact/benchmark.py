@@ -39,6 +39,7 @@ import warnings
 import numba
 import numpy as np
 
+from .. import jit
 from . import geometry as geo
 from . import halfspace as hs
 from . import kik_piotrowski as kp
@@ -51,7 +52,7 @@ POSES = ((0.0, 0.0), (3.0, 2.0), (8.7, 5.0), (9.5, 10.0))     # (lateral mm, yaw
 STEP = (2e-5, 0.0, 1e-5, 1e-5)                                 # pose change within a step (y, z, phi, psi)
 
 
-@numba.njit(cache=False)
+@numba.njit(cache=False, **jit.OPTIONS)
 def _eval_loop(n, poses, step, cg, cp, speed, spin, tracked, gap, ys, patches, cands, kpbuf, kpid, kprow,
                recs):
     acc = 0.0
@@ -68,7 +69,7 @@ def _eval_loop(n, poses, step, cg, cp, speed, spin, tracked, gap, ys, patches, c
     return acc
 
 
-@numba.njit(cache=False)
+@numba.njit(cache=False, **jit.OPTIONS)
 def _search_loop(n, poses, step, cg, tracked, lookup, gap, ys, patches, cands):
     count = 0
     for it in range(n):

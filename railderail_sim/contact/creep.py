@@ -65,14 +65,14 @@ Saturated laws (creep_forces model ids)
   Mz (not given by Polach) is the linear-theory Mz times the translational saturation factor.
 * ``FASTSIM`` (3): Kalker's FASTSIM (``fastsim.py``) on the ellipse, 20 x 20 elements.
 
-All core functions are ``numba.njit(cache=True)``, scalar and allocation-free. ``N <= 0``,
+All core functions are numba core (``railderail_sim.jit.core``), scalar and allocation-free. ``N <= 0``,
 ``a <= 0`` or ``b <= 0`` give zero forces; zero creepage gives zero force (no 0/0).
 """
 import math
 
-import numba
 import numpy as np
 
+from ..jit import core
 from .fastsim import NX_DEFAULT, NY_DEFAULT, fastsim_forces
 
 LINEAR = 0
@@ -128,7 +128,7 @@ KALKER_C33 = np.array([
 _LN4 = math.log(4.0)
 
 
-@numba.njit(cache=True)
+@core
 def _nu_interp(c0, c1, c2, nu):
     """Quadratic Lagrange interpolation of 1/C through nu = 0, 0.25, 0.5."""
     l0 = 8.0 * (nu - 0.25) * (nu - 0.5)
@@ -137,7 +137,7 @@ def _nu_interp(c0, c1, c2, nu):
     return 1.0 / (l0 / c0 + l1 / c1 + l2 / c2)
 
 
-@numba.njit(cache=True)
+@core
 def _table_at(tab, row, frac, nu):
     c0 = tab[row, 0] + frac * (tab[row + 1, 0] - tab[row, 0])
     c1 = tab[row, 1] + frac * (tab[row + 1, 1] - tab[row, 1])
@@ -145,7 +145,7 @@ def _table_at(tab, row, frac, nu):
     return _nu_interp(c0, c1, c2, nu)
 
 
-@numba.njit(cache=True)
+@core
 def _asym_small_a(g, nu):
     """Kalker's asymptotes for a/b = g -> 0: (C11, C22, C23, C33)."""
     c11 = math.pi * math.pi / (4.0 * (1.0 - nu))
@@ -155,7 +155,7 @@ def _asym_small_a(g, nu):
     return c11, c22, c23, c33
 
 
-@numba.njit(cache=True)
+@core
 def _asym_small_b(g, nu):
     """Kalker's asymptotes for b/a = g -> 0: (C11, C22, C23); C33 not used."""
     lam = math.log(16.0 / (g * g))
@@ -167,7 +167,7 @@ def _asym_small_b(g, nu):
     return c11, c22, c23
 
 
-@numba.njit(cache=True)
+@core
 def kalker_coefficients(a_over_b, nu):
     """Kalker's linear-theory creep coefficients (C11, C22, C23, C33) for a/b and Poisson's ratio.
 
@@ -212,7 +212,7 @@ def kalker_coefficients(a_over_b, nu):
             _table_at(KALKER_C23, row, frac, nu), _table_at(KALKER_C33, row, frac, nu))
 
 
-@numba.njit(cache=True)
+@core
 def linear_forces(xi_x, xi_y, phi, a, b, G, C11, C22, C23, C33):
     """Kalker's linear theory (Fx, Fy, Mz) on the wheel for given coefficients (no friction cap)."""
     ab = a * b
@@ -223,7 +223,7 @@ def linear_forces(xi_x, xi_y, phi, a, b, G, C11, C22, C23, C33):
     return Fx, Fy, Mz
 
 
-@numba.njit(cache=True)
+@core
 def she_factor(F_lin, mu_N):
     """Shen-Hedrick-Elkins saturation ratio F/F_lin for the resultant linear force F_lin >= 0."""
     if not (mu_N > 0.0):
@@ -234,7 +234,7 @@ def she_factor(F_lin, mu_N):
     return mu_N / F_lin
 
 
-@numba.njit(cache=True)
+@core
 def polach_forces(xi_x, xi_y, phi, a, b, N, mu0, G, C11, C22, C23, C33, V, kA, kS, A_ratio,
                   B_decay):
     """Polach's creep forces (Fx, Fy, Mz) on the wheel (Polach 1999; 2005 extension).
@@ -288,7 +288,7 @@ def polach_forces(xi_x, xi_y, phi, a, b, N, mu0, G, C11, C22, C23, C33, V, kA, k
     return Fx, Fy, Mz
 
 
-@numba.njit(cache=True)
+@core
 def creep_forces(model_id, xi_x, xi_y, phi, a, b, N, mu, G, nu):
     """Creep forces (Fx, Fy, Mz) on the wheel for the selected model.
 

@@ -63,8 +63,9 @@ Vollebregt, E.A.H. (CONTACT user guide), documentation of the FASTSIM/simplified
 """
 import math
 
-import numba
 import numpy as np
+
+from ..jit import core
 
 NX_DEFAULT = 20
 NY_DEFAULT = 20
@@ -73,7 +74,7 @@ BOUND_PARABOLIC = 0   # p_n(x) = p_c (1 - x^2/xl^2) along a strip
 BOUND_ELLIPTIC = 1    # p_n(x) = p_c sqrt(1 - x^2/xl^2)
 
 
-@numba.njit(cache=True)
+@core
 def flexibilities(a, b, G, C11, C22, C23):
     """Kalker's FASTSIM flexibilities (L1, L2, L3) [m/Pa] for semi-axes a (x), b (y)."""
     L1 = 8.0 * a / (3.0 * G * C11)
@@ -82,7 +83,7 @@ def flexibilities(a, b, G, C11, C22, C23):
     return L1, L2, L3
 
 
-@numba.njit(cache=True)
+@core
 def _bound(kind, pc, x, xl):
     r = 1.0 - (x / xl) * (x / xl)
     if r <= 0.0:
@@ -92,7 +93,7 @@ def _bound(kind, pc, x, xl):
     return pc * math.sqrt(r)
 
 
-@numba.njit(cache=True)
+@core
 def fastsim_strip(xi_x, xi_y, phi, y, xl, nx, mu, pc, kind, L1, L2, L3):
     """Integrate one strip at lateral position y with half-length xl [m].
 
@@ -146,7 +147,7 @@ def fastsim_strip(xi_x, xi_y, phi, y, xl, nx, mu, pc, kind, L1, L2, L3):
     return fx * dx, fy * dx, mz * dx
 
 
-@numba.njit(cache=True)
+@core
 def fastsim_core(xi_x, xi_y, phi, a, b, N, mu, L1, L2, L3, nx, ny):
     """FASTSIM on the ellipse (a, b) with given flexibilities; returns (Fx, Fy, Mz) on the wheel.
 
@@ -179,7 +180,7 @@ def fastsim_core(xi_x, xi_y, phi, a, b, N, mu, L1, L2, L3, nx, ny):
     return Fx, Fy, Mz
 
 
-@numba.njit(cache=True)
+@core
 def fastsim_forces(xi_x, xi_y, phi, a, b, N, mu, G, C11, C22, C23, nx, ny):
     """FASTSIM creep forces (Fx, Fy, Mz) on the wheel with Kalker's L1, L2, L3 from C11, C22, C23.
 
@@ -192,7 +193,7 @@ def fastsim_forces(xi_x, xi_y, phi, a, b, N, mu, G, C11, C22, C23, nx, ny):
     return fastsim_core(xi_x, xi_y, phi, a, b, N, mu, L1, L2, L3, nx, ny)
 
 
-@numba.njit(cache=True)
+@core
 def fastsim_tractions(xi_x, xi_y, phi, a, b, N, mu, L1, L2, L3, xs, ys, px, py, slip):
     """Traction field of FASTSIM at the element midpoints, for plots (fills caller arrays).
 

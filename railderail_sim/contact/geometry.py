@@ -30,8 +30,9 @@ Frames and the packed array `cg` are described in `pack_contact_geometry`.
 """
 import math
 
-import numba
 import numpy as np
+
+from ..jit import core
 
 # Header of the packed contact-geometry array cg.
 H_NW, H_WY0, H_DW = 0, 1, 2          # wheel grid: points, first y_p (m), step (m)
@@ -152,7 +153,7 @@ def _head_width(rail, depth):
     return right - left
 
 
-@numba.njit(cache=True)
+@core
 def rail_height(cg, Y):
     """Left-rail surface height Z (m) and slope dZ/dY at track-frame Y; -1 m (no rail) outside the head.
 
@@ -180,7 +181,7 @@ def rail_height(cg, Y):
     return z, dz
 
 
-@numba.njit(cache=True)
+@core
 def _rail_curvature(cg, Y):
     nw = int(cg[H_NW])
     nr = int(cg[H_NR])
@@ -193,7 +194,7 @@ def _rail_curvature(cg, Y):
     return (1.0 - t) * cg[o + i] + t * cg[o + i + 1]
 
 
-@numba.njit(cache=True)
+@core
 def _wheel_at(cg, yp):
     """Wheel radius increase z_w, slope and curvature at profile coordinate yp (linear interpolation)."""
     nw = int(cg[H_NW])
@@ -211,7 +212,7 @@ def _wheel_at(cg, yp):
     return z, s, k
 
 
-@numba.njit(cache=True)
+@core
 def pose_constants(cg, y, z, phi, psi):
     """Per-wheel constants of the trace-line transform for a left-wheel pose (see `trace_gap`)."""
     cphi = math.cos(phi)
@@ -223,7 +224,7 @@ def pose_constants(cg, y, z, phi, psi):
             -spsi * cphi * inv_rho)
 
 
-@numba.njit(cache=True)
+@core
 def _scan(cg, pose, j0, j1, stride, gap, ys):
     """Vertical gap along the contact trace line at wheel grid points j0, j0+stride, ... < j1.
 
@@ -271,7 +272,7 @@ def _scan(cg, pose, j0, j1, stride, gap, ys):
         ys[j] = Y
 
 
-@numba.njit(cache=True)
+@core
 def _trace_point(cg, pose, yp):
     """Trace-line point (X, Y, Z) of the wheel at continuous profile coordinate yp, with its wheel data."""
     y, zc, cphi, sphi, cpsi, spsi, an, bn, k1 = pose
@@ -287,7 +288,7 @@ def _trace_point(cg, pose, yp):
     return cpsi * qx - spsi * qy, y + spsi * qx + cpsi * qy, zc + qz, r, sw, kw
 
 
-@numba.njit(cache=True)
+@core
 def wheel_range(cg, pose):
     """Wheel grid indices [j0, j1) that can lie over the rail head (3 mm margin)."""
     y, zc, cphi, sphi, cpsi, spsi, an, bn, k1 = pose
@@ -300,7 +301,7 @@ def wheel_range(cg, pose):
     return max(j0, 0), min(j1, int(cg[H_NW]))
 
 
-@numba.njit(cache=True)
+@core
 def trace_gap(cg, y, z, phi, psi, gap, ys):
     """Gap along the whole trace line of the left wheel (every grid point over the rail).
 
@@ -314,7 +315,7 @@ def trace_gap(cg, y, z, phi, psi, gap, ys):
     return j0, j1
 
 
-@numba.njit(cache=True)
+@core
 def find_patches(cg, y, z, phi, psi, gap, ys, patches, cand):
     """Interpenetration patches of the left wheel; returns (count, smallest coarse gap).
 
@@ -363,7 +364,7 @@ def find_patches(cg, y, z, phi, psi, gap, ys, patches, cand):
     return count, gmin
 
 
-@numba.njit(cache=True)
+@core
 def track_patches(cg, y, z, phi, psi, gap, ys, patches, cand):
     """Patches near the minima listed in `cand` by the last `find_patches` (a cheap local search).
 
@@ -388,7 +389,7 @@ def track_patches(cg, y, z, phi, psi, gap, ys, patches, cand):
     return count
 
 
-@numba.njit(cache=True)
+@core
 def local_minimum(cg, pose, jc, j0, j1, half, gap, ys):
     """Fine-grid local minimum within `half` grid steps of jc, walking downhill beyond that window if
     needed; its two neighbours are scanned too (for the parabola of `_fill_patch`)."""
@@ -421,7 +422,7 @@ def local_minimum(cg, pose, jc, j0, j1, half, gap, ys):
     return jm
 
 
-@numba.njit(cache=True)
+@core
 def _set_weights(cg, pose, patches, count, gap, ys):
     """Share weight of each patch (P_WEIGHT) for equivalent-elliptic normal contact.
 
@@ -451,7 +452,7 @@ def _set_weights(cg, pose, patches, count, gap, ys):
             patches[s, P_WEIGHT] = w
 
 
-@numba.njit(cache=True)
+@core
 def run_bounds(cg, y, z, phi, psi, jm, gap, ys):
     """Fine-grid extent [ja, jb] of the patch around its minimum jm (fills gap/ys on it): the
     interpenetration run, cut at the top of a ridge (beyond it lies the next patch's minimum)."""
@@ -484,7 +485,7 @@ def run_bounds(cg, y, z, phi, psi, jm, gap, ys):
     return ja, jb
 
 
-@numba.njit(cache=True)
+@core
 def _fill_patch(cg, pose, jm, j0, j1, gap, patches, slot):
     """Refine the deepest grid point of a run by a parabola and fill one patch row."""
     t = 0.0
@@ -514,7 +515,7 @@ def _fill_patch(cg, pose, jm, j0, j1, gap, patches, slot):
     patches[slot, P_HERTZ_C1 + 2] = 0.0           # the Hertz shape is computed from A and B
 
 
-@numba.njit(cache=True)
+@core
 def wheel_lift(cg, z, phi):
     """The paper's hp for the left wheel: height of the lowest point of the nominal rolling circle above
     the rail's highest point (m). Right wheel: call with the mirrored pose (-phi)."""
@@ -523,7 +524,7 @@ def wheel_lift(cg, z, phi):
     return r0 + z + lw * math.sin(phi) - r0 * math.cos(phi)
 
 
-@numba.njit(cache=True)
+@core
 def min_gap(cg, y, z, phi, psi, gap, ys):
     """Smallest gap of the left wheel (m) on the fine grid and the index where it occurs."""
     j0, j1 = trace_gap(cg, y, z, phi, psi, gap, ys)
@@ -534,7 +535,7 @@ def min_gap(cg, y, z, phi, psi, gap, ys):
     return gap[jm], jm
 
 
-@numba.njit(cache=True)
+@core
 def rigid_contact(cg, y, psi, gap, ys):
     """Rigid (zero-penetration) contact of both wheels for lateral displacement y and yaw psi.
 

@@ -68,8 +68,8 @@ contact stiffness and patch finite and smooth when one curvature passes through 
 simulation (A_s <= 0 is then also handled: it is raised to ``B_l/RATIO_MAX``).
 ``hertz_guard_active(A, B)`` tells whether the guard acts.
 
-Inputs/outputs are SI (m, 1/m, N, Pa). All functions are ``numba.njit(cache=True)``, scalar and
-allocation-free.
+Inputs/outputs are SI (m, 1/m, N, Pa). All functions are numba core (``railderail_sim.jit.core``), scalar
+and allocation-free.
 
 References
 ----------
@@ -81,8 +81,9 @@ Timoshenko, S.P., Goodier, J.N. (1951) Theory of Elasticity, 2nd ed., §140 (m, 
 """
 import math
 
-import numba
 import numpy as np
+
+from ..jit import core
 
 # Limits of the near-conformal guard (see module docstring).
 G_MIN = 1.0 / 30.0
@@ -98,13 +99,13 @@ _PI = math.pi
 _AGM_MAXIT = 60
 
 
-@numba.njit(cache=True)
+@core
 def combined_modulus(E1, nu1, E2, nu2):
     """E* with 1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2 [Pa] (Johnson 1985, §4.2)."""
     return 1.0 / ((1.0 - nu1 * nu1) / E1 + (1.0 - nu2 * nu2) / E2)
 
 
-@numba.njit(cache=True)
+@core
 def ellip_k_s(e, g):
     """Complete elliptic integral K and s = (K - E)/(K e^2) for modulus e, complementary g.
 
@@ -130,7 +131,7 @@ def ellip_k_s(e, g):
     return K, ssum
 
 
-@numba.njit(cache=True)
+@core
 def ellip_ke(k, kc):
     """Complete elliptic integrals (K, E, K - E) for modulus k, complementary modulus kc.
 
@@ -142,7 +143,7 @@ def ellip_ke(k, kc):
     return K, K - d, d
 
 
-@numba.njit(cache=True)
+@core
 def _ratio_of_g(g):
     """Curvature ratio B_l/A_s >= 1 that gives the semi-axis ratio g = b_min/a_maj (eq. 4.39)."""
     e = math.sqrt((1.0 - g) * (1.0 + g))
@@ -150,7 +151,7 @@ def _ratio_of_g(g):
     return (1.0 / s - 1.0) / (g * g)
 
 
-@numba.njit(cache=True)
+@core
 def _solve_g_bracket(r, g_min):
     """Semi-axis ratio g = b/a in [g_min, 1] for curvature ratio r = B_l/A_s >= 1 (eq. 4.39).
 
@@ -198,7 +199,7 @@ def _solve_g_bracket(r, g_min):
     return math.exp(0.5 * (t_lo + t_hi))
 
 
-@numba.njit(cache=True)
+@core
 def _fit_lng(x):
     """Chebyshev fit of ln g versus x = ln r on [0, ln RATIO_MAX]: value and d(ln g)/dx.
 
@@ -222,7 +223,7 @@ def _fit_lng(x):
     return val, der * 2.0 / _FIT_X
 
 
-@numba.njit(cache=True)
+@core
 def _solve_g(r, g_min):
     """Semi-axis ratio g = b/a in [g_min, 1] for curvature ratio r = B_l/A_s >= 1 (eq. 4.39).
 
@@ -245,7 +246,7 @@ def _solve_g(r, g_min):
     return math.exp(t)
 
 
-@numba.njit(cache=True)
+@core
 def hertz_guard_active(A, B):
     """True when the near-conformal guard changes the smaller curvature (see module docstring)."""
     cs = min(A, B)
@@ -253,7 +254,7 @@ def hertz_guard_active(A, B):
     return cs * RATIO_MAX < cl
 
 
-@numba.njit(cache=True)
+@core
 def _shape_core(A, B, E_star, g_min, ratio_max):
     """hertz_shape with an explicit guard (g_min, ratio_max = _ratio_of_g(g_min))."""
     if not (E_star > 0.0):
@@ -281,7 +282,7 @@ def _shape_core(A, B, E_star, g_min, ratio_max):
     return bmin, amaj, C
 
 
-@numba.njit(cache=True)
+@core
 def hertz_shape(A, B, E_star):
     """Load-independent Hertz coefficients for the gap h = A x^2 + B y^2.
 
@@ -294,7 +295,7 @@ def hertz_shape(A, B, E_star):
     return _shape_core(A, B, E_star, G_MIN, RATIO_MAX)
 
 
-@numba.njit(cache=True)
+@core
 def hertz_patch(A, B, E_star, N):
     """Hertz patch for normal load N [N]: returns (a, b, delta, p0).
 
@@ -312,7 +313,7 @@ def hertz_patch(A, B, E_star, N):
     return a, b, delta, p0
 
 
-@numba.njit(cache=True)
+@core
 def hertz_force(A, B, E_star, delta):
     """Normal load N = C delta^(3/2) for approach delta [m] (0 for delta <= 0)."""
     if not (delta > 0.0):

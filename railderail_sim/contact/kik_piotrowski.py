@@ -79,9 +79,9 @@ Kalker, J.J. (1982) Vehicle System Dynamics 11, 1-13 (FASTSIM).
 """
 import math
 
-import numba
 import numpy as np
 
+from ..jit import core
 from .creep import kalker_coefficients
 from .fastsim import BOUND_ELLIPTIC, fastsim_strip, flexibilities
 
@@ -123,7 +123,7 @@ _KME_Q = (0.5, 0.12498593597 - 0.24998368310, 0.06880248576 - 0.09200180037,
           0.03328355346 - 0.04069697526, 0.00441787012 - 0.00526449639)
 
 
-@numba.njit(cache=True)
+@core
 def _k_minus_e(kc):
     """K(k) - E(k) from the complementary modulus kc = sqrt(1 - k^2), 0 < kc <= 1 (absolute error < 4e-8)."""
     m1 = kc * kc
@@ -132,14 +132,14 @@ def _k_minus_e(kc):
     return p - q * math.log(m1)
 
 
-@numba.njit(cache=True)
+@core
 def _kernel(L, eta):
     """int_{-L}^{L} sqrt(L^2 - x^2)/sqrt(x^2 + eta^2) dx = 2 c (K(k) - E(k)); eta != 0."""
     c = math.sqrt(L * L + eta * eta)
     return 2.0 * c * _k_minus_e(abs(eta) / c)
 
 
-@numba.njit(cache=True)
+@core
 def _glog(eta):
     """Antiderivative of ln|eta|: eta (ln|eta| - 1), 0 at eta = 0."""
     if eta == 0.0:
@@ -147,7 +147,7 @@ def _glog(eta):
     return eta * (math.log(abs(eta)) - 1.0)
 
 
-@numba.njit(cache=True)
+@core
 def _strip_IR(L, e1, e2, near):
     """int_{e1}^{e2} 2c(K-E) d eta for one strip of half-length L, eta relative to y0."""
     hm = 0.5 * (e2 - e1)
@@ -171,7 +171,7 @@ def _strip_IR(L, e1, e2, near):
     return tot + hm * s
 
 
-@numba.njit(cache=True)
+@core
 def _run_end(gap, delta, r0, n):
     """End (exclusive) of the run of strips with gap < delta starting at r0."""
     r1 = r0
@@ -180,7 +180,7 @@ def _run_end(gap, delta, r0, n):
     return r1
 
 
-@numba.njit(cache=True)
+@core
 def _run_force(s0, ds, gap, R_long, r0, r1, delta, eps, Estar):
     """Normal load and integrals of one patch run [r0, r1). Returns (N, IS, jm, dk, xl0)."""
     jm = r0
@@ -208,7 +208,7 @@ def _run_force(s0, ds, gap, R_long, r0, r1, delta, eps, Estar):
     return N, IS, jm, dk, xl0
 
 
-@numba.njit(cache=True)
+@core
 def _check_inputs(s, gap, R_long, E, nu, eps):
     n = s.shape[0]
     if n < 2 or gap.shape[0] != n or R_long.shape[0] != n:
@@ -219,7 +219,7 @@ def _check_inputs(s, gap, R_long, E, nu, eps):
         raise ValueError("kik_piotrowski: eps must be within (0, 1]")
 
 
-@numba.njit(cache=True)
+@core
 def kp_normal_force(s, gap, R_long, delta, E, nu, eps):
     """Total KP normal load [N] for approach delta [m] (sum over patches); allocation-free."""
     _check_inputs(s, gap, R_long, E, nu, eps)
@@ -241,7 +241,7 @@ def kp_normal_force(s, gap, R_long, delta, E, nu, eps):
     return Ntot
 
 
-@numba.njit(cache=True)
+@core
 def kp_normal(s, gap, R_long, delta, E, nu, eps, xl, pid, patches):
     """KP normal contact for approach delta: fills xl, pid, patches; returns the number of patches.
 
@@ -335,7 +335,7 @@ def kp_normal(s, gap, R_long, delta, E, nu, eps, xl, pid, patches):
     return np_
 
 
-@numba.njit(cache=True)
+@core
 def kp_delta_for_force(s, gap, R_long, N_target, E, nu, eps):
     """Approach delta [m] at which the total KP normal load equals N_target [N] (0 if N <= 0).
 
@@ -399,7 +399,7 @@ def kp_delta_for_force(s, gap, R_long, N_target, E, nu, eps):
     return math.exp(x)
 
 
-@numba.njit(cache=True)
+@core
 def kp_creep_forces(s, xl, patches, k, xi_x, xi_y, phi, mu, G, nu, nx):
     """Creep forces (Fx, Fy) on the wheel for KP patch k by strip-wise FASTSIM.
 

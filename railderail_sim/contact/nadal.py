@@ -28,17 +28,17 @@ derailment, Nadal's formula). EN 14363 uses the fixed limit (Y/Q)_lim = 0.8 for 
 """
 import math
 
-import numba
+from ..jit import core
 
 
-@numba.njit(cache=True)
+@core
 def nadal_limit(flange_angle, mu):
     """Nadal's limit (Q/P)_lim = (tan d - mu)/(1 + mu tan d); flange_angle [rad], mu [-]."""
     t = math.tan(flange_angle)
     return (t - mu) / (1.0 + mu * t)
 
 
-@numba.njit(cache=True)
+@core
 def nadal_flange_angle(q_over_p, mu):
     """Inverse: flange angle [rad] at which Nadal's limit equals q_over_p for friction mu.
 
@@ -50,7 +50,7 @@ def nadal_flange_angle(q_over_p, mu):
     return math.atan((q_over_p + mu) / den)
 
 
-@numba.njit(cache=True)
+@core
 def nadal_friction(q_over_p, flange_angle):
     """Inverse: friction coefficient at which Nadal's limit equals q_over_p for the flange angle."""
     t = math.tan(flange_angle)

@@ -39,9 +39,9 @@ Where the table does not apply, `table_patches` returns -1 and the wheel is sear
 """
 import math
 
-import numba
 import numpy as np
 
+from ..jit import core
 from . import geometry as geo
 from .hertz import hertz_shape
 
@@ -80,11 +80,11 @@ def attach(cg):
     out[geo.H_TAB_PSI_MAX] = PSI_MAX
     nw = int(cg[geo.H_NW])
     _build(out, np.zeros(nw), np.zeros(nw), np.zeros((geo.MAX_PATCHES, geo.P_COLS)),
-           np.zeros((3, geo.MAX_PATCHES, NQ)))
+           np.zeros((3, geo.MAX_PATCHES, NQ)), np.zeros(MAX_MINIMA, dtype=np.int64))
     return out
 
 
-@numba.njit(cache=True)
+@core
 def _quantities(cg, row, q):
     """Tabulated quantities of one patch row of `geometry._fill_patch` (at z = 0) into q[:]."""
     q[Q_GAP] = row[geo.P_GAP]
@@ -99,12 +99,11 @@ def _quantities(cg, row, q):
     q[Q_AC], q[Q_BC], q[Q_C] = hertz_shape(row[geo.P_A], row[geo.P_B], 1.0)
 
 
-@numba.njit(cache=True)
-def _build(cg, gap, ys, patches, qs):
+@core
+def _build(cg, gap, ys, patches, qs, minima):
     base = int(cg[geo.H_TABLE])
     ny = int(cg[geo.H_TAB_NY])
     nphi = int(cg[geo.H_TAB_NPHI])
-    minima = np.zeros(MAX_MINIMA, dtype=np.int64)
     h = PSI_FIT
     for iy in range(ny):
         u = cg[geo.H_TAB_Y0] + iy * cg[geo.H_TAB_DY]
@@ -171,13 +170,13 @@ def _build(cg, gap, ys, patches, qs):
             cg[o + N_COUNT] = nmin if usable else -1
 
 
-@numba.njit(cache=True)
+@core
 def _at_yaw(cg, i, psi):
     """One node's yaw polynomial q0 + q1 psi + q2 psi^2 stored at cg[i:i+3]."""
     return cg[i] + psi * (cg[i + 1] + psi * cg[i + 2])
 
 
-@numba.njit(cache=True)
+@core
 def _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, col, psi):
     """Bilinear interpolation of the yaw polynomial q0 + q1 psi + q2 psi^2 stored at column col."""
     c0 = w00 * cg[n00 + col] + w01 * cg[n01 + col] + w10 * cg[n10 + col] + w11 * cg[n11 + col]
@@ -186,7 +185,7 @@ def _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, col, psi):
     return c0 + psi * (c1 + psi * c2)
 
 
-@numba.njit(cache=True)
+@core
 def table_patches(cg, y, z, phi, psi, patches, cand):
     """Patches of the left wheel from the contact table: (count, smallest gap), count -1 where the table
     does not apply (the caller then searches online).

@@ -16,8 +16,7 @@ Only the left wheel is written out; `wheel_forces` mirrors the pose for the righ
 """
 import math
 
-import numba
-
+from ..jit import core
 from . import geometry as geo
 from .creep import creep_forces
 from .hertz import hertz_shape
@@ -49,7 +48,7 @@ W_PATCH_COLS = 6
 W_SIZE = W_PATCH0 + geo.MAX_PATCHES * W_PATCH_COLS
 
 
-@numba.njit(cache=True)
+@core
 def left_wheel(cg, cp, y, z, phi, psi, vx0, vy0, vz0, ox, oy, oz, spin, speed, gap, ys, patches, cand, tracked,
                kpbuf, kpid, kprow, rec):
     """Contact forces of the left wheel of a wheelset.
@@ -204,7 +203,7 @@ def left_wheel(cg, cp, y, z, phi, psi, vx0, vy0, vz0, ox, oy, oz, spin, speed, g
     return fx_tot, fy_tot, fz_tot, mx_tot, my_tot, mz_tot
 
 
-@numba.njit(cache=True)
+@core
 def _discrete_normal(cg, y, z, phi, psi, jm, gmin, cos_angle, gap, ys, kpbuf, kpid, kprow, estar, nu):
     """Kik-Piotrowski normal load of one patch from the gap along its extent.
 
@@ -248,7 +247,7 @@ def _discrete_normal(cg, y, z, phi, psi, jm, gmin, cos_angle, gap, ys, kpbuf, kp
             kprow[0, kp.P_BEQ])
 
 
-@numba.njit(cache=True)
+@core
 def wheel_forces(cg, cp, side, y, z, phi, psi, vx, vy, vz, ox, oy, oz, spin, speed, gap, ys, patches, cand,
                  tracked, kpbuf, kpid, kprow, rec):
     """Contact force and moment of wheel `side` (0 left, 1 right): (Fx, Fy, Fz, Mx, My, Mz), track axes.

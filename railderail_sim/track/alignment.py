@@ -15,8 +15,9 @@ core can evaluate the alignment millions of times without Python objects.
 """
 import math
 
-import numba
 import numpy as np
+
+from ..jit import core
 
 # Layout of the packed track array.
 N_SEG = 5                      # straight, transition, curve, transition, straight
@@ -30,6 +31,9 @@ I_EXC = 26                     # excitation: start s (m), length (m), amplitude 
 I_GRID = 29                    # heading/position grid: step (m), number of nodes, first node s
 I_NODES = 32                   # nodes: heading, X, Y at each grid node (3 * n)
 GRID_STEP = 0.5                # m; Taylor expansion from the nearest node is exact to ~1e-9 m
+# 4-point Gauss-Legendre abscissae and weights on [-1, 1] (the node integration's quadrature)
+GAUSS_X = np.array([-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526])
+GAUSS_W = np.array([0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538])
 
 
 def pack_track(straight_in, transition_in, curve, transition_out, straight_out, radius, cant_height,
@@ -61,7 +65,7 @@ def pack_track(straight_in, transition_in, curve, transition_out, straight_out, 
     return track
 
 
-@numba.njit(cache=True)
+@core
 def _piece(track, s):
     """Segment index k with breaks[k] <= s < breaks[k+1], clamped to the straight ends (-1 or 5)."""
     if s < track[I_BREAKS]:
@@ -72,7 +76,7 @@ def _piece(track, s):
     return N_SEG
 
 
-@numba.njit(cache=True)
+@core
 def curvature(track, s):
     """Signed curvature (1/m, + left) and its derivative d(curvature)/ds (1/m^2)."""
     k = _piece(track, s)
@@ -87,7 +91,7 @@ def curvature(track, s):
     return d * (c0 + slope * (s - s0)), d * slope
 
 
-@numba.njit(cache=True)
+@core
 def cant(track, s):
     """Track-plane roll angle (rad, signed: negative raises the right rail) and its derivative d/ds."""
     k = _piece(track, s)
@@ -106,7 +110,7 @@ def cant(track, s):
     return d * ang, d * dang
 
 
-@numba.njit(cache=True)
+@core
 def section(track, s):
     """0 straight, 1 transition, 2 circular curve (the VehicleStatus message constants)."""
     k = _piece(track, s)
@@ -117,7 +121,7 @@ def section(track, s):
     return 0
 
 
-@numba.njit(cache=True)
+@core
 def _heading_exact(track, s):
     """Heading (rad) by exact integration of the piecewise-linear curvature from s = 0."""
     h = 0.0
@@ -135,14 +139,12 @@ def _heading_exact(track, s):
     return h
 
 
-@numba.njit(cache=True)
+@core
 def _integrate_nodes(track):
     """Fill the heading/position grid by 4-point Gauss-Legendre quadrature of (cos h, sin h) per step."""
     step = track[I_GRID]
     n = int(track[I_GRID + 1])
     s_first = track[I_GRID + 2]
-    gx = np.array([-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526])
-    gw = np.array([0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538])
     x = s_first  # straight before s = 0 along the x axis
     y = 0.0
     for i in range(n):
@@ -150,17 +152,17 @@ def _integrate_nodes(track):
         if i > 0:
             sa = s - step
             for q in range(4):
-                sq = sa + 0.5 * step * (gx[q] + 1.0)
+                sq = sa + 0.5 * step * (GAUSS_X[q] + 1.0)
                 hq = _heading_exact(track, sq)
-                x += 0.5 * step * gw[q] * math.cos(hq)
-                y += 0.5 * step * gw[q] * math.sin(hq)
+                x += 0.5 * step * GAUSS_W[q] * math.cos(hq)
+                y += 0.5 * step * GAUSS_W[q] * math.sin(hq)
         j = I_NODES + 3 * i
         track[j] = _heading_exact(track, s)
         track[j + 1] = x
         track[j + 2] = y
 
 
-@numba.njit(cache=True)
+@core
 def lateral_defect(track, s):
     """Lateral alignment defect (m, + left) and its slope d/ds at s.
 
@@ -177,7 +179,7 @@ def lateral_defect(track, s):
     return 0.5 * amp * (1.0 - math.cos(w * u)), 0.5 * amp * w * math.sin(w * u)
 
 
-@numba.njit(cache=True)
+@core
 def frame(track, s):
     """Track frame at s: (X, Y, heading, roll) of the origin in the ground frame.
 

@@ -20,14 +20,13 @@ Formulation (details and assumptions in docs/vehicle-model.md):
 """
 import math
 
-import numba
-
+from ..jit import core
 from ..contact import wheelset as ws
 from ..track import alignment as trk
 from . import layout as L
 
 
-@numba.njit(cache=True)
+@core
 def speed_at(sp, s):
     """Forward speed v (m/s) and dv/ds at s from the piecewise-linear speed table sp[:, (s, v)]."""
     n = sp.shape[0]
@@ -48,7 +47,7 @@ def speed_at(sp, s):
     return sp[lo, 1] + slope * (s - sp[lo, 0]), slope
 
 
-@numba.njit(cache=True)
+@core
 def _track_rotation(out, o, heading, roll):
     """out[o:o+9] = Rz(heading) Rx(roll), row-major: ground <- track axes."""
     ch, sh = math.cos(heading), math.sin(heading)
@@ -64,7 +63,7 @@ def _track_rotation(out, o, heading, roll):
     out[o + 8] = cr
 
 
-@numba.njit(cache=True)
+@core
 def _compose(out, o, ot, yaw, pitch, rel_roll):
     """out[o:o+9] = out[ot:ot+9] Rz(yaw) Ry(pitch) Rx(rel_roll) (the track rotation already in place)."""
     cy, sy = math.cos(yaw), math.sin(yaw)
@@ -101,7 +100,7 @@ K_M = 36         # moment accumulator about the reference point, ground axes (3)
 K_COLS = 39
 
 
-@numba.njit(cache=True)
+@core
 def _point(kin, b, p0, p1, p2):
     """Ground position, ground velocity and ground-axes arm of a body-fixed point."""
     R = kin[b, K_R:K_R + 9]
@@ -118,7 +117,7 @@ def _point(kin, b, p0, p1, p2):
     return px, py, pz, vx, vy, vz, ax, ay, az
 
 
-@numba.njit(cache=True)
+@core
 def _apply(kin, b, fx, fy, fz, ax, ay, az):
     """Add a ground-axes force acting at arm (ax, ay, az) from body b's reference point."""
     kin[b, K_F] += fx
@@ -129,21 +128,21 @@ def _apply(kin, b, fx, fy, fz, ax, ay, az):
     kin[b, K_M + 2] += ax * fy - ay * fx
 
 
-@numba.njit(cache=True)
+@core
 def _to_body_axes(kin, a, dx, dy, dz):
     R = kin[a, K_R:K_R + 9]
     return (R[0] * dx + R[3] * dy + R[6] * dz, R[1] * dx + R[4] * dy + R[7] * dz,
             R[2] * dx + R[5] * dy + R[8] * dz)
 
 
-@numba.njit(cache=True)
+@core
 def _to_ground(kin, a, lx, ly, lz):
     R = kin[a, K_R:K_R + 9]
     return (R[0] * lx + R[1] * ly + R[2] * lz, R[3] * lx + R[4] * ly + R[5] * lz,
             R[6] * lx + R[7] * ly + R[8] * lz)
 
 
-@numba.njit(cache=True)
+@core
 def damper_force(v, knee, c1, c2):
     """Two-stage (blow-off) damper force (N) at elongation rate v (m/s)."""
     av = abs(v)
@@ -153,7 +152,7 @@ def damper_force(v, knee, c1, c2):
     return f if v > 0.0 else -f
 
 
-@numba.njit(cache=True)
+@core
 def damper_rate(f, knee, c1, c2):
     """Inverse of damper_force: elongation rate (m/s) of the damper carrying force f (N)."""
     fk = c1 * knee
@@ -164,7 +163,7 @@ def damper_rate(f, knee, c1, c2):
     return v if f > 0.0 else -v
 
 
-@numba.njit(cache=True)
+@core
 def bump_force(vp, u):
     """Bump-stop force magnitude (N) at lateral deflection magnitude u (m)."""
     clear = vp[L.V_BUMP_CLEARANCE]
@@ -183,7 +182,7 @@ def bump_force(vp, u):
     return f0
 
 
-@numba.njit(cache=True)
+@core
 def kinematics(x, bodies, track, sp, kin):
     """Fill the per-body kinematics scratch array; returns (v, dv/ds)."""
     s = x[L.I_S]
@@ -231,7 +230,7 @@ def kinematics(x, bodies, track, sp, kin):
     return v, dvds
 
 
-@numba.njit(cache=True)
+@core
 def suspension(x, dx, vp, bush, damp, bump, arb, kin):
     """Add all suspension forces to the kinematics accumulators; damper state rates into dx."""
     for e in range(bush.shape[0]):
@@ -309,7 +308,7 @@ def suspension(x, dx, vp, bush, damp, bump, arb, kin):
         kin[a, K_M + 2] -= mz
 
 
-@numba.njit(cache=True)
+@core
 def rhs(x, dx, bodies, vp, bush, damp, bump, arb, track, sp, cg, cp, kin, gap, ys, patches, cands, tracked,
         kpbuf, kpid, kprow, recs):
     """dx = f(x). Wheel records of the 8 wheels are left in recs (8 x W_SIZE).

@@ -14,9 +14,9 @@ per publication period with the same buffers.
 """
 import math
 
-import numba
 import numpy as np
 
+from ..jit import core
 from ..contact import geometry as geo
 from ..contact import kik_piotrowski as kp
 from ..contact import wheelset as ws
@@ -54,14 +54,14 @@ def workspace(cg):
                 event=np.zeros(EV_SIZE))
 
 
-@numba.njit(cache=True)
+@core
 def _rhs(x, dx, bodies, vp, bush, damp, bump, arb, track, sp, cg, cp, kin, gap, ys, patches, cands,
          tracked, kpbuf, kpid, kprow, recs):
     return dyn.rhs(x, dx, bodies, vp, bush, damp, bump, arb, track, sp, cg, cp, kin, gap, ys, patches,
                    cands, tracked, kpbuf, kpid, kprow, recs)
 
 
-@numba.njit(cache=True)
+@core
 def fill_row(row, t, x, v, bodies, vp, track, recs):
     """One output row from the state and the wheel records of the same instant."""
     s = x[L.I_S]
@@ -92,7 +92,7 @@ def fill_row(row, t, x, v, bodies, vp, track, recs):
             row[o + q] = recs[k, q]
 
 
-@numba.njit(cache=True)
+@core
 def _check_derailment(x, v, t, vp, bodies, recs, event):
     """The paper's geometric criterion, per wheel (docs/methods.md): True and `event` filled if met.
 
@@ -127,7 +127,7 @@ def _check_derailment(x, v, t, vp, bodies, recs, event):
     return False
 
 
-@numba.njit(cache=True)
+@core
 def _check_divergence(x, t, event):
     bad = -1
     for i in range(L.N_STATE):
@@ -178,7 +178,7 @@ _E = np.array([71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 3
                -1.0 / 40.0])
 
 
-@numba.njit(cache=True)
+@core
 def advance(x, t, duration, out_dt, first_row, hstate, s_end, stop_on_derailment, atol, rtol, h_min, h_max,
             bodies, vp,
             bush, damp, bump, arb, track, sp, cg, cp, ks, xt, cand_save, kin, gap, ys, patches, cands, kpbuf,
