@@ -25,9 +25,10 @@ be computed beforehand, the way Simpack's and VAMPIRE's contact tables are, with
 At each node the gap along the whole trace line is computed on the fine wheel grid and every local
 minimum below STORE_GAP is kept (up to MAX_PATCHES, the deepest): a patch at run time wherever
 g + z < 0, a candidate for the in-step search below TRACK_GAP. Each keeps its contact point, rail slope,
-wheel radius, the Hertz half curvature sums A and B, the Hertz shape at E* = 1 Pa (semi-axis coefficients
-scale as E*^(-1/3), the stiffness as E*: exact, `hertz.hertz_shape`), and the highest gap between it and the
-next minimum (the ridge that sets the share weight of `geometry._set_weights`).
+wheel coordinate, the Hertz shape at E* = 1 Pa (semi-axis coefficients scale as E*^(-1/3), the stiffness
+as E*: exact, `hertz.hertz_shape`), and the highest gap between it and the next minimum (the ridge that
+sets the share weight of `geometry._set_weights`). The wheel radius and the curvature sums A, B that the
+shape comes from are not kept: the force needs only the shape, and each interpolated quantity costs.
 
 Where the table does not apply, `table_patches` returns -1 and the wheel is searched online
 (`geometry.find_patches` / `track_patches`), exactly as without a table:
@@ -41,7 +42,7 @@ import math
 
 import numpy as np
 
-from ..jit import core
+from ..jit import core, core_inline
 from . import geometry as geo
 from .hertz import hertz_shape
 
@@ -56,8 +57,8 @@ JUMP = 24                                       # wheel grid steps (3 mm); a min
 SLOPE_SPREAD = 0.30                             # largest spread of tan(contact angle) over a cell's nodes
 
 # Quantities of one tabulated minimum, each with three yaw coefficients (q0, q1, q2)
-Q_GAP, Q_Y, Q_X, Q_QZ, Q_SLOPE, Q_YP, Q_RADIUS, Q_A, Q_B, Q_AC, Q_BC, Q_C = range(12)
-NQ = 12
+Q_GAP, Q_Y, Q_X, Q_QZ, Q_SLOPE, Q_YP, Q_AC, Q_BC, Q_C = range(9)
+NQ = 9
 S_RIDGE = 3 * NQ                                # highest gap between this minimum and the next one (m)
 S_J = S_RIDGE + 1                               # wheel grid index at psi = 0
 S_COLS = S_J + 1
@@ -93,9 +94,6 @@ def _quantities(cg, row, q):
     q[Q_QZ] = row[geo.P_Z] - cg[geo.H_R0]
     q[Q_SLOPE] = row[geo.P_SLOPE]
     q[Q_YP] = row[geo.P_YP]
-    q[Q_RADIUS] = row[geo.P_RADIUS]
-    q[Q_A] = row[geo.P_A]
-    q[Q_B] = row[geo.P_B]
     q[Q_AC], q[Q_BC], q[Q_C] = hertz_shape(row[geo.P_A], row[geo.P_B], 1.0)
 
 
@@ -170,13 +168,13 @@ def _build(cg, gap, ys, patches, qs, minima):
             cg[o + N_COUNT] = nmin if usable else -1
 
 
-@core
+@core_inline
 def _at_yaw(cg, i, psi):
     """One node's yaw polynomial q0 + q1 psi + q2 psi^2 stored at cg[i:i+3]."""
     return cg[i] + psi * (cg[i + 1] + psi * cg[i + 2])
 
 
-@core
+@core_inline
 def _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, col, psi):
     """Bilinear interpolation of the yaw polynomial q0 + q1 psi + q2 psi^2 stored at column col."""
     c0 = w00 * cg[n00 + col] + w01 * cg[n01 + col] + w10 * cg[n10 + col] + w11 * cg[n11 + col]
@@ -190,9 +188,10 @@ def table_patches(cg, y, z, phi, psi, patches, cand):
     """Patches of the left wheel from the contact table: (count, smallest gap), count -1 where the table
     does not apply (the caller then searches online).
 
-    Fills the same patch columns as `geometry.find_patches` (contact point, gap, slope, wheel coordinate and
-    radius, A, B, grid index, share weight) plus the Hertz shape at E* = 1 (P_HERTZ_C1...), and lists the
-    minima below TRACK_GAP in `cand` for the in-step search, should a later stage leave the table.
+    Fills the patch columns of `geometry.find_patches` (contact point, gap, slope, wheel coordinate, grid
+    index, share weight; the wheel radius and A, B are NaN) plus the Hertz shape at E* = 1 (P_HERTZ_C1...),
+    and lists the minima below TRACK_GAP in `cand` for the in-step search, should a later stage leave the
+    table.
     """
     base = int(cg[geo.H_TABLE])
     if base == 0 or abs(psi) > cg[geo.H_TAB_PSI_MAX]:
@@ -255,9 +254,9 @@ def table_patches(cg, y, z, phi, psi, patches, cand):
             row[geo.P_Z] = r0z + _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_QZ, psi)
             row[geo.P_SLOPE] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_SLOPE, psi)
             row[geo.P_YP] = yp
-            row[geo.P_RADIUS] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_RADIUS, psi)
-            row[geo.P_A] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_A, psi)
-            row[geo.P_B] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_B, psi)
+            row[geo.P_RADIUS] = math.nan           # not tabulated: the wheel's contact needs only the Hertz
+            row[geo.P_A] = math.nan                # shape below (a stale value from an online search would
+            row[geo.P_B] = math.nan                # pass silently)
             row[geo.P_HERTZ_C1] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_AC, psi)
             row[geo.P_HERTZ_C1 + 1] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_BC, psi)
             row[geo.P_HERTZ_C1 + 2] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_C, psi)

@@ -16,7 +16,7 @@ Only the left wheel is written out; `wheel_forces` mirrors the pose for the righ
 """
 import math
 
-from ..jit import core
+from ..jit import core, core_inline
 from . import geometry as geo
 from .creep import creep_forces
 from .hertz import hertz_shape
@@ -247,7 +247,7 @@ def _discrete_normal(cg, y, z, phi, psi, jm, gmin, cos_angle, gap, ys, kpbuf, kp
             kprow[0, kp.P_BEQ])
 
 
-@core
+@core_inline
 def wheel_forces(cg, cp, side, y, z, phi, psi, vx, vy, vz, ox, oy, oz, spin, speed, gap, ys, patches, cand,
                  tracked, kpbuf, kpid, kprow, rec):
     """Contact force and moment of wheel `side` (0 left, 1 right): (Fx, Fy, Fz, Mx, My, Mz), track axes.
