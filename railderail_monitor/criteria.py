@@ -43,6 +43,8 @@ from dataclasses import asdict, dataclass, fields
 
 import numpy as np
 
+from railderail_sim.ranges import check_range
+
 CRITERIA = ("attack_angle", "wheel_lift", "derailment_coefficient", "wheel_unloading")
 UNITS = {"attack_angle": "rad", "wheel_lift": "m", "derailment_coefficient": "-", "wheel_unloading": "-"}
 SEVERITY_WARNING, SEVERITY_CRITICAL = 1, 2          # the Alert message's constants
@@ -83,12 +85,9 @@ class Limits:
             warn, crit = getattr(self, criterion), getattr(self, criterion + "_critical")
             if math.isfinite(warn) and math.isfinite(crit) and not warn < crit:
                 raise ValueError(f"{criterion} {warn:g} must be below {criterion}_critical {crit:g}")
-        if not (0.0 <= self.debounce_m <= 100.0):
-            raise ValueError(f"debounce_m {self.debounce_m:g} m is outside 0-100 m")
-        if not (0.0 <= self.rearm_m <= 10000.0):
-            raise ValueError(f"rearm_m {self.rearm_m:g} m is outside 0-10000 m")
-        if not (0.0 < self.rearm_fraction <= 1.0):
-            raise ValueError(f"rearm_fraction {self.rearm_fraction:g} is outside 0-1")
+        check_range("debounce_m", self.debounce_m, 0.0, 100.0, "m")
+        check_range("rearm_m", self.rearm_m, 0.0, 10000.0, "m")
+        check_range("rearm_fraction", self.rearm_fraction, 0.0, 1.0, lo_open=True)
         return self
 
     def as_dict(self):

@@ -93,7 +93,7 @@ def test_sweep_on_dask_equals_the_local_run():
 
 def test_cli_refuses_out_of_range_input(capsys):
     assert main(["trial", "--radius", "100"]) == 2
-    assert "curve radius 100 m is outside the supported range" in capsys.readouterr().err
+    assert "curve radius 100 m is outside the accepted range" in capsys.readouterr().err
     assert main(["sweep", "--radii", "800,abc"]) == 2
     assert "--radii '800,abc' is not a comma-separated list" in capsys.readouterr().err
     assert main(["limit-cycle", "--kink-mm", "50"]) == 2

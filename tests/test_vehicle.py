@@ -126,7 +126,7 @@ def test_divergence_stops_with_a_clear_error():
 
 
 def test_out_of_range_input_is_refused():
-    with pytest.raises(ValueError, match="curve radius 100 m is outside the supported range"):
+    with pytest.raises(ValueError, match="curve radius 100 m is outside the accepted range"):
         replace(Scenario(), track=TrackParameters(radius=100.0)).validated()
     with pytest.raises(ValueError, match="speed 900 km/h is outside"):
         constant_speed(900.0)

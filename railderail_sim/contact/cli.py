@@ -56,6 +56,7 @@ from scipy.optimize import brentq
 
 from .. import profiles
 from ..parameters import GRAVITY, ContactParameters, TrackParameters, VehicleParameters
+from ..ranges import check_range
 from ..vehicle.assemble import contact_array, contact_geometry as pack_geometry
 from . import conicity
 from . import geometry as geo
@@ -104,18 +105,6 @@ def static_wheelset_load(vp: VehicleParameters | None = None) -> float:
 # ------------------------------------------------------------------------------------------------
 # input checks
 # ------------------------------------------------------------------------------------------------
-def _check(name, value, lo, hi, unit, *, lo_open=False, hi_open=False):
-    """Return float(value) if lo <= value <= hi (open ends as flagged), else raise ValueError."""
-    v = float(value)
-    ok = math.isfinite(v) and (v > lo if lo_open else v >= lo) and (v < hi if hi_open else v <= hi)
-    if not ok:
-        left = "(" if lo_open else "["
-        right = ")" if hi_open else "]"
-        raise ValueError(f"{name} {value:g} {unit} is outside the accepted range {left}{lo:g}, {hi:g}{right} "
-                         f"{unit}".replace("  ", " ").rstrip())
-    return v
-
-
 def parse_inclination(text) -> float:
     """Rail inclination as an angle (rad) from '1/40', '1:40', '0' or a decimal slope ('0.025')."""
     s = str(text).strip()
@@ -215,12 +204,12 @@ class Setup:
 def build_setup(wheel="lm", rail="uic60", *, gauge_mm=1435.0, inclination="1/40", back_to_back_mm=1353.0,
                 radius_m=0.46, friction=0.3, youngs_gpa=210.0, poisson=0.28, model="hertz") -> Setup:
     """Check the inputs, read the profiles and pack the contact geometry (SI inside)."""
-    gauge = _check("gauge", gauge_mm, *GAUGE_MM, "mm") * 1e-3
-    b2b = _check("back-to-back distance", back_to_back_mm, *BACK_TO_BACK_MM, "mm") * 1e-3
-    radius = _check("nominal rolling radius", radius_m, *RADIUS_M, "m")
-    mu = _check("friction coefficient", friction, *FRICTION, "", lo_open=True)
-    E = _check("Young's modulus", youngs_gpa, *YOUNGS_GPA, "GPa") * 1e9
-    nu = _check("Poisson's ratio", poisson, *POISSON, "", hi_open=True)
+    gauge = check_range("gauge", gauge_mm, *GAUGE_MM, "mm") * 1e-3
+    b2b = check_range("back-to-back distance", back_to_back_mm, *BACK_TO_BACK_MM, "mm") * 1e-3
+    radius = check_range("nominal rolling radius", radius_m, *RADIUS_M, "m")
+    mu = check_range("friction coefficient", friction, *FRICTION, "", lo_open=True)
+    E = check_range("Young's modulus", youngs_gpa, *YOUNGS_GPA, "GPa") * 1e9
+    nu = check_range("Poisson's ratio", poisson, *POISSON, "", hi_open=True)
     if model not in MODELS:
         raise ValueError(f"contact model {model!r} is unknown; choose one of {', '.join(MODELS)}")
     incl = parse_inclination(inclination)
@@ -323,12 +312,12 @@ def contact_range(cg, psi=0.0, y_hi=0.1, tol=1e-5):
 # ------------------------------------------------------------------------------------------------
 def geometry_report(setup: Setup, *, y_max_mm=12.0, step_mm=0.1, amplitude_mm=3.0):
     """Rigid contact tables, conicity, flange data and Nadal's limit of a wheel/rail pair (dict, SI)."""
-    y_max = _check("table range --y-max-mm", y_max_mm, *Y_MAX_MM, "mm") * 1e-3
-    step = _check("table step --step-mm", step_mm, *STEP_MM, "mm") * 1e-3
+    y_max = check_range("table range --y-max-mm", y_max_mm, *Y_MAX_MM, "mm") * 1e-3
+    step = check_range("table step --step-mm", step_mm, *STEP_MM, "mm") * 1e-3
     if y_max / step > 4000:
         raise ValueError(f"table step {step_mm:g} mm over +-{y_max_mm:g} mm gives more than 8000 rows; "
                          f"use a step of at least {y_max_mm / 4000:g} mm")
-    amp = _check("conicity amplitude --amplitude-mm", amplitude_mm, 0.0, y_max_mm, "mm", lo_open=True) * 1e-3
+    amp = check_range("conicity amplitude --amplitude-mm", amplitude_mm, 0.0, y_max_mm, "mm", lo_open=True) * 1e-3
     cg = setup.cg
     mu = setup.contact.friction_coefficient
     table = conicity.rigid_table(cg, y_max, step)
@@ -792,12 +781,12 @@ def contact_case(setup: Setup, *, lateral_mm=0.0, yaw_mrad=0.0, roll_mrad=None, 
         raise ValueError(f"contact model {model!r} does not match the setup's models "
                          f"({setup.contact.normal_model}, {setup.contact.creep_model}); build it with model=")
     cg = setup.cg
-    psi = _check("yaw --yaw-mrad", yaw_mrad, *YAW_MRAD, "mrad") * 1e-3
-    speed = _check("speed --speed-kmh", speed_kmh, *SPEED_KMH, "km/h") / 3.6
+    psi = check_range("yaw --yaw-mrad", yaw_mrad, *YAW_MRAD, "mrad") * 1e-3
+    speed = check_range("speed --speed-kmh", speed_kmh, *SPEED_KMH, "km/h") / 3.6
     if load_kn is None:
         load_kn = static_wheelset_load() / 1e3
-    load = _check("vertical wheelset load --load-kn", load_kn, *LOAD_KN, "kN", lo_open=True) * 1e3
-    grid = int(_check("half-space grid --grid", grid, *GRID, "elements"))
+    load = check_range("vertical wheelset load --load-kn", load_kn, *LOAD_KN, "kN", lo_open=True) * 1e3
+    grid = int(check_range("half-space grid --grid", grid, *GRID, "elements"))
     y = float(lateral_mm) * 1e-3
     if not math.isfinite(y):
         raise ValueError(f"lateral shift {lateral_mm!r} mm is not a number")
@@ -811,7 +800,7 @@ def contact_case(setup: Setup, *, lateral_mm=0.0, yaw_mrad=0.0, roll_mrad=None, 
     if roll_mrad is None:
         phi, roll_source = phi_rigid, "rigid contact"
     else:
-        phi = _check("roll --roll-mrad", roll_mrad, *ROLL_MRAD, "mrad") * 1e-3
+        phi = check_range("roll --roll-mrad", roll_mrad, *ROLL_MRAD, "mrad") * 1e-3
         roll_source = "input"
     gap, ys = _buffers(cg)
     gl0, _ = geo.min_gap(cg, y, 0.0, phi, psi, gap, ys)

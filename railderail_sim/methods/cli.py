@@ -9,7 +9,8 @@ import math
 import sys
 
 from ..parameters import VEHICLE_SETS, ContactParameters, TrackParameters, vehicle_parameters
-from ..vehicle.simulate import Scenario, check_range, constant_speed
+from ..ranges import check_range
+from ..vehicle.simulate import Scenario, constant_speed
 
 
 def _common(parser):

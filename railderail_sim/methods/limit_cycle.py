@@ -15,7 +15,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..vehicle.simulate import Scenario, check_range, constant_speed, simulate, straight_track
+from ..ranges import check_range
+from ..vehicle.simulate import Scenario, constant_speed, simulate, straight_track
 
 THRESHOLD_M = 1.0e-4
 SPEED_RANGE_KMH = (50.0, 800.0)

@@ -18,7 +18,8 @@ import math
 import numpy as np
 
 from ..parameters import GRAVITY, TrackParameters
-from ..vehicle.simulate import (KMH, RADIUS_RANGE, Scenario, check_range, constant_speed, simulate,
+from ..ranges import check_range
+from ..vehicle.simulate import (KMH, RADIUS_RANGE, Scenario, constant_speed, simulate,
                                 staircase_speed)
 
 SPEED_RANGE_KMH = (60.0, 600.0)

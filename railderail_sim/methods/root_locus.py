@@ -13,9 +13,10 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ..ranges import check_range
 from ..vehicle.linear import (active_states, at_speed, damping_ratio, equilibrium, jacobian,
                               mode_participation, rhs_function)
-from ..vehicle.simulate import KMH, Scenario, check_range, constant_speed, straight_track
+from ..vehicle.simulate import KMH, Scenario, constant_speed, straight_track
 
 SPEED_RANGE_KMH = (30.0, 800.0)
 MIN_FREQUENCY_HZ = 0.2        # slower "modes" are the damper relaxations, not oscillations

@@ -19,6 +19,7 @@ from ..contact import geometry as geo
 from ..contact import wheelset as ws
 from ..contact.hertz import hertz_shape
 from ..parameters import ContactParameters, TrackParameters, VehicleParameters, vehicle_parameters
+from ..ranges import check_range
 from ..track import alignment
 from . import integrator as itg
 from . import layout as L
@@ -38,11 +39,6 @@ STATUS = {itg.RUNNING: "running", itg.DERAILED: "derailed", itg.DIVERGED: "diver
 
 class SimulationDiverged(RuntimeError):
     """The integration ran away: raised with the time, track position and offending state."""
-
-
-def check_range(name, value, lo, hi, unit):
-    if not (lo <= value <= hi) or not math.isfinite(value):
-        raise ValueError(f"{name} {value:g} {unit} is outside the supported range {lo:g}-{hi:g} {unit}")
 
 
 def constant_speed(speed_kmh):
