@@ -22,6 +22,7 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
+from ..ranges import check_range
 from . import geometry as geo
 
 QUADRATURE_POINTS = 20001    # trapezoidal rule in the angle variable; converged to ~1e-6
@@ -91,8 +92,7 @@ def rigid_table(cg, y_max=0.012, step=1.0e-4):
 
 def equivalent_conicity(table: RigidTable, amplitude):
     """EN 15302 Annex B equivalent conicity tan(gamma_e) for a lateral amplitude (m)."""
-    if not 0.0 < amplitude <= table.y[-1]:
-        raise ValueError(f"amplitude {amplitude * 1e3:g} mm is outside 0-{table.y[-1] * 1e3:g} mm")
+    check_range("amplitude", amplitude * 1e3, 0.0, table.y[-1] * 1e3, "mm", lo_open=True)
     y = table.y
     dr = table.delta_r - np.interp(0.0, y, table.delta_r)
     e = table.contact_half_distance

@@ -28,8 +28,7 @@ def _common(parser):
 
 
 def base_scenario(args, **track):
-    if not 0.0 < args.friction <= 1.0:
-        raise ValueError(f"friction coefficient {args.friction:g} is outside (0, 1]")
+    check_range("friction coefficient", args.friction, 0.0, 1.0, lo_open=True)
     return Scenario(vehicle=vehicle_parameters(args.vehicle_set),
                     track=TrackParameters(rail_profile=args.rail, **track),
                     contact=ContactParameters(wheel_profile=args.wheel, normal_model=args.contact,
@@ -87,8 +86,7 @@ def root_locus_command(parser):
     def run(args):
         import numpy as np
         from . import root_locus as rl
-        if not 2 <= args.points <= 2000:
-            raise ValueError(f"--points {args.points} is outside 2-2000")
+        check_range("--points", args.points, 2, 2000)
         if args.from_kmh >= args.to_kmh:
             raise ValueError(f"speed range {args.from_kmh:g}-{args.to_kmh:g} km/h is empty")
         res = rl.root_locus(base_scenario(args), np.linspace(args.from_kmh, args.to_kmh, args.points))

@@ -62,8 +62,7 @@ def limit_cycle(sc: Scenario = None, speeds_kmh=None, tolerance_kmh=1.0, amplitu
     scan = np.arange(200.0, 601.0, 50.0) if speeds_kmh is None else np.sort(np.asarray(speeds_kmh, float))
     for v in (scan.min(), scan.max()):
         check_range("limit-cycle speed", v, *SPEED_RANGE_KMH, "km/h")
-    if not 0.0 < tolerance_kmh <= 50.0:
-        raise ValueError(f"bisection tolerance {tolerance_kmh:g} km/h is outside 0-50 km/h")
+    check_range("bisection tolerance", tolerance_kmh, 0.0, 50.0, "km/h", lo_open=True)
     runs = {}
 
     def amp(v):

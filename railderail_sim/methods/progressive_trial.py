@@ -93,8 +93,7 @@ def progressive_trial(sc: Scenario = None, radius=1000.0, stair: Staircase = Sta
                       tolerance_kmh=1.0):
     """The paper's method on one radius; with `refine`, also the bisection over constant speeds."""
     sc = sc or Scenario()
-    if not 0.0 < tolerance_kmh <= 20.0:
-        raise ValueError(f"bisection tolerance {tolerance_kmh:g} km/h is outside 0-20 km/h")
+    check_range("bisection tolerance", tolerance_kmh, 0.0, 20.0, "km/h", lo_open=True)
     scs = staircase_scenario(sc, radius, stair)
     r = simulate(scs)
     d = r.derailment

@@ -12,6 +12,7 @@ import numpy as np
 from .. import profiles
 from ..contact import creep, geometry, table, wheelset
 from ..parameters import GRAVITY, ContactParameters, TrackParameters, VehicleParameters
+from ..ranges import check_range
 from ..track import alignment
 from . import layout as L
 
@@ -150,8 +151,7 @@ def contact_array(contact: ContactParameters, static_wheel_load=0.0):
     if contact.creep_model not in CREEP_MODELS:
         raise ValueError(f"creep model {contact.creep_model!r} is unknown; choose one of "
                          f"{', '.join(CREEP_MODELS)}")
-    if not 0.0 < contact.friction_coefficient <= 1.0:
-        raise ValueError(f"friction coefficient {contact.friction_coefficient} is outside (0, 1]")
+    check_range("friction coefficient", contact.friction_coefficient, 0.0, 1.0, lo_open=True)
     E, nu = contact.youngs_modulus, contact.poisson_ratio
     cp = np.zeros(wheelset.C_SIZE)
     cp[wheelset.C_ESTAR] = E / (2.0 * (1.0 - nu * nu))
