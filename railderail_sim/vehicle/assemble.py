@@ -5,6 +5,7 @@ Nominal attachment points are given in vehicle coordinates on straight level tra
 car-body centre, y left, z up from the rail top) and converted to each body's own coordinates.
 """
 from dataclasses import dataclass, field
+import functools
 import math
 
 import numpy as np
@@ -140,7 +141,18 @@ def contact_geometry(contact: ContactParameters, track: TrackParameters, rolling
     rt = profiles.ProfileTable.from_profile(rail, dy=5.0e-5)
     cg = geometry.pack_contact_geometry(wt, rt, rolling_radius, contact.rolling_circle_half_distance,
                                         track.gauge, track.gauge_depth, track.rail_inclination)
-    return table.attach(cg) if contact.contact_geometry == "table" else cg
+    return _with_table(cg.tobytes()) if contact.contact_geometry == "table" else cg
+
+
+@functools.lru_cache(maxsize=4)
+def _with_table(packed):
+    """The packed geometry (as bytes: the cache key is the geometry itself) with its contact table.
+
+    Built once per process and geometry (about 1 s and 44 MB): the runs of a progressive trial or of a
+    sweep's radius share one wheel, rail and wheelset, and building the table was half of a trial's time.
+    The core never writes into the geometry, so the models share the array.
+    """
+    return table.attach(np.frombuffer(packed, dtype=np.float64))
 
 
 def contact_array(contact: ContactParameters, static_wheel_load=0.0):
