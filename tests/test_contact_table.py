@@ -112,3 +112,13 @@ def test_outside_the_table_it_says_so(geometries):
 def test_unknown_contact_geometry_is_refused():
     with pytest.raises(ValueError, match="'exact'.*table, online"):
         contact_geometry(ContactParameters(contact_geometry="exact"), TrackParameters(), 0.46)
+
+
+def test_models_of_one_geometry_share_one_table(geometries):
+    """The table is built once per geometry and process, and is the table a fresh build gives."""
+    exact, table = geometries
+    first = contact_geometry(ContactParameters(), TrackParameters(), 0.46)
+    assert contact_geometry(ContactParameters(), TrackParameters(), 0.46) is first
+    assert np.array_equal(first, table)
+    other = contact_geometry(ContactParameters(), TrackParameters(), 0.45)       # another wheelset radius
+    assert other is not first and other[geo.H_R0] == 0.45
