@@ -444,12 +444,19 @@ def _set_weights(cg, pose, patches, count, gap, ys):
         for q in range(ja + 1, jb):
             if gap[q] > ridge:
                 ridge = gap[q]
-        s = k if patches[k, P_GAP] > patches[k + 1, P_GAP] else k + 1     # the shallower one
-        depth = -patches[s, P_GAP]
-        w = (ridge - patches[s, P_GAP]) / (PROMINENCE_FULL * depth)
-        w = min(1.0, max(0.0, w))
-        if w < patches[s, P_WEIGHT]:
-            patches[s, P_WEIGHT] = w
+        share_weight(patches, k, k + 1, ridge)
+
+
+@core
+def share_weight(patches, ka, kb, ridge):
+    """Lower the share weight of the shallower of patches ka, kb by the prominence of the ridge (the
+    highest gap) between them, as `_set_weights` describes; the contact table calls it with its ridge."""
+    s = ka if patches[ka, P_GAP] > patches[kb, P_GAP] else kb
+    depth = -patches[s, P_GAP]
+    w = (ridge - patches[s, P_GAP]) / (PROMINENCE_FULL * depth)
+    w = min(1.0, max(0.0, w))
+    if w < patches[s, P_WEIGHT]:
+        patches[s, P_WEIGHT] = w
 
 
 @core

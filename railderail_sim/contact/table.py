@@ -262,14 +262,8 @@ def table_patches(cg, y, z, phi, psi, patches, cand):
             row[geo.P_HERTZ_C1 + 2] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_C, psi)
             row[geo.P_JM] = jm
             row[geo.P_WEIGHT] = 1.0
-            if count > 0:
-                # share weights as in geometry._set_weights, the ridge from the table
-                prev = patches[count - 1]
-                sh = prev if prev[geo.P_GAP] > g else row
-                depth = -sh[geo.P_GAP]
-                wgt = min(1.0, max(0.0, (ridge + z - sh[geo.P_GAP]) / (geo.PROMINENCE_FULL * depth)))
-                if wgt < sh[geo.P_WEIGHT]:
-                    sh[geo.P_WEIGHT] = wgt
+            if count > 0:                  # share weights as in geometry._set_weights, the ridge from the table
+                geo.share_weight(patches, count - 1, count, ridge + z)
             count += 1
             ridge = -geo.NO_RAIL_GAP
         ridge = max(ridge, w00 * cg[n00 + o + S_RIDGE] + w01 * cg[n01 + o + S_RIDGE]
