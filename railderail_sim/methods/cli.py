@@ -10,6 +10,7 @@ import sys
 
 from ..parameters import VEHICLE_SETS, ContactParameters, TrackParameters, vehicle_parameters
 from ..ranges import check_range
+from ..vehicle.assemble import CONTACT_GEOMETRIES
 from ..vehicle.simulate import Scenario, constant_speed
 
 
@@ -21,7 +22,7 @@ def _common(parser):
     parser.add_argument("--creep", default="she", choices=("she", "polach", "fastsim", "linear"),
                         help="creep force law")
     parser.add_argument("--friction", type=float, default=0.3, help="wheel-rail friction coefficient")
-    parser.add_argument("--geometry", default="table", choices=("table", "online"),
+    parser.add_argument("--geometry", default="table", choices=CONTACT_GEOMETRIES,
                         help="contact geometry: the precomputed contact table (online search outside it) or "
                              "the exact online search at every evaluation")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
