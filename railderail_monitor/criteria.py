@@ -97,13 +97,12 @@ class Limits:
 def limits_for_model(model, friction, **changes):
     """Limits whose model-dependent values (flange height, static wheel load, Nadal's limit at the
     profile pair's maximum contact angle) come from a built `vehicle.assemble.Model`."""
-    from railderail_sim.contact.conicity import rigid_table
+    from railderail_sim.contact.conicity import max_contact_angle
     from railderail_sim.contact.nadal import nadal_limit
     from railderail_sim.vehicle import layout
 
     hf = float(model.vp[layout.V_FLANGE_HEIGHT])
-    table = rigid_table(model.cg)
-    delta = float(max(table.contact_angle_left.max(), table.contact_angle_right.max()))
+    delta, _ = max_contact_angle(model.cg)
     values = dict(wheel_lift=hf / 3.0, wheel_lift_critical=2.0 * hf / 3.0,
                   derailment_coefficient_critical=nadal_limit(delta, friction),
                   static_wheel_load=float(model.static_wheel_load))

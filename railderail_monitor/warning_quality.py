@@ -30,8 +30,6 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import replace
 from pathlib import Path
 
-from railderail_sim.parameters import GRAVITY
-
 from .criteria import CRITERIA, SEVERITY_NAMES, alerts_of_run, default_limits, lead_times
 
 PAPER_RADII = (800.0, 1000.0, 1200.0, 1400.0, 1600.0, 1800.0)
@@ -45,9 +43,10 @@ def levels():
     return [f"{c}/{SEVERITY_NAMES[s]}" for c in CRITERIA for s, _ in limits.levels(c)]
 
 
-def cant_deficiency_speed_kmh(radius, deficiency_m, cant_m=0.175, rail_spacing=1.5):
-    """Speed whose uncompensated lateral acceleration equals g x deficiency / rail spacing."""
-    return math.sqrt(radius * GRAVITY * (cant_m + deficiency_m) / rail_spacing) * 3.6
+def cant_deficiency_speed_kmh(radius, deficiency_m):
+    """Speed (km/h) on the Table 2 curve of this radius at a cant deficiency (m)."""
+    from railderail_sim.parameters import TrackParameters
+    return TrackParameters(radius=radius).speed_at_cant_deficiency(deficiency_m) * 3.6
 
 
 def _scenario(radius, case, speed_kmh, friction):

@@ -125,6 +125,12 @@ class VehicleParameters:
                                  "beyond the last point the last slope continues")
     bump_stop_force: tuple = _p((2.0e3, 5.0e3, 11.0e3, 25.5e3, 49.0e3), "N", "A380", "S")
 
+    @property
+    def static_wheel_load(self):
+        """Static vertical load of one wheel on level track (N): a quarter of the car body, half a bogie
+        frame and the wheelset, shared by its two wheels."""
+        return (0.25 * self.car_body_mass + 0.5 * self.bogie_frame_mass + self.wheelset_mass) * GRAVITY / 2.0
+
     def describe(self):
         """Rows (name, value, unit, source, sure, note) for reports."""
         rows = []
@@ -240,6 +246,30 @@ class TrackParameters:
     excitation_start: float = _p(50.0, "m", "model", "A", "lateral alignment defect (limit cycle only)")
     excitation_length: float = _p(20.0, "m", "model", "A")
     excitation_amplitude: float = _p(0.0, "m", "model", "A", "0 = none; the limit cycle uses 0.010 m")
+
+    @property
+    def cant_angle(self):
+        """Angle of the canted track plane on the circular curve (rad, magnitude)."""
+        return math.asin(self.cant_height / self.rail_spacing)
+
+    def uncompensated_acceleration(self, speed):
+        """Uncompensated lateral acceleration in the track plane on the circular curve (m/s^2, + toward
+        the outside) at speed (m/s): v^2/R cos(theta) - g sin(theta), as the core's output row has it."""
+        if math.isinf(self.radius):
+            return -GRAVITY * math.sin(self.cant_angle)
+        theta = self.cant_angle
+        return speed * speed / self.radius * math.cos(theta) - GRAVITY * math.sin(theta)
+
+    def speed_at_uncompensated_acceleration(self, acceleration):
+        """Speed (m/s) on the circular curve at which the uncompensated lateral acceleration is
+        `acceleration` (m/s^2); 0 for the balance speed."""
+        theta = self.cant_angle
+        return math.sqrt(self.radius * (acceleration + GRAVITY * math.sin(theta)) / math.cos(theta))
+
+    def speed_at_cant_deficiency(self, deficiency):
+        """Speed (m/s) on the circular curve at a cant deficiency (m): the uncompensated acceleration
+        g D / e of the deficiency D on the rail spacing e (EN 13803); 0 gives the balance speed."""
+        return self.speed_at_uncompensated_acceleration(GRAVITY * deficiency / self.rail_spacing)
 
 
 @dataclass(frozen=True)

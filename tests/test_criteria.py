@@ -176,10 +176,13 @@ def test_lead_times_by_hand():
 
 def test_operating_speeds_by_hand():
     from railderail_monitor.warning_quality import cant_deficiency_speed_kmh
-    # balance: v^2 / R = g h / e -> sqrt(1000 * 9.81 * 0.175 / 1.5) = 33.83 m/s = 121.8 km/h
-    assert cant_deficiency_speed_kmh(1000.0, 0.0) == pytest.approx(121.8, abs=0.1)
-    # 100 mm of cant deficiency: sqrt(1000 * 9.81 * 0.275 / 1.5) = 42.41 m/s = 152.7 km/h
-    assert cant_deficiency_speed_kmh(1000.0, 0.1) == pytest.approx(152.7, abs=0.1)
+    theta = math.asin(0.175 / 1.5)
+    # balance: v^2 / R cos(theta) = g sin(theta) -> sqrt(1000 * 9.81 * tan(theta)) = 33.98 m/s = 122.3 km/h
+    assert cant_deficiency_speed_kmh(1000.0, 0.0) == pytest.approx(122.3, abs=0.1)
+    # 100 mm of cant deficiency: v^2 / R cos(theta) - g sin(theta) = 9.81 * 0.1 / 1.5 = 0.654 m/s^2
+    v = math.sqrt(1000.0 * (9.81 * 0.1 / 1.5 + 9.81 * math.sin(theta)) / math.cos(theta))
+    assert cant_deficiency_speed_kmh(1000.0, 0.1) == pytest.approx(v * 3.6, rel=1e-12)
+    assert v * 3.6 == pytest.approx(153.2, abs=0.1)
 
 
 def test_summary_counts_leads_and_false_alarms(tmp_path):

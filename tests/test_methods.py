@@ -9,7 +9,7 @@ from railderail_sim.cli import main
 from railderail_sim.contact import conicity
 from railderail_sim.methods import limit_cycle as lc
 from railderail_sim.methods import root_locus as rl
-from railderail_sim.methods.progressive_trial import Staircase, balance_speed_kmh, progressive_trial
+from railderail_sim.methods.progressive_trial import Staircase, progressive_trial
 from railderail_sim.methods.sweep import cases, sweep
 from railderail_sim.parameters import ContactParameters, TrackParameters, vehicle_parameters
 from railderail_sim.vehicle import Scenario, constant_speed, simulate
@@ -62,7 +62,7 @@ def test_trial_detects_a_forced_derailment_and_not_the_balance_speed():
                                output_rate=50.0))
     assert forced.status == "derailed" and forced.derailment["position_m"] < 800.0
     calm = simulate(Scenario(track=TrackParameters(radius=800.0), output_rate=20.0,
-                             speed_table=constant_speed(balance_speed_kmh(800.0))))
+                             speed_table=constant_speed(TrackParameters(radius=800.0).speed_at_cant_deficiency(0.0) * 3.6)))
     assert calm.status == "finished" and calm.derailment is None
     assert np.max(calm.wheel("wheel_lift")) < 0.005
 

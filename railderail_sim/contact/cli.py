@@ -55,7 +55,7 @@ from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq
 
 from .. import profiles
-from ..parameters import GRAVITY, ContactParameters, TrackParameters, VehicleParameters
+from ..parameters import ContactParameters, TrackParameters, VehicleParameters
 from ..ranges import check_range
 from ..vehicle.assemble import contact_array, contact_geometry as pack_geometry
 from . import conicity
@@ -84,7 +84,6 @@ GRID = (16, 256)
 MIN_ELEMENTS_ACROSS = 16              # half-space: elements across the main patch (refined grid below)
 TREAD_ANGLE_MAX = 0.5                 # rad: the centred wheelset must touch its rails below this angle
 CONICITY_AMPLITUDES_MM = (1, 2, 3, 4, 5, 6, 7, 8)
-CONVERGED_GAP = 1.0e-6                # m: rigid contact counts as found when both gaps are below this
 TIP_MARGIN = 5.0e-4                   # m: contact closer than this to the flange tip / profile end = lost
 MODELS = {  # name: (normal model, creep model, half-space)
     "hertz": ("hertz", "she", False),
@@ -96,10 +95,8 @@ SIDES = ("left", "right")
 
 
 def static_wheelset_load(vp: VehicleParameters | None = None) -> float:
-    """Static vertical load of one wheelset of the CRH3 car (N): a quarter car body, half a bogie
-    frame and the wheelset, as in `vehicle.assemble.build_model` (2 x static wheel load)."""
-    vp = vp or VehicleParameters()
-    return (0.25 * vp.car_body_mass + 0.5 * vp.bogie_frame_mass + vp.wheelset_mass) * GRAVITY
+    """Static vertical load of one wheelset of the CRH3 car (N): twice its static wheel load."""
+    return 2.0 * (vp or VehicleParameters()).static_wheel_load
 
 
 # ------------------------------------------------------------------------------------------------
@@ -233,31 +230,10 @@ def _buffers(cg):
     return np.zeros(nw), np.zeros(nw)
 
 
-def _deepest_patch(cg, y, z, phi, psi):
-    """(patches row of the deepest contact, count) of the left wheel just below touching."""
-    gap, ys = _buffers(cg)
-    patches = np.zeros((geo.MAX_PATCHES, geo.P_COLS))
-    g0, _ = geo.min_gap(cg, y, z, phi, psi, gap, ys)
-    n, _ = geo.find_patches(cg, y, z - g0 - 1e-7, phi, psi, gap, ys, patches,
-                            np.zeros(1 + geo.MAX_CANDIDATES))
-    if n == 0:
-        return None, 0
-    return patches[int(np.argmin(patches[:n, geo.P_GAP]))].copy(), n
-
-
-def _rigid(cg, y, psi):
-    """Rigid contact (z, phi) and whether both wheels touch (gaps below CONVERGED_GAP)."""
-    gap, ys = _buffers(cg)
-    z, phi, _, _ = geo.rigid_contact(cg, y, psi, gap, ys)
-    gl, _ = geo.min_gap(cg, y, z, phi, psi, gap, ys)
-    gr, _ = geo.min_gap(cg, -y, z, -phi, -psi, gap, ys)
-    return z, phi, (math.isfinite(z) and abs(gl) < CONVERGED_GAP and abs(gr) < CONVERGED_GAP)
-
-
 def _check_centred_fit(setup, gauge_mm, back_to_back_mm):
     cg = setup.cg
-    z, phi, ok = _rigid(cg, 0.0, 0.0)
-    row = _deepest_patch(cg, 0.0, z, phi, 0.0)[0] if ok else None
+    z, phi, ok = conicity.rigid_pose(cg, 0.0, 0.0)
+    row = conicity.deepest_patch(cg, 0.0, z, phi, 0.0)[0] if ok else None
     angle = math.atan(row[geo.P_SLOPE]) if row is not None else float("nan")
     # the flange face: steepest point between the flange tip and the rolling circle
     nw = int(cg[geo.H_NW])
@@ -286,11 +262,11 @@ def contact_range(cg, psi=0.0, y_hi=0.1, tol=1e-5):
     y_end = cg[geo.H_WY0] + (cg[geo.H_NW] - 1) * cg[geo.H_DW]
 
     def fits(y):
-        z, phi, ok = _rigid(cg, y, psi)
+        z, phi, ok = conicity.rigid_pose(cg, y, psi)
         if not ok:
             return False
         for yy, pp, ss in ((y, phi, psi), (-y, -phi, -psi)):
-            row, _ = _deepest_patch(cg, yy, z, pp, ss)
+            row, _ = conicity.deepest_patch(cg, yy, z, pp, ss)
             if row is None or not (tip + TIP_MARGIN < row[geo.P_YP] < y_end - TIP_MARGIN):
                 return False
         return True
@@ -332,7 +308,7 @@ def geometry_report(setup: Setup, *, y_max_mm=12.0, step_mm=0.1, amplitude_mm=3.
                        float(conicity.harmonic_conicity(table, a)), "wavelength_m": lam})
     angles = np.maximum(table.contact_angle_left, table.contact_angle_right)
     i_max = int(np.argmax(angles))
-    y_peak, max_angle = _refine_max_angle(cg, table.y, i_max, float(angles[i_max]))
+    max_angle, y_peak = conicity.max_contact_angle(cg, table)
     flange_angle = setup.wheel.max_flange_angle()
     on_flange = np.nonzero((table.y >= 0.0) & (table.contact_angle_left > 0.6 * flange_angle))[0]
     nadal = float(nadal_limit(max_angle, mu))
@@ -382,31 +358,6 @@ def geometry_report(setup: Setup, *, y_max_mm=12.0, step_mm=0.1, amplitude_mm=3.
     return report
 
 
-def _refine_max_angle(cg, y, i, angle_i):
-    """The table's largest contact angle refined between the neighbouring rows (the peak at the flange
-    face is sharp): returns (|y| of the peak, angle), from the left wheel at |y|."""
-    from scipy.optimize import minimize_scalar
-
-    def angle(yy):
-        z, phi, ok = _rigid(cg, yy, 0.0)
-        row = _deepest_patch(cg, yy, z, phi, 0.0)[0] if ok else None
-        return math.atan(row[geo.P_SLOPE]) if row is not None else -math.inf
-
-    yi = abs(float(y[i]))
-    step = float(y[1] - y[0])
-    lo, hi = max(0.0, yi - step), min(float(y[-1]), yi + step)
-    if hi <= lo:
-        return yi, angle_i
-    grid = np.linspace(lo, hi, 41)
-    values = [angle(v) for v in grid]
-    k = int(np.argmax(values))
-    lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]
-    res = minimize_scalar(lambda yy: -angle(yy), bounds=(lo, hi), method="bounded", options={"xatol": 1e-9})
-    if values[k] > max(-res.fun, angle_i):
-        return float(grid[k]), float(values[k])
-    if -res.fun > angle_i:
-        return float(res.x), float(-res.fun)
-    return yi, angle_i
 
 
 def geometry_text(report):
@@ -796,7 +747,7 @@ def contact_case(setup: Setup, *, lateral_mm=0.0, yaw_mrad=0.0, roll_mrad=None, 
                          f"on {setup.rail.name} can contact at yaw {yaw_mrad:g} mrad; accepted range "
                          f"{-y_lim * 1e3:.1f}..{y_lim * 1e3:.1f} mm (beyond it a contact passes the flange "
                          "tip or the end of the wheel profile)")
-    z_rigid, phi_rigid, _ = _rigid(cg, y, psi)
+    z_rigid, phi_rigid, _ = conicity.rigid_pose(cg, y, psi)
     if roll_mrad is None:
         phi, roll_source = phi_rigid, "rigid contact"
     else:

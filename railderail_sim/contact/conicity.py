@@ -27,6 +27,7 @@ from . import geometry as geo
 
 QUADRATURE_POINTS = 20001    # trapezoidal rule in the angle variable; converged to ~1e-6
 TWO_POINT_GAP = 1.0e-5       # m: a second contact this close to touching counts as two-point contact
+CONVERGED_GAP = 1.0e-6       # m: rigid contact counts as found when both wheels' gaps are below this
 
 
 @dataclass
@@ -132,3 +133,65 @@ def harmonic_conicity(table: RigidTable, amplitude):
     t = np.linspace(0.0, 2.0 * math.pi, QUADRATURE_POINTS)
     val = np.trapezoid(0.5 * np.interp(amplitude * np.sin(t), table.y, dr) * np.sin(t), t)
     return val / (math.pi * amplitude)
+
+
+def _buffers(cg):
+    nw = int(cg[geo.H_NW])
+    return np.zeros(nw), np.zeros(nw)
+
+
+def rigid_pose(cg, y, psi):
+    """Rigid contact of the wheelset at lateral shift y and yaw psi: (z, phi, both wheels touch)."""
+    gap, ys = _buffers(cg)
+    z, phi, _, _ = geo.rigid_contact(cg, y, psi, gap, ys)
+    gl, _ = geo.min_gap(cg, y, z, phi, psi, gap, ys)
+    gr, _ = geo.min_gap(cg, -y, z, -phi, -psi, gap, ys)
+    return z, phi, bool(math.isfinite(z) and abs(gl) < CONVERGED_GAP and abs(gr) < CONVERGED_GAP)
+
+
+def deepest_patch(cg, y, z, phi, psi):
+    """(patch row of the deepest contact, patch count) of the left wheel just below touching at this
+    pose; (None, 0) if it finds no rail."""
+    gap, ys = _buffers(cg)
+    patches = np.zeros((geo.MAX_PATCHES, geo.P_COLS))
+    g0, _ = geo.min_gap(cg, y, z, phi, psi, gap, ys)
+    n, _ = geo.find_patches(cg, y, z - g0 - 1e-7, phi, psi, gap, ys, patches,
+                            np.zeros(1 + geo.MAX_CANDIDATES))
+    if n == 0:
+        return None, 0
+    return patches[int(np.argmin(patches[:n, geo.P_GAP]))].copy(), n
+
+
+def max_contact_angle(cg, table=None):
+    """The largest contact angle of the profile pair in rigid contact without yaw, and the |y| where
+    it occurs: (angle rad, y m). Found on the rigid table (`rigid_table(cg)` unless one is given) and
+    refined between the rows around its peak, which is sharp at the flange face. Nadal's limit of the
+    pair is `nadal.nadal_limit` at this angle."""
+    from scipy.optimize import minimize_scalar
+
+    table = rigid_table(cg) if table is None else table
+    angles = np.maximum(table.contact_angle_left, table.contact_angle_right)
+    i = int(np.argmax(angles))
+    angle_i = float(angles[i])
+
+    def angle(yy):
+        z, phi, ok = rigid_pose(cg, yy, 0.0)
+        row = deepest_patch(cg, yy, z, phi, 0.0)[0] if ok else None
+        return math.atan(row[geo.P_SLOPE]) if row is not None else -math.inf
+
+    y = table.y
+    yi = abs(float(y[i]))
+    step = float(y[1] - y[0])
+    lo, hi = max(0.0, yi - step), min(float(y[-1]), yi + step)
+    if hi <= lo:
+        return angle_i, yi
+    grid = np.linspace(lo, hi, 41)
+    values = [angle(v) for v in grid]
+    k = int(np.argmax(values))
+    lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]
+    res = minimize_scalar(lambda yy: -angle(yy), bounds=(lo, hi), method="bounded", options={"xatol": 1e-9})
+    if values[k] > max(-res.fun, angle_i):
+        return float(values[k]), float(grid[k])
+    if -res.fun > angle_i:
+        return float(-res.fun), float(res.x)
+    return angle_i, yi

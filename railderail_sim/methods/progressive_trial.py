@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from ..parameters import GRAVITY, TrackParameters
+from ..parameters import TrackParameters
 from ..ranges import check_range
 from ..vehicle.simulate import (KMH, RADIUS_RANGE, Scenario, constant_speed, simulate,
                                 staircase_speed)
@@ -150,6 +150,3 @@ def _refine(sc, radius, res, tolerance_kmh):
     res.runs += len(cache)
 
 
-def balance_speed_kmh(radius, cant_height=0.175, rail_spacing=1.5):
-    """Speed (km/h) at which gravity in the canted track plane balances the centripetal acceleration."""
-    return math.sqrt(GRAVITY * radius * math.tan(math.asin(cant_height / rail_spacing))) / KMH

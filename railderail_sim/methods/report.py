@@ -280,8 +280,7 @@ def nadal_of(sc):
     from ..contact.nadal import nadal_limit
     from ..vehicle.assemble import contact_geometry
     exact = replace(sc.contact, contact_geometry="online")          # rigid contact needs no contact table
-    t = conicity.rigid_table(contact_geometry(exact, sc.track, sc.vehicle.rolling_radius), 0.012, 1e-4)
-    angle = float(max(t.contact_angle_left.max(), t.contact_angle_right.max()))
+    angle, _ = conicity.max_contact_angle(contact_geometry(exact, sc.track, sc.vehicle.rolling_radius))
     return angle, nadal_limit(angle, sc.contact.friction_coefficient)
 
 

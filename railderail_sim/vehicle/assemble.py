@@ -207,7 +207,7 @@ def build_model(vehicle: VehicleParameters, track: TrackParameters, contact: Con
                                track.transition_out, track.straight_out, track.radius, track.cant_height,
                                track.direction, track.rail_spacing,
                                (track.excitation_start, track.excitation_length, track.excitation_amplitude))
-    static = (0.25 * vehicle.car_body_mass + 0.5 * vehicle.bogie_frame_mass + vehicle.wheelset_mass) * GRAVITY / 2.0
+    static = vehicle.static_wheel_load
     return Model(bodies=bodies, vp=vehicle_array(vehicle, cg, lift_tolerance), bush=bush, damp=damp,
                  bump=bump, arb=arb, track=trk, cg=cg, cp=contact_array(contact, static), vehicle=vehicle,
                  track_parameters=track, contact=contact, static_wheel_load=static)

@@ -1,0 +1,60 @@
+"""The one JSON encoder of every `--json` output, summary and report file.
+
+Standard JSON (RFC 8259) has no NaN or infinity: a value that is not finite (a criterion that never
+fired, a speed that was not reached) is written as null. numpy scalars and arrays become numbers and
+lists, dataclasses their fields, paths and other objects their text.
+"""
+import dataclasses
+import json
+import math
+from pathlib import PurePath
+
+import numpy as np
+
+
+def plain(obj):
+    """obj as plain Python (dict, list, str, int, float, bool, None), non-finite floats as None."""
+    if isinstance(obj, dict):
+        return {str(k): plain(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [plain(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return plain(obj.tolist())
+    if isinstance(obj, (bool, np.bool_)):
+        return bool(obj)
+    if isinstance(obj, (int, np.integer)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        value = float(obj)
+        return value if math.isfinite(value) else None
+    if obj is None or isinstance(obj, str):
+        return obj
+    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        return plain({f.name: getattr(obj, f.name) for f in dataclasses.fields(obj)})
+    if isinstance(obj, PurePath):
+        return str(obj)
+    return str(obj)
+
+
+def dumps(obj, indent=None):
+    """The JSON text of obj (see the module docstring)."""
+    return json.dumps(plain(obj), indent=indent, allow_nan=False)
+
+
+def write(path, obj, indent=1):
+    """Write obj as JSON to path atomically (a temporary file beside it, then a rename)."""
+    import os
+    import tempfile
+
+    path = os.fspath(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(path)}.", dir=os.path.dirname(os.path.abspath(path)))
+    try:
+        with os.fdopen(fd, "w") as handle:
+            handle.write(dumps(obj, indent=indent) + "\n")
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
