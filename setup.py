@@ -51,5 +51,8 @@ setup(
             "railderail-simulator = railderail_sim.node:main",
             "railderail-monitor = railderail_monitor.node:main",
         ],
+        # subcommands and benchmark groups of railderail_monitor, found by railderail_sim.cli and .bench
+        "railderail.commands": ["monitor = railderail_monitor.commands:COMMANDS"],
+        "railderail.bench": ["ros = railderail_monitor.benchmark:run"],
     },
 )

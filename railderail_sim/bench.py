@@ -1,7 +1,7 @@
 """`railderail bench`: the project's one benchmark; it prints figures, it is never a test.
 
-Each group is a function returning {key: value}; groups are run in the order of GROUPS (or those named
-with --only) and their figures printed as a table, or as one JSON object with --json. Timings are taken
+Each group is a function returning {key: value}; groups are run in the order of `groups()` (or those
+named with --only) and their figures printed as a table, or as one JSON object with --json. Timings are taken
 after compilation (numba's first call is timed separately as `compile_s`).
 """
 from __future__ import annotations
@@ -15,22 +15,33 @@ GROUPS = {
     "contact": "railderail_sim.contact.benchmark:run",
     "vehicle": "railderail_sim.vehicle.benchmark:run",
     "methods": "railderail_sim.methods.benchmark:run",
-    "ros": "railderail_monitor.benchmark:run",
 }
+ENTRY_POINTS = "railderail.bench"    # groups of the packages built on this one (railderail_monitor: "ros")
+
+
+def groups():
+    """{name: "module:function"}: GROUPS, then those registered under ENTRY_POINTS."""
+    from importlib.metadata import entry_points
+
+    found = dict(GROUPS)
+    for point in sorted(entry_points(group=ENTRY_POINTS), key=lambda p: p.name):
+        found.setdefault(point.name, point.value)
+    return found
 
 
 def command(parser: argparse.ArgumentParser):
     parser.add_argument("--json", action="store_true", help="print one JSON object")
-    parser.add_argument("--only", default="", help=f"comma-separated groups of {', '.join(GROUPS)}")
+    known = groups()
+    parser.add_argument("--only", default="", help=f"comma-separated groups of {', '.join(known)}")
 
     def run(args):
-        names = [n for n in args.only.split(",") if n] or list(GROUPS)
-        unknown = [n for n in names if n not in GROUPS]
+        names = [n for n in args.only.split(",") if n] or list(known)
+        unknown = [n for n in names if n not in known]
         if unknown:
-            raise ValueError(f"unknown benchmark group(s) {', '.join(unknown)}; choose from {', '.join(GROUPS)}")
+            raise ValueError(f"unknown benchmark group(s) {', '.join(unknown)}; choose from {', '.join(known)}")
         figures = {}
         for name in names:
-            module, _, function = GROUPS[name].partition(":")
+            module, _, function = known[name].partition(":")
             try:
                 run_group = getattr(importlib.import_module(module), function)
             except ModuleNotFoundError as error:

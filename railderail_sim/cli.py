@@ -1,12 +1,15 @@
 """The `railderail` command.
 
-Subcommands come from the table COMMANDS. To add one, write a function
+Subcommands come from command tables: this package's COMMANDS below, and any other package's table
+registered under the entry-point group `railderail.commands` (railderail_monitor registers the ROS
+commands in its `commands.py`), so that this package never imports the packages built on it. To add
+a subcommand, write a function
 
     def my_command(parser: argparse.ArgumentParser) -> Callable[[argparse.Namespace], int | None]
 
 in any module: it adds the subcommand's arguments to `parser` and returns the function that runs
 the subcommand on the parsed arguments (returning an exit status; None means 0). Then add a line
-`Command("name", "one-line help", "module.path:my_command")` to COMMANDS. Only the chosen
+`Command("name", "one-line help", "module.path:my_command")` to a table. Only the chosen
 subcommand's module is imported, so `railderail --help` stays fast whatever the modules import.
 
 Errors: bad arguments, and a ValueError raised while running (bad input found by the API layer),
@@ -49,16 +52,19 @@ COMMANDS: tuple[Command, ...] = (
             "railderail_sim.methods.cli:sweep_command"),
     Command("report", "write the report: every method beside the paper's numbers (--out DIR)",
             "railderail_sim.methods.cli:report_command"),
-    Command("demo", "the main job: simulator, monitor and recorder nodes over the R = 1000 m trial, with "
-            "alerts, MCAP and Rerun files", "railderail_monitor.demo:command"),
-    Command("replay", "replay an MCAP recording on the ROS topics, in Rerun (--rrd) or as alerts (--json)",
-            "railderail_monitor.replay:command"),
-    Command("record", "record every /railderail topic to an MCAP file", "railderail_monitor.recording:command"),
-    Command("view", "show the live /railderail topics in Rerun (--rrd FILE for a file)",
-            "railderail_monitor.viewer:command"),
-    Command("warnings", "warning quality: lead time and false alarms of each criterion over the six radii",
-            "railderail_monitor.warning_quality:command"),
 )
+ENTRY_POINTS = "railderail.commands"
+
+
+def commands() -> tuple[Command, ...]:
+    """Every registered subcommand: this package's COMMANDS, then the tables of the entry-point group
+    ENTRY_POINTS (in the order of their names), each table a tuple of Command-like triples."""
+    from importlib.metadata import entry_points
+
+    found = list(COMMANDS)
+    for point in sorted(entry_points(group=ENTRY_POINTS), key=lambda p: p.name):
+        found.extend(Command(*c) for c in point.load())
+    return tuple(found)
 
 
 def version_command(parser: argparse.ArgumentParser) -> Callable[[argparse.Namespace], None]:
@@ -87,7 +93,7 @@ def build_parser(argv: list[str]) -> argparse.ArgumentParser:
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", title="commands",
                                        parser_class=_Parser)
     chosen = next((arg for arg in argv if not arg.startswith("-")), None)
-    for command in COMMANDS:
+    for command in commands():
         subparser = subparsers.add_parser(command.name, help=command.help, description=command.help)
         if command.name == chosen:
             subparser.set_defaults(run=_load(command.target)(subparser))

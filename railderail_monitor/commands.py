@@ -1,0 +1,14 @@
+"""The `railderail` subcommands of the ROS 2 product, registered with `railderail_sim.cli` through the
+entry-point group `railderail.commands` (setup.py). Kept free of imports: `railderail --help` reads it."""
+
+COMMANDS = (
+    ("demo", "the main job: simulator, monitor and recorder nodes over the R = 1000 m trial, with alerts, "
+     "MCAP and Rerun files", "railderail_monitor.demo:command"),
+    ("replay", "replay an MCAP recording on the ROS topics, in Rerun (--rrd) or as alerts (--json)",
+     "railderail_monitor.replay:command"),
+    ("record", "record every /railderail topic to an MCAP file", "railderail_monitor.recording:command"),
+    ("view", "show the live /railderail topics in Rerun (--rrd FILE for a file)",
+     "railderail_monitor.viewer:command"),
+    ("warnings", "warning quality: lead time and false alarms of each criterion over the six radii",
+     "railderail_monitor.warning_quality:command"),
+)
