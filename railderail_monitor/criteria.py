@@ -101,7 +101,7 @@ def limits_for_model(model, friction, **changes):
     from railderail_sim.contact.nadal import nadal_limit
     from railderail_sim.vehicle import layout
 
-    hf = float(model.vp[layout.V_FLANGE_HEIGHT])
+    hf = float(model.vp[layout.VehicleConstants.flange_height])
     delta, _ = max_contact_angle(model.cg)
     values = dict(wheel_lift=hf / 3.0, wheel_lift_critical=2.0 * hf / 3.0,
                   derailment_coefficient_critical=nadal_limit(delta, friction),

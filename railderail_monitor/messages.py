@@ -102,22 +102,9 @@ def seconds(time_msg):
 # --- core rows -> messages --------------------------------------------------------------------
 
 def sample_arrays(result):
-    """The named arrays of `Result.arrays()` that the messages carry, as cheap views of the rows
-    (no per-patch table): what the simulator node converts at every tick."""
-    from railderail_sim.vehicle import layout as L
-    from railderail_sim.vehicle.simulate import WHEEL_FIELDS
-    from railderail_sim.contact.wheelset import W_SIZE
-
-    rows = result.rows
-    d = dict(time=result.time, position=result.position, speed=result.speed, section=rows[:, L.O_SECTION],
-             curvature=rows[:, L.O_CURV], cant=rows[:, L.O_CANT], uncompensated_acceleration=rows[:, L.O_ANC],
-             wheelset_lateral=result.wheelset_lateral, attack_angle=result.attack_angle,
-             wheelset_roll=result.wheelset_roll,
-             body_states=rows[:, L.O_BODY:L.O_BODY + L.N_BODY * L.N_DOF].reshape(-1, L.N_BODY, L.N_DOF))
-    wheels = rows[:, L.O_WHEEL:L.O_WHEEL + 8 * W_SIZE].reshape(-1, 8, W_SIZE)
-    for name, j in WHEEL_FIELDS.items():
-        d[name] = wheels[:, :, j]
-    return d
+    """The named arrays of `Result.arrays()` (views of the rows): what the simulator node converts at
+    every tick."""
+    return result.arrays()
 
 
 class RowConverter:

@@ -91,7 +91,7 @@ def run_case(radius, case, speed_kmh, friction=0.3):
         derailment = dict(event, track_position_m=event["car_body_position_m"])
     return dict(radius_m=radius, case=case, speed_kmh=speed_kmh if case != "trial" else None,
                 derailed=derailment is not None, derailment=derailment, diverged=error,
-                end_position_m=float(rows[-1, L.O_S]) if len(rows) else 0.0,
+                end_position_m=float(rows[-1, L.OutputRow.position]) if len(rows) else 0.0,
                 alerts=[a.as_dict() for a in alerts], first=lead_times(alerts, derailment), peaks=peaks,
                 limits=limits.as_dict(), compute_s=time.monotonic() - t0)
 

@@ -21,8 +21,8 @@ def cg_lm():
 
 
 def _buffers(cg):
-    n = int(cg[geo.H_NW])
-    return np.zeros(n), np.zeros(n), np.zeros((geo.MAX_PATCHES, geo.P_COLS)), np.zeros(1 + geo.MAX_CANDIDATES)
+    n = int(cg[geo.GeometryHeader.wheel_points])
+    return np.zeros(n), np.zeros(n), np.zeros((geo.MAX_PATCHES, geo.P_COLS)), np.zeros(geo.CANDIDATES_SIZE)
 
 
 def _brute_force(cg, y, z, phi, psi):
@@ -63,11 +63,11 @@ def test_coarse_to_fine_search_finds_every_patch(cg):
         z = -g0 - rng.uniform(1e-6, 3e-4)
         expected = _brute_force(cg, y, z, phi, psi)
         n, _ = geo.find_patches(cg, y, z, phi, psi, gap, ys, patches, cand)
-        got = _significant(zip(patches[:n, geo.P_GAP], patches[:n, geo.P_WEIGHT]))
+        got = _significant(zip(patches[:n, geo.Patch.gap], patches[:n, geo.Patch.weight]))
         want = _significant(expected)
         assert len(got) == len(want)
         assert np.allclose(got, want, atol=1e-9)
-        assert min(patches[:n, geo.P_GAP], default=0.0) == pytest.approx(min((g for g, _ in expected), default=0.0),
+        assert min(patches[:n, geo.Patch.gap], default=0.0) == pytest.approx(min((g for g, _ in expected), default=0.0),
                                                                           abs=1e-9)
 
 
@@ -82,7 +82,7 @@ def test_tracking_inside_a_step_reproduces_the_full_search(cg_lm):
         m = geo.track_patches(cg_lm, y + 2e-5, z, 1e-5, psi, gap, ys, p2, cand)
         k, _ = geo.find_patches(cg_lm, y + 2e-5, z, 1e-5, psi, gap, ys, patches, np.zeros_like(cand))
         assert m == k
-        assert np.allclose(np.sort(p2[:m, geo.P_GAP]), np.sort(patches[:k, geo.P_GAP]), atol=1e-12)
+        assert np.allclose(np.sort(p2[:m, geo.Patch.gap]), np.sort(patches[:k, geo.Patch.gap]), atol=1e-12)
 
 
 def test_wheel_lifts_off_with_a_gap(cg_lm):
@@ -140,20 +140,17 @@ def test_two_point_contact_force_is_continuous(model):
     """S1002 (back-to-back 1360 mm) at 5 mm touches tread and flange root at once: pushing the wheel down
     must raise its normal force smoothly, with no jump where the ridge between the two lobes sinks below
     zero gap or toward the minima (a multi-patch model that merged or dropped one lobe would jump)."""
-    from railderail_sim.contact import kik_piotrowski as kp
     from railderail_sim.contact import wheelset as ws
     from railderail_sim.vehicle.assemble import contact_array
     c = ContactParameters(wheel_profile="s1002", back_to_back=1.360, normal_model=model, contact_damping=0.0)
     cg = contact_geometry(c, TrackParameters(), 0.46)
     cp = contact_array(c)
-    gap, ys, patches, cand = _buffers(cg)
-    nw = len(gap)
-    z0, phi, _, _ = geo.rigid_contact(cg, 0.005, 0.0, gap, ys)
+    scratch = ws.contact_scratch(cg)
+    z0, phi, _, _ = geo.rigid_contact(cg, 0.005, 0.0, scratch.gap, scratch.ys)
     forces = []
     for dz in np.arange(20e-6, 160e-6, 2e-6):
-        fm = ws.wheel_forces(cg, cp, 0, 0.005, z0 - dz, phi, 0.0, 83.3, 0.0, 0.0, 0.0, 0.0, 0.0, 181.0, 83.3,
-                             gap, ys, patches, cand, False, np.zeros((4, nw)), np.zeros(nw, dtype=np.int64),
-                             np.zeros((1, kp.NPROP)), np.zeros(ws.W_SIZE))
+        fm = ws.wheel_forces(cg, cp, 0, (0.005, z0 - dz, phi, 0.0), (83.3, 0.0, 0.0, 0.0, 0.0, 0.0, 181.0, 83.3),
+                             scratch, ws.candidates()[0], False, np.zeros(ws.W_SIZE))
         forces.append(fm[2])
     steps = np.diff(forces)
     assert np.all(steps > 0.0)                          # monotonic

@@ -189,7 +189,7 @@ def test_two_minima_give_two_patches():
     Rk = np.full(sk.size, R_WHEEL)
     dk = kp.kp_delta_for_force(sk, gk, Rk, N, E, NU, kp.EPS_DEFAULT)
     _, _, PK, _ = kp.kp_patches(sk, gk, Rk, dk, E, NU)
-    assert len(PK) == 2 and PK[0]["N"] > PK[1]["N"]
+    assert len(PK) == 2 and PK[0]["normal_force"] > PK[1]["normal_force"]
     # below the second lobe: one patch only
     r1 = hs.halfspace_patch(h, dx, dy, E, NU, delta=1.5e-5, x=x, y=s)
     assert len(r1["patches"]) == 1 and r1["centroid"][1] < 0.0

@@ -33,7 +33,7 @@ def test_sphere_with_eps_half_is_hertz():
     xl, pid, P, _ = kp.kp_patches(s, gap, R, d, E, NU, eps=0.5)
     assert len(P) == 1
     p = P[0]
-    assert p["N"] == pytest.approx(N, rel=1e-4)
+    assert p["normal_force"] == pytest.approx(N, rel=1e-4)
     assert p["length"] / 2 == pytest.approx(a, rel=1e-4)
     assert p["width"] / 2 == pytest.approx(b, rel=1e-4)
     assert p["area"] == pytest.approx(math.pi * a * b, rel=1e-3)
@@ -96,16 +96,16 @@ def test_two_lobe_gap_gives_two_patches():
     assert len(P) == 2
     assert P[0]["y_max"] < 0.0 < P[1]["y_min"]
     assert P[0]["y0"] == pytest.approx(y1, abs=1e-4) and P[1]["y0"] == pytest.approx(y2, abs=1e-4)
-    assert P[0]["delta_local"] == pytest.approx(delta, rel=1e-12)
-    assert P[1]["delta_local"] == pytest.approx(delta - g2, rel=1e-9)
+    assert P[0]["approach"] == pytest.approx(delta, rel=1e-12)
+    assert P[1]["approach"] == pytest.approx(delta - g2, rel=1e-9)
     # each patch is the single-lobe patch at its own approach (no elastic interaction)
     for k, (yc, dl) in enumerate(((y1, delta), (y2, delta - g2))):
         single = B * (s - yc) ** 2
         Nk = kp.kp_normal_force(s, single, R, dl, E, NU, kp.EPS_DEFAULT)
-        assert P[k]["N"] == pytest.approx(Nk, rel=1e-9)
-    assert P[0]["N"] > P[1]["N"] > 0
+        assert P[k]["normal_force"] == pytest.approx(Nk, rel=1e-9)
+    assert P[0]["normal_force"] > P[1]["normal_force"] > 0
     assert kp.kp_normal_force(s, gap, R, delta, E, NU, kp.EPS_DEFAULT) == pytest.approx(
-        P[0]["N"] + P[1]["N"], rel=1e-12)
+        P[0]["normal_force"] + P[1]["normal_force"], rel=1e-12)
     assert set(np.unique(pid)) == {-1, 0, 1}
     assert np.all(xl[pid == -1] == 0.0) and np.all(xl[pid >= 0] > 0.0)
     # when the separating hump is not crossed the lobes are one patch only if gap < delta between
@@ -126,7 +126,7 @@ def test_conformal_gap_gives_long_narrow_non_elliptic_patch():
     assert p["area"] / (math.pi / 4 * p["length"] * p["width"]) > 1.05
     # and the equivalent Hertz ellipse from the local curvature at the deepest point is useless:
     # B = 0 there (guarded), while the KP patch is finite
-    assert np.isfinite(p["N"]) and p["p_max"] > 0
+    assert np.isfinite(p["normal_force"]) and p["p_max"] > 0
 
 
 def test_variable_rolling_radius_shapes_the_patch():
@@ -151,7 +151,7 @@ def test_creep_forces_linear_limit_and_saturation():
             assert (Fx, Fy)[i] == pytest.approx(lin[i], rel=0.01)
         for xi in ((0.05, 0.0, 0.0), (0.0, 0.05, 0.0), (0.03, -0.03, 0.5)):
             Fx, Fy = kp.kp_creep_forces(s, xl, arr, 0, *xi, MU, G, NU, 20)
-            assert math.hypot(Fx, Fy) == pytest.approx(MU * P[0]["N"], rel=2e-3)
+            assert math.hypot(Fx, Fy) == pytest.approx(MU * P[0]["normal_force"], rel=2e-3)
         f1 = np.array(kp.kp_creep_forces(s, xl, arr, 0, 1e-3, -5e-4, 0.2, MU, G, NU, 20))
         f2 = np.array(kp.kp_creep_forces(s, xl, arr, 0, -1e-3, 5e-4, -0.2, MU, G, NU, 20))
         assert np.allclose(f1, -f2, rtol=1e-12)

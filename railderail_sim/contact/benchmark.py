@@ -42,7 +42,6 @@ import numpy as np
 from .. import jit
 from . import geometry as geo
 from . import halfspace as hs
-from . import kik_piotrowski as kp
 from . import table as tab
 from . import wheelset as ws
 
@@ -53,18 +52,17 @@ STEP = (2e-5, 0.0, 1e-5, 1e-5)                                 # pose change wit
 
 
 @numba.njit(cache=False, **jit.OPTIONS)
-def _eval_loop(n, poses, step, cg, cp, speed, spin, tracked, gap, ys, patches, cands, kpbuf, kpid, kprow,
-               recs):
+def _eval_loop(n, poses, step, cg, cp, speed, spin, tracked, scratch, cands, recs):
     acc = 0.0
+    motion = (speed, 0.0, 0.0, 0.0, 0.0, 0.0, spin, speed)
     for it in range(n):
         f = 1.0 if it % 2 == 1 else 0.0
         for w in range(8):
             i = w // 2
             side = w % 2
-            fm = ws.wheel_forces(cg, cp, side, poses[i, 0] + f * step[0], poses[i, 1] + f * step[1],
-                                 poses[i, 2] + f * step[2], poses[i, 3] + f * step[3], speed, 0.0, 0.0, 0.0,
-                                 0.0, 0.0, spin, speed, gap, ys, patches, cands[w], tracked, kpbuf, kpid, kprow,
-                                 recs[w])
+            pose = (poses[i, 0] + f * step[0], poses[i, 1] + f * step[1], poses[i, 2] + f * step[2],
+                    poses[i, 3] + f * step[3])
+            fm = ws.wheel_forces(cg, cp, side, pose, motion, scratch, cands[w], tracked, recs[w])
             acc += fm[2]
     return acc
 
@@ -129,19 +127,15 @@ def run() -> dict:
         setup, poses = _case_setup(model)
         cg = setup.cg
         cp = contact_array(setup.contact)
-        nw = int(cg[geo.H_NW])
         speed = 300.0 / 3.6
         spin = speed / setup.radius
-        bufs = dict(gap=np.zeros(nw), ys=np.zeros(nw), patches=np.zeros((geo.MAX_PATCHES, geo.P_COLS)),
-                    cands=np.zeros((8, 1 + geo.MAX_CANDIDATES)), kpbuf=np.zeros((4, nw)),
-                    kpid=np.zeros(nw, dtype=np.int64), kprow=np.zeros((1, kp.NPROP)),
-                    recs=np.zeros((8, ws.W_SIZE)))
+        scratch = ws.contact_scratch(cg)
+        cands = ws.candidates(8)
+        recs = np.zeros((8, ws.W_SIZE))
         step = np.array(STEP)
 
         def evaluate(n, tracked=False, geometry=cg):
-            b = bufs
-            return _eval_loop(n, poses, step, geometry, cp, speed, spin, tracked, b["gap"], b["ys"],
-                              b["patches"], b["cands"], b["kpbuf"], b["kpid"], b["kprow"], b["recs"])
+            return _eval_loop(n, poses, step, geometry, cp, speed, spin, tracked, scratch, cands, recs)
 
         t0 = time.perf_counter()
         evaluate(1)
@@ -152,9 +146,8 @@ def run() -> dict:
             figures["contact_eval_us_hertz_tracked"] = _median_us(lambda n: evaluate(n, True), 1)
 
             def search(n, tracked=False, lookup=False, geometry=cg):
-                b = bufs
-                return _search_loop(n, poses, step, geometry, tracked, lookup, b["gap"], b["ys"], b["patches"],
-                                    b["cands"])
+                return _search_loop(n, poses, step, geometry, tracked, lookup, scratch.gap, scratch.ys,
+                                    scratch.patches, cands)
 
             t0 = time.perf_counter()
             search(1)
@@ -175,14 +168,14 @@ def run() -> dict:
 
     # one 64 x 64 half-space solve of the centred tread patch at the static wheel load
     pose = (0.0, float(hertz_poses[0, 1]), 0.0, 0.0)
-    gap, ys = np.zeros(nw), np.zeros(nw)
-    patches = np.zeros((geo.MAX_PATCHES, geo.P_COLS))
-    n_p, _ = geo.find_patches(cg, *pose, gap, ys, patches, np.zeros(1 + geo.MAX_CANDIDATES))
-    k = int(np.argmin(patches[:n_p, geo.P_GAP]))
-    cd = 1.0 / math.sqrt(1.0 + patches[k, geo.P_SLOPE] ** 2)
-    s, g, R, _, _ = _discrete_arrays(cg, pose, int(patches[k, geo.P_JM]), patches[k, geo.P_GAP], cd, margin=3)
+    scratch = ws.contact_scratch(cg)
+    patches = scratch.patches
+    n_p, _ = geo.find_patches(cg, *pose, scratch.gap, scratch.ys, patches, ws.candidates()[0])
+    k = int(np.argmin(patches[:n_p, geo.Patch.gap]))
+    cd = 1.0 / math.sqrt(1.0 + patches[k, geo.Patch.slope] ** 2)
+    s, g, R, _, _ = _discrete_arrays(cg, pose, int(patches[k, geo.Patch.grid_index]), patches[k, geo.Patch.gap], cd, margin=3)
     su = np.linspace(s[0], s[-1], 64)
-    x_half = 1.05 * math.sqrt(2.0 * R.max() * (-patches[k, geo.P_GAP] * cd))
+    x_half = 1.05 * math.sqrt(2.0 * R.max() * (-patches[k, geo.Patch.gap] * cd))
     h, x, dx, dy = hs.wheelrail_gap(su, np.interp(su, s, g), np.interp(su, s, R), x_half, 64)
     load = 0.5 * static_wheelset_load()
     E, nu = setup.contact.youngs_modulus, setup.contact.poisson_ratio

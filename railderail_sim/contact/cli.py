@@ -226,7 +226,7 @@ def build_setup(wheel="lm", rail="uic60", *, gauge_mm=1435.0, inclination="1/40"
 
 
 def _buffers(cg):
-    nw = int(cg[geo.H_NW])
+    nw = int(cg[geo.GeometryHeader.wheel_points])
     return np.zeros(nw), np.zeros(nw)
 
 
@@ -234,19 +234,19 @@ def _check_centred_fit(setup, gauge_mm, back_to_back_mm):
     cg = setup.cg
     z, phi, ok = conicity.rigid_pose(cg, 0.0, 0.0)
     row = conicity.deepest_patch(cg, 0.0, z, phi, 0.0)[0] if ok else None
-    angle = math.atan(row[geo.P_SLOPE]) if row is not None else float("nan")
+    angle = math.atan(row[geo.Patch.slope]) if row is not None else float("nan")
     # the flange face: steepest point between the flange tip and the rolling circle
-    nw = int(cg[geo.H_NW])
+    nw = int(cg[geo.GeometryHeader.wheel_points])
     wz = cg[geo.H_SIZE:geo.H_SIZE + nw]
     slope = cg[geo.H_SIZE + nw:geo.H_SIZE + 2 * nw]
     tip = int(np.argmax(wz))
-    j0 = int(round(-cg[geo.H_WY0] / cg[geo.H_DW]))
-    y_face = cg[geo.H_WY0] + (tip + int(np.argmin(slope[tip:j0 + 1]))) * cg[geo.H_DW]
-    on_tread = row is not None and row[geo.P_YP] > y_face
+    j0 = int(round(-cg[geo.GeometryHeader.wheel_y0] / cg[geo.GeometryHeader.wheel_step]))
+    y_face = cg[geo.GeometryHeader.wheel_y0] + (tip + int(np.argmin(slope[tip:j0 + 1]))) * cg[geo.GeometryHeader.wheel_step]
+    on_tread = row is not None and row[geo.Patch.wheel_y] > y_face
     if not (ok and abs(angle) < TREAD_ANGLE_MAX and on_tread):
         what = ("finds no rail under its wheels" if not math.isfinite(angle) else
                 f"touches its rails at a contact angle of {math.degrees(angle):.1f} deg" if on_tread else
-                f"touches its rails with the flange ({row[geo.P_YP] * 1e3:.1f} mm from the rolling circle, "
+                f"touches its rails with the flange ({row[geo.Patch.wheel_y] * 1e3:.1f} mm from the rolling circle, "
                 f"beyond the flange face at {y_face * 1e3:.1f} mm)")
         raise ValueError(f"gauge {gauge_mm:g} mm with back-to-back {back_to_back_mm:g} mm does not fit "
                          f"{setup.wheel.name} on {setup.rail.name}: the centred wheelset {what}; the "
@@ -258,8 +258,8 @@ def contact_range(cg, psi=0.0, y_hi=0.1, tol=1e-5):
     """Largest lateral shift (m) for which the rigid wheelset still touches both rails with the
     climbing wheel's contact short of its flange tip and the other wheel's contact inside its profile
     (the same for -y by mirror symmetry)."""
-    tip = cg[geo.H_FLANGE_TIP_YP]
-    y_end = cg[geo.H_WY0] + (cg[geo.H_NW] - 1) * cg[geo.H_DW]
+    tip = cg[geo.GeometryHeader.flange_tip_y]
+    y_end = cg[geo.GeometryHeader.wheel_y0] + (cg[geo.GeometryHeader.wheel_points] - 1) * cg[geo.GeometryHeader.wheel_step]
 
     def fits(y):
         z, phi, ok = conicity.rigid_pose(cg, y, psi)
@@ -267,7 +267,7 @@ def contact_range(cg, psi=0.0, y_hi=0.1, tol=1e-5):
             return False
         for yy, pp, ss in ((y, phi, psi), (-y, -phi, -psi)):
             row, _ = conicity.deepest_patch(cg, yy, z, pp, ss)
-            if row is None or not (tip + TIP_MARGIN < row[geo.P_YP] < y_end - TIP_MARGIN):
+            if row is None or not (tip + TIP_MARGIN < row[geo.Patch.wheel_y] < y_end - TIP_MARGIN):
                 return False
         return True
 
@@ -323,8 +323,8 @@ def geometry_report(setup: Setup, *, y_max_mm=12.0, step_mm=0.1, amplitude_mm=3.
         "kinematic_wavelength_m": wavelength,
         "equivalent_conicity_by_amplitude": by_amp,
         "contact_half_distance_m": table.contact_half_distance,
-        "flange_height_m": float(cg[geo.H_FLANGE_HEIGHT]),
-        "flange_tip_y_m": float(cg[geo.H_FLANGE_TIP_YP]),
+        "flange_height_m": float(cg[geo.GeometryHeader.flange_height]),
+        "flange_tip_y_m": float(cg[geo.GeometryHeader.flange_tip_y]),
         "max_flange_angle_rad": flange_angle,
         "max_contact_angle_rad": max_angle,
         "max_contact_angle_at_y_m": y_peak,
@@ -334,7 +334,7 @@ def geometry_report(setup: Setup, *, y_max_mm=12.0, step_mm=0.1, amplitude_mm=3.
         "nadal_limit": nadal,
         "nadal_formula": "(tan d - mu) / (1 + mu tan d) at d = max_contact_angle_rad (the table's largest "
                          "contact angle refined between its neighbouring rows)",
-        "rail_head_width_m": float(cg[geo.H_RAIL_HEAD_WIDTH]),
+        "rail_head_width_m": float(cg[geo.GeometryHeader.rail_head_width]),
         "rail_head_width_depth_m": setup.track.gauge_depth,
         "tables": {
             "y_m": table.y.tolist(),
@@ -404,14 +404,14 @@ def plot_geometry(report, setup: Setup, path):
     ax = fig.subplots(2, 2)
     # (a) contact points on wheel and rail, left wheel, centred drawing of both profiles
     a = ax[0, 0]
-    axis_y = cg[geo.H_RAIL_AXIS_Y]
-    ry = np.linspace(cg[geo.H_RY0], cg[geo.H_RY0] + (cg[geo.H_NR] - 2) * cg[geo.H_DR], 1500)
+    axis_y = cg[geo.GeometryHeader.rail_axis_y]
+    ry = np.linspace(cg[geo.GeometryHeader.rail_y0], cg[geo.GeometryHeader.rail_y0] + (cg[geo.GeometryHeader.rail_points] - 2) * cg[geo.GeometryHeader.rail_step], 1500)
     rz = np.array([geo.rail_height(cg, v)[0] for v in ry])
     z0 = t["vertical_m"][len(t["y_m"]) // 2]
     lift = 8e-3                                       # wheel drawn 8 mm above its centred position
     wy = setup.wheel.y
     wz = setup.wheel.z - float(setup.wheel.eval(0.0))
-    wheel_Y = cg[geo.H_LW] + wy
+    wheel_Y = cg[geo.GeometryHeader.rolling_circle_distance] + wy
     wheel_Z = z0 - wz + lift
     a.plot((ry - axis_y) * 1e3, rz * 1e3, "k-", lw=1.5, label=f"rail {setup.rail.name}")
     a.plot((wheel_Y - axis_y) * 1e3, wheel_Z * 1e3, "b-", lw=1.5,
@@ -422,7 +422,7 @@ def plot_geometry(report, setup: Setup, path):
     for k in range(0, len(t["y_m"]), stride):
         yp = t["wheel_contact_y_left_m"][k]
         rail_Y = t["rail_contact_y_left_m"][k] + axis_y
-        wheel_pt = (cg[geo.H_LW] + yp, z0 - (float(setup.wheel.eval(yp)) - float(setup.wheel.eval(0.0)))
+        wheel_pt = (cg[geo.GeometryHeader.rolling_circle_distance] + yp, z0 - (float(setup.wheel.eval(yp)) - float(setup.wheel.eval(0.0)))
                     + lift)
         rail_pt = (rail_Y, geo.rail_height(cg, rail_Y)[0])
         colour = cmap(0.5 + 0.5 * t["y_m"][k] / y_span)
@@ -509,13 +509,9 @@ def _mirror(pose, side):
 
 def _wheel_forces(cg, cp, side, pose, speed, spin, tracked=False):
     """wheelset.wheel_forces for steady rolling: returns (force, moment, rec), track axes."""
-    y, z, phi, psi = pose
-    nw = int(cg[geo.H_NW])
-    gap, ys = _buffers(cg)
     rec = np.zeros(ws.W_SIZE)
-    fm = ws.wheel_forces(cg, cp, side, y, z, phi, psi, speed, 0.0, 0.0, 0.0, 0.0, 0.0, spin, speed,
-                         gap, ys, np.zeros((geo.MAX_PATCHES, geo.P_COLS)), np.zeros(1 + geo.MAX_CANDIDATES),
-                         tracked, np.zeros((4, nw)), np.zeros(nw, dtype=np.int64), np.zeros((1, kp.NPROP)), rec)
+    fm = ws.wheel_forces(cg, cp, side, pose, (speed, 0.0, 0.0, 0.0, 0.0, 0.0, spin, speed), ws.contact_scratch(cg),
+                         ws.candidates()[0], tracked, rec)
     return np.array(fm[:3]), np.array(fm[3:]), rec
 
 
@@ -538,12 +534,12 @@ def _discrete_arrays(cg, pose, jm, gmin, cd, margin=0):
         if hi + 1 < j1 and gap[hi + 1] >= gap[hi]:
             hi += 1
     j = np.arange(lo, hi + 1)
-    nw = int(cg[geo.H_NW])
-    zw = cg[geo.H_SIZE + j]
-    sw = cg[geo.H_SIZE + nw + j]
-    R = (cg[geo.H_R0] + zw) * np.sqrt(1.0 + sw * sw)
+    wheel_z, wheel_slope, _ = geo.wheel_table(cg)
+    zw = wheel_z[j]
+    sw = wheel_slope[j]
+    R = (cg[geo.GeometryHeader.nominal_radius] + zw) * np.sqrt(1.0 + sw * sw)
     n_run = jb - ja + 1
-    ds = abs((ys[jb] - ys[ja]) / ((n_run - 1) * cd)) if n_run > 1 else cg[geo.H_DW]
+    ds = abs((ys[jb] - ys[ja]) / ((n_run - 1) * cd)) if n_run > 1 else cg[geo.GeometryHeader.wheel_step]
     s = (j - jm) * ds
     g = (gap[lo:hi + 1] - gmin) * cd
     return s, g, R, ja - lo, jb - lo
@@ -554,68 +550,65 @@ def wheel_patch_details(setup: Setup, cp, pose, speed, spin, model, grid):
     the patch rows that `wheelset.left_wheel` fills while it computes the forces; plus the discrete
     patch's outline and the half-space solution when asked."""
     cg = setup.cg
-    y, z, phi, psi = pose
-    gap, ys = _buffers(cg)
-    nw = len(gap)
-    patches = np.zeros((geo.MAX_PATCHES, geo.P_COLS))
+    scratch = ws.contact_scratch(cg)
+    patches = scratch.patches
     rec = np.zeros(ws.W_SIZE)
-    ws.left_wheel(cg, cp, y, z, phi, psi, speed, 0.0, 0.0, 0.0, 0.0, 0.0, spin, speed, gap, ys, patches,
-                  np.zeros(1 + geo.MAX_CANDIDATES), False, np.zeros((4, nw)), np.zeros(nw, dtype=np.int64),
-                  np.zeros((1, kp.NPROP)), rec)
-    count = int(rec[ws.W_COUNT])
+    ws.left_wheel(cg, cp, pose, (speed, 0.0, 0.0, 0.0, 0.0, 0.0, spin, speed), scratch, ws.candidates()[0], False,
+                  rec)
+    count = int(rec[ws.Wheel.contact_count])
     E = setup.contact.youngs_modulus
-    nu = cp[ws.C_NU]
-    discrete = int(cp[ws.C_NORMAL]) == ws.NORMAL_DISCRETE
+    nu = cp[ws.ContactConstants.poisson_ratio]
+    discrete = int(cp[ws.ContactConstants.normal_model]) == ws.NORMAL_DISCRETE
     out, plot = [], []
     for k in range(count):
         row = patches[k].copy()
-        normal = row[geo.P_NORMAL]
+        normal = row[geo.Patch.normal_force]
         if normal <= 0.0:
             continue
-        slope = row[geo.P_SLOPE]
+        slope = row[geo.Patch.slope]
         cd = 1.0 / math.sqrt(1.0 + slope * slope)
         sd = slope * cd
-        jm = int(row[geo.P_JM])
-        fx, ft = row[geo.P_FX], row[geo.P_FT]
-        ha, hb = row[geo.P_HERTZ_A], row[geo.P_HERTZ_B]
-        a, b = row[geo.P_HALF_LENGTH], row[geo.P_HALF_WIDTH]
+        jm = int(row[geo.Patch.grid_index])
+        fx, ft = row[geo.Patch.creep_force_x], row[geo.Patch.creep_force_lateral]
+        ha, hb = row[geo.Patch.hertz_a], row[geo.Patch.hertz_b]
+        a, b = row[geo.Patch.half_length], row[geo.Patch.half_width]
         p = {
-            "rail_y_m": row[geo.P_Y] - cg[geo.H_RAIL_AXIS_Y],
-            "wheel_y_m": row[geo.P_YP],
-            "lead_x_m": row[geo.P_X],
+            "rail_y_m": row[geo.Patch.y] - cg[geo.GeometryHeader.rail_axis_y],
+            "wheel_y_m": row[geo.Patch.wheel_y],
+            "lead_x_m": row[geo.Patch.x],
             "contact_angle_rad": math.atan(slope),
-            "rolling_radius_m": row[geo.P_RADIUS],
-            "vertical_gap_m": row[geo.P_GAP],
-            "normal_approach_m": row[geo.P_APPROACH],
+            "rolling_radius_m": row[geo.Patch.radius],
+            "vertical_gap_m": row[geo.Patch.gap],
+            "normal_approach_m": row[geo.Patch.approach],
             "normal_force_N": normal,
             "hertz_a_m": ha,
             "hertz_b_m": hb,
             "hertz_p0_Pa": 1.5 * normal / (math.pi * ha * hb),
-            "relative_curvature_A_1_m": row[geo.P_A],
-            "relative_curvature_B_1_m": row[geo.P_B],
-            "creep_ellipse_a_m": row[geo.P_AEQ],
-            "creep_ellipse_b_m": row[geo.P_BEQ],
+            "relative_curvature_A_1_m": row[geo.Patch.curvature_a],
+            "relative_curvature_B_1_m": row[geo.Patch.curvature_b],
+            "creep_ellipse_a_m": row[geo.Patch.creep_a],
+            "creep_ellipse_b_m": row[geo.Patch.creep_b],
             "length_m": 2.0 * a,
             "width_m": 2.0 * b,
-            "creepage": {"longitudinal": row[geo.P_XI_X], "lateral": row[geo.P_XI_Y], "spin_1_m": row[geo.P_SPIN]},
-            "creep_force": {"longitudinal_N": fx, "lateral_N": ft, "spin_moment_Nm": row[geo.P_MZ]},
+            "creepage": {"longitudinal": row[geo.Patch.creepage_x], "lateral": row[geo.Patch.creepage_y], "spin_1_m": row[geo.Patch.spin_creepage]},
+            "creep_force": {"longitudinal_N": fx, "lateral_N": ft, "spin_moment_Nm": row[geo.Patch.spin_moment]},
             "force_on_wheel_N": [fx, normal * -sd + ft * cd, normal * cd + ft * sd],
         }
         pd = {"a": ha, "b": hb, "kind": "hertz", "angle": math.atan(slope), "N": normal,
               "rail_y": p["rail_y_m"]}
         if discrete:
-            s, g, R, _, _ = _discrete_arrays(cg, pose, jm, row[geo.P_GAP], cd)
-            xl, _, plist, _ = kp.kp_patches(s - s[0], g, R, -row[geo.P_GAP] * cd, E, nu, kp.EPS_DEFAULT, 1)
+            s, g, R, _, _ = _discrete_arrays(cg, pose, jm, row[geo.Patch.gap], cd)
+            xl, _, plist, _ = kp.kp_patches(s - s[0], g, R, -row[geo.Patch.gap] * cd, E, nu, kp.EPS_DEFAULT, 1)
             q = plist[0]
             p["discrete"] = {"length_m": q["length"], "width_m": q["width"], "area_m2": q["area"],
                              "p_max_Pa": q["p_max"], "a_eq_m": q["a_eq"], "b_eq_m": q["b_eq"],
-                             "approach_m": q["delta_local"], "normal_force_N": q["N"],
+                             "approach_m": q["approach"], "normal_force_N": q["normal_force"],
                              "centroid_offset_m": q["y_centroid"] - q["y0"]}
             shift = s[0] + q["y0"]
             pd.update(kind="discrete", s=s - shift, xl=xl, p0=q["p0"], xl0=q["xl0"],
                       s_edges=(s[0] + q["y_min"] - shift, s[0] + q["y_max"] - shift))
             if MODELS[model][2]:
-                p["halfspace"], pd["halfspace"] = _halfspace_patch(cg, pose, jm, row[geo.P_GAP], cd, normal,
+                p["halfspace"], pd["halfspace"] = _halfspace_patch(cg, pose, jm, row[geo.Patch.gap], cd, normal,
                                                                    E, nu, grid)
                 hsd = p["halfspace"]
                 p["length_m"], p["width_m"] = hsd["length_m"], hsd["width_m"]
@@ -794,9 +787,9 @@ def contact_case(setup: Setup, *, lateral_mm=0.0, yaw_mrad=0.0, roll_mrad=None, 
         patches, pdata = wheel_patch_details(setup, cp, _mirror(pose, side), speed, spin, model, grid)
         wheels.append({
             "side": SIDES[side],
-            "Q_N": rec[ws.W_Q], "P_N": rec[ws.W_P], "Q_over_P": rec[ws.W_QP],
-            "longitudinal_force_on_rail_N": rec[ws.W_FX],
-            "wheel_lift_m": rec[ws.W_LIFT], "min_gap_m": rec[ws.W_GAP],
+            "Q_N": rec[ws.Wheel.lateral_force], "P_N": rec[ws.Wheel.vertical_force], "Q_over_P": rec[ws.Wheel.derailment_coefficient],
+            "longitudinal_force_on_rail_N": rec[ws.Wheel.longitudinal_force],
+            "wheel_lift_m": rec[ws.Wheel.wheel_lift], "min_gap_m": rec[ws.Wheel.min_gap],
             "patch_count": len(patches), "patches": patches,
         })
         plot.append(pdata)

@@ -33,45 +33,80 @@ import math
 import numpy as np
 
 from ..jit import core
+from ..record import Record
 
-# Header of the packed contact-geometry array cg.
-H_NW, H_WY0, H_DW = 0, 1, 2          # wheel grid: points, first y_p (m), step (m)
-H_NR, H_RY0, H_DR = 3, 4, 5          # rail grid (track frame, left rail): points, first Y (m), step (m)
-H_R0 = 6                             # nominal rolling radius (m)
-H_LW = 7                             # lateral distance from wheelset centre to the nominal rolling circle (m)
-H_RAIL_TOP_Y = 8                     # track-frame Y of the rail's highest point (m)
-H_RAIL_AXIS_Y = 9                    # track-frame Y of the rail head's axis at its top (m)
-H_FLANGE_HEIGHT = 10                 # flange height above the nominal rolling circle (m)
-H_FLANGE_TIP_YP = 11                 # profile y_p of the flange tip (m)
-H_RAIL_HEAD_WIDTH = 12               # rail head width at the gauge-measuring depth (m)
-H_GAUGE_Y = 13                       # track-frame Y of the gauge point (m)
-# contact table (`contact.table`), 0 in H_TABLE when there is none: offset of the nodes in cg, the grid over
-# the lateral axis u (first value, step) and roll phi, and the largest yaw its second-order yaw terms serve
-H_TABLE, H_TAB_NY, H_TAB_Y0, H_TAB_DY, H_TAB_NPHI, H_TAB_PHI0, H_TAB_DPHI, H_TAB_PSI_MAX = range(14, 22)
-H_SIZE = 24
 
-# One patch found by the search: columns of the `patches` array.
-P_Y, P_Z, P_X = 0, 1, 2              # contact point on the rail, track frame (left-wheel form), m
-P_GAP = 3                            # vertical gap at the deepest point (m, negative = interpenetration)
-P_SLOPE = 4                          # rail slope dZ/dY at the contact (tan of the contact angle)
-P_YP = 5                             # wheel profile coordinate of the contact (m)
-P_RADIUS = 6                         # wheel radius at the contact (m)
-P_B = 7                              # half the relative lateral curvature (1/m), Hertz "B"
-P_A = 8                              # half the relative longitudinal curvature (1/m), Hertz "A"
-P_JM = 9                             # fine wheel grid index of the deepest point
-# filled by contact.wheelset.left_wheel when it evaluates the patch's forces:
-P_NORMAL = 10                        # normal force (N; 0 if the patch carries none)
-P_APPROACH = 11                      # normal approach (m)
-P_HALF_LENGTH, P_HALF_WIDTH = 12, 13  # patch semi-axes along x and y (m): Hertz, or the discrete patch's
-P_AEQ, P_BEQ = 14, 15                # semi-axes of the ellipse the creep law uses (m)
-P_HERTZ_A, P_HERTZ_B = 16, 17        # Hertz semi-axes at the same load (m)
-P_XI_X, P_XI_Y, P_SPIN = 18, 19, 20  # creepages: longitudinal, lateral (-), spin (1/m)
-P_FX, P_FT, P_MZ = 21, 22, 23        # creep forces on the wheel: longitudinal, lateral in the contact plane (N),
-                                     # spin moment (N m)
-P_WEIGHT = 24                        # share weight of an equivalent-elliptic patch (see _set_weights)
-P_HERTZ_C1 = 25                      # Hertz shape at E* = 1 Pa from the contact table (a/N^(1/3), b/N^(1/3),
-                                     # stiffness; scale by E*^(-1/3), E*^(-1/3), E*), or 0: not given
-P_COLS = 28
+class GeometryHeader(Record):
+    """Header of the packed contact-geometry array cg (`pack_contact_geometry`); the wheel and rail
+    tables, and the contact table if any, follow it."""
+    wheel_points = "-", "points of the wheel grid"
+    wheel_y0 = "m", "first wheel profile coordinate y_p of the grid"
+    wheel_step = "m", "wheel grid step"
+    rail_points = "-", "points of the rail grid (track frame, left rail)"
+    rail_y0 = "m", "first track-frame Y of the rail grid"
+    rail_step = "m", "rail grid step"
+    nominal_radius = "m", "nominal rolling radius r0"
+    rolling_circle_distance = "m", "lateral distance lw from the wheelset centre to the nominal rolling circle"
+    rail_top_y = "m", "track-frame Y of the rail's highest point"
+    rail_axis_y = "m", "track-frame Y of the rail head's axis at its top"
+    flange_height = "m", "flange height above the nominal rolling circle"
+    flange_tip_y = "m", "wheel profile coordinate y_p of the flange tip"
+    rail_head_width = "m", "rail head width at the gauge-measuring depth"
+    gauge_y = "m", "track-frame Y of the gauge point"
+    # the contact table (`contact.table`)
+    table = "-", "offset of the contact table's nodes in cg; 0 when there is none"
+    table_u_points = "-", "nodes along the table's lateral axis u"
+    table_u0 = "m", "first u of the table"
+    table_u_step = "m", "u step of the table"
+    table_roll_points = "-", "nodes along the table's roll axis"
+    table_roll0 = "rad", "first roll of the table"
+    table_roll_step = "rad", "roll step of the table"
+    table_yaw_max = "rad", "largest yaw the table's second-order yaw terms serve"
+
+
+H_SIZE = GeometryHeader.size()
+
+
+class HertzShape(Record):
+    """Hertz's contact shape of a patch at E* = 1 Pa: the semi-axes a = a_c N^(1/3), b = b_c N^(1/3) and
+    the normal force N = C d^1.5; at a modulus E* they scale as E*^(-1/3), E*^(-1/3) and E* (exact)."""
+    a_coefficient = "m N^(-1/3)", "a_c"
+    b_coefficient = "m N^(-1/3)", "b_c"
+    stiffness = "N m^-1.5", "C"
+
+
+class Patch(Record):
+    """One contact patch of a wheel: a row of the `patches` array, filled by the search (geometry, or
+    the contact table) and, from `normal_force` on, by `contact.wheelset.left_wheel`."""
+    y = "m", "contact point on the rail: track-frame Y (left-wheel form)"
+    z = "m", "contact point: track-frame Z"
+    x = "m", "contact point: lead along the track from the wheelset centre"
+    gap = "m", "vertical gap at the deepest point (negative = interpenetration)"
+    slope = "-", "rail slope dZ/dY at the contact (tan of the contact angle)"
+    wheel_y = "m", "wheel profile coordinate y_p of the contact"
+    radius = "m", "wheel radius at the contact (NaN from the contact table)"
+    curvature_b = "1/m", "half the relative lateral curvature, Hertz's B (NaN from the contact table)"
+    curvature_a = "1/m", "half the relative longitudinal curvature, Hertz's A (NaN from the contact table)"
+    grid_index = "-", "fine wheel grid index of the deepest point"
+    normal_force = "N", "normal force (0 if the patch carries none)"
+    approach = "m", "normal approach"
+    half_length = "m", "semi-axis along x: Hertz, or the discrete patch's"
+    half_width = "m", "semi-axis along the contact's lateral tangent: Hertz, or the discrete patch's"
+    creep_a = "m", "semi-axis along x of the ellipse the creep law uses"
+    creep_b = "m", "lateral semi-axis of the ellipse the creep law uses"
+    hertz_a = "m", "Hertz semi-axis along x at the same load"
+    hertz_b = "m", "lateral Hertz semi-axis at the same load"
+    creepage_x = "-", "longitudinal creepage"
+    creepage_y = "-", "lateral creepage in the contact plane"
+    spin_creepage = "1/m", "spin creepage"
+    creep_force_x = "N", "longitudinal creep force on the wheel"
+    creep_force_lateral = "N", "lateral creep force on the wheel, in the contact plane"
+    spin_moment = "N m", "spin moment on the wheel"
+    weight = "-", "share weight of an equivalent-elliptic patch (see _set_weights)"
+    hertz_shape = "-", "Hertz shape at E* = 1 Pa from the contact table (stiffness 0: not given)", (), HertzShape
+
+
+P_COLS = Patch.size()
 MAX_PATCHES = 3
 COARSE_STRIDE = 8                    # coarse search every 8th wheel grid point (1 mm on the 0.125 mm grid)
 COARSE_WINDOW_GAP = 1.5e-3           # m; coarse minima below this are searched on the fine grid (the
@@ -79,6 +114,16 @@ COARSE_WINDOW_GAP = 1.5e-3           # m; coarse minima below this are searched 
 NO_RAIL_GAP = 1.0                    # m; gap reported where there is no rail under the wheel
 TRACK_GAP = 1.0e-3                   # m; near-contacts below this are followed during a time step
 MAX_CANDIDATES = 6
+
+
+class Candidates(Record):
+    """The contact minima of one wheel worth following within the next integration step: listed by a
+    full search (`find_patches`, the contact table) and followed by `track_patches`."""
+    count = "-", "number of minima listed"
+    indices = "-", "their fine wheel grid indices", (MAX_CANDIDATES,)
+
+
+CANDIDATES_SIZE = Candidates.size()
 RUN_BLOCK = 16                       # grid points scanned at a time when a patch's extent is walked out
 PROMINENCE_FULL = 0.5                # see _set_weights
 
@@ -118,29 +163,38 @@ def pack_contact_geometry(wheel, rail, nominal_radius, rolling_circle_half_dista
     head_width = _head_width(rail, gauge_depth)
 
     nw = len(wheel.z)
-    cg = np.zeros(H_SIZE + 3 * nw + 3 * len(y_uniform))
-    cg[H_NW], cg[H_WY0], cg[H_DW] = nw, wheel.y0, wheel.dy
-    cg[H_NR], cg[H_RY0], cg[H_DR] = len(y_uniform), y_uniform[0], rail_step
-    cg[H_R0] = nominal_radius
-    cg[H_LW] = rolling_circle_half_distance
-    cg[H_RAIL_TOP_Y] = yr[top]
-    cg[H_RAIL_AXIS_Y] = axis_y
+    nr = len(y_uniform)
+    cg = np.zeros(H_SIZE + 3 * nw + 3 * nr)
     i0 = int(round(-wheel.y0 / wheel.dy))
     tip = int(np.argmax(wheel.z))
-    cg[H_FLANGE_HEIGHT] = wheel.z[tip] - wheel.z[i0]
-    cg[H_FLANGE_TIP_YP] = wheel.y0 + tip * wheel.dy
-    cg[H_RAIL_HEAD_WIDTH] = head_width
-    cg[H_GAUGE_Y] = 0.5 * gauge
-    o = H_SIZE
-    cg[o:o + nw] = wheel.z
-    cg[o + nw:o + 2 * nw] = wheel.slope
-    cg[o + 2 * nw:o + 3 * nw] = wheel.curvature
-    o += 3 * nw
-    nr = len(y_uniform)
-    cg[o:o + nr] = z_uniform
-    cg[o + nr:o + 2 * nr] = slope_uniform
-    cg[o + 2 * nr:o + 3 * nr] = kap_uniform
+    H = GeometryHeader
+    for field, value in ((H.wheel_points, nw), (H.wheel_y0, wheel.y0), (H.wheel_step, wheel.dy),
+                         (H.rail_points, nr), (H.rail_y0, y_uniform[0]), (H.rail_step, rail_step),
+                         (H.nominal_radius, nominal_radius), (H.rolling_circle_distance, rolling_circle_half_distance),
+                         (H.rail_top_y, yr[top]), (H.rail_axis_y, axis_y),
+                         (H.flange_height, wheel.z[tip] - wheel.z[i0]), (H.flange_tip_y, wheel.y0 + tip * wheel.dy),
+                         (H.rail_head_width, head_width), (H.gauge_y, 0.5 * gauge)):
+        cg[field] = value
+    wheel_z, wheel_slope, wheel_curvature = wheel_table(cg)
+    wheel_z[:], wheel_slope[:], wheel_curvature[:] = wheel.z, wheel.slope, wheel.curvature
+    rail_z, rail_slope, rail_curvature = rail_table(cg)
+    rail_z[:], rail_slope[:], rail_curvature[:] = z_uniform, slope_uniform, kap_uniform
     return cg
+
+
+def wheel_table(cg):
+    """Views of the wheel table in cg: (z, slope, curvature) on the wheel grid (profile frame)."""
+    nw = int(cg[GeometryHeader.wheel_points])
+    o = H_SIZE
+    return cg[o:o + nw], cg[o + nw:o + 2 * nw], cg[o + 2 * nw:o + 3 * nw]
+
+
+def rail_table(cg):
+    """Views of the left rail's table in cg: (Z, slope dZ/dY, curvature) on the rail grid (track frame)."""
+    nw = int(cg[GeometryHeader.wheel_points])
+    nr = int(cg[GeometryHeader.rail_points])
+    o = H_SIZE + 3 * nw
+    return cg[o:o + nr], cg[o + nr:o + 2 * nr], cg[o + 2 * nr:o + 3 * nr]
 
 
 def _head_width(rail, depth):
@@ -160,10 +214,10 @@ def rail_height(cg, Y):
     Cubic Hermite interpolation of the tabulated height and slope, so the gap's curvature is not spoiled
     by the table step.
     """
-    nw = int(cg[H_NW])
-    nr = int(cg[H_NR])
-    y0 = cg[H_RY0]
-    h = cg[H_DR]
+    nw = int(cg[GeometryHeader.wheel_points])
+    nr = int(cg[GeometryHeader.rail_points])
+    y0 = cg[GeometryHeader.rail_y0]
+    h = cg[GeometryHeader.rail_step]
     u = (Y - y0) / h
     if u < 0.0 or u >= nr - 1:
         return -1.0, 0.0
@@ -183,9 +237,9 @@ def rail_height(cg, Y):
 
 @core
 def _rail_curvature(cg, Y):
-    nw = int(cg[H_NW])
-    nr = int(cg[H_NR])
-    u = (Y - cg[H_RY0]) / cg[H_DR]
+    nw = int(cg[GeometryHeader.wheel_points])
+    nr = int(cg[GeometryHeader.rail_points])
+    u = (Y - cg[GeometryHeader.rail_y0]) / cg[GeometryHeader.rail_step]
     if u < 0.0 or u >= nr - 1:
         return 0.0
     i = int(u)
@@ -197,8 +251,8 @@ def _rail_curvature(cg, Y):
 @core
 def _wheel_at(cg, yp):
     """Wheel radius increase z_w, slope and curvature at profile coordinate yp (linear interpolation)."""
-    nw = int(cg[H_NW])
-    u = (yp - cg[H_WY0]) / cg[H_DW]
+    nw = int(cg[GeometryHeader.wheel_points])
+    u = (yp - cg[GeometryHeader.wheel_y0]) / cg[GeometryHeader.wheel_step]
     if u < 0.0:
         u = 0.0
     if u > nw - 1.000001:
@@ -220,7 +274,7 @@ def pose_constants(cg, y, z, phi, psi):
     cpsi = math.cos(psi)
     spsi = math.sin(psi)
     inv_rho = 1.0 / math.sqrt(cpsi * cpsi + spsi * spsi * sphi * sphi)
-    return (y, cg[H_R0] + z, cphi, sphi, cpsi, spsi, cpsi * inv_rho, spsi * sphi * inv_rho,
+    return (y, cg[GeometryHeader.nominal_radius] + z, cphi, sphi, cpsi, spsi, cpsi * inv_rho, spsi * sphi * inv_rho,
             -spsi * cphi * inv_rho)
 
 
@@ -233,14 +287,14 @@ def _scan(cg, pose, j0, j1, stride, gap, ys):
     the trace-line equation in the module docstring; an, bn, k1 from `pose_constants`). The rail height
     is a cubic Hermite interpolation of the tabulated height and slope.
     """
-    nw = int(cg[H_NW])
-    wy0 = cg[H_WY0]
-    dw = cg[H_DW]
-    nr = int(cg[H_NR])
-    ry0 = cg[H_RY0]
-    dr = cg[H_DR]
-    r0 = cg[H_R0]
-    lw = cg[H_LW]
+    nw = int(cg[GeometryHeader.wheel_points])
+    wy0 = cg[GeometryHeader.wheel_y0]
+    dw = cg[GeometryHeader.wheel_step]
+    nr = int(cg[GeometryHeader.rail_points])
+    ry0 = cg[GeometryHeader.rail_y0]
+    dr = cg[GeometryHeader.rail_step]
+    r0 = cg[GeometryHeader.nominal_radius]
+    lw = cg[GeometryHeader.rolling_circle_distance]
     y, zc, cphi, sphi, cpsi, spsi, an, bn, k1 = pose
     inv_dr = 1.0 / dr
     ow = H_SIZE
@@ -277,8 +331,8 @@ def _trace_point(cg, pose, yp):
     """Trace-line point (X, Y, Z) of the wheel at continuous profile coordinate yp, with its wheel data."""
     y, zc, cphi, sphi, cpsi, spsi, an, bn, k1 = pose
     zw, sw, kw = _wheel_at(cg, yp)
-    r = cg[H_R0] + zw
-    eta = cg[H_LW] + yp
+    r = cg[GeometryHeader.nominal_radius] + zw
+    eta = cg[GeometryHeader.rolling_circle_distance] + yp
     c = min(1.0, max(-1.0, sw * k1))
     cb = math.sqrt(1.0 - c * c)
     rct = r * (an * cb - bn * c)
@@ -292,13 +346,14 @@ def _trace_point(cg, pose, yp):
 def wheel_range(cg, pose):
     """Wheel grid indices [j0, j1) that can lie over the rail head (3 mm margin)."""
     y, zc, cphi, sphi, cpsi, spsi, an, bn, k1 = pose
-    dw = cg[H_DW]
-    ry0 = cg[H_RY0]
-    ry1 = ry0 + (cg[H_NR] - 1) * cg[H_DR]
-    base = y + cg[H_LW] * cphi + cg[H_R0] * sphi + cg[H_WY0]
+    dw = cg[GeometryHeader.wheel_step]
+    ry0 = cg[GeometryHeader.rail_y0]
+    ry1 = ry0 + (cg[GeometryHeader.rail_points] - 1) * cg[GeometryHeader.rail_step]
+    base = (y + cg[GeometryHeader.rolling_circle_distance] * cphi + cg[GeometryHeader.nominal_radius] * sphi
+            + cg[GeometryHeader.wheel_y0])
     j0 = int(math.floor((ry0 - base) / (dw * cphi) - 3e-3 / dw))
     j1 = int(math.ceil((ry1 - base) / (dw * cphi) + 3e-3 / dw)) + 1
-    return max(j0, 0), min(j1, int(cg[H_NW]))
+    return max(j0, 0), min(j1, int(cg[GeometryHeader.wheel_points]))
 
 
 @core
@@ -324,10 +379,10 @@ def find_patches(cg, y, z, phi, psi, gap, ys, patches, cand):
     covers the dip that can hide between two coarse samples on these profiles). Minima with a negative gap
     are patches, in order across the wheel; each gets its share weight (`_set_weights`). Each patch row gets
     the contact point, its gap, rail slope, wheel profile coordinate and radius, the Hertz half relative
-    curvatures A and B, the fine grid index of its minimum (P_JM) and the weight (P_WEIGHT).
+    curvatures A and B, the fine grid index of its minimum (Patch.grid_index) and the weight (Patch.weight).
 
     `cand` receives the fine minima worth following within the next integration step (patches and
-    near-contacts below TRACK_GAP): cand[0] = count, cand[1:] = grid indices (see `track_patches`).
+    near-contacts below TRACK_GAP), a `Candidates` record (see `track_patches`).
     """
     pose = pose_constants(cg, y, z, phi, psi)
     j0, j1 = wheel_range(cg, pose)
@@ -353,13 +408,13 @@ def find_patches(cg, y, z, phi, psi, gap, ys, patches, cand):
                     count += 1
                     prev_min = jm
                     if ncand < MAX_CANDIDATES:
+                        cand[Candidates.indices + ncand] = jm
                         ncand += 1
-                        cand[ncand] = jm
             elif gap[jm] < TRACK_GAP and ncand < MAX_CANDIDATES:
+                cand[Candidates.indices + ncand] = jm
                 ncand += 1
-                cand[ncand] = jm
         j += S
-    cand[0] = ncand
+    cand[Candidates.count] = ncand
     _set_weights(cg, pose, patches, count, gap, ys)
     return count, gmin
 
@@ -376,8 +431,8 @@ def track_patches(cg, y, z, phi, psi, gap, ys, patches, cand):
     j0, j1 = wheel_range(cg, pose)
     count = 0
     prev = -10
-    for c in range(int(cand[0])):
-        jc = int(cand[c + 1])
+    for c in range(int(cand[Candidates.count])):
+        jc = int(cand[Candidates.indices + c])
         if jc < j0 or jc >= j1:
             continue
         jm = local_minimum(cg, pose, jc, j0, j1, 2, gap, ys)
@@ -424,7 +479,7 @@ def local_minimum(cg, pose, jc, j0, j1, half, gap, ys):
 
 @core
 def _set_weights(cg, pose, patches, count, gap, ys):
-    """Share weight of each patch (P_WEIGHT) for equivalent-elliptic normal contact.
+    """Share weight of each patch (Patch.weight) for equivalent-elliptic normal contact.
 
     Neighbouring minima of the gap are separate patches (tread and flange root stay two contacts, as the
     half-space solution shows them). Where the ridge between a patch and a deeper neighbour rises less
@@ -432,13 +487,13 @@ def _set_weights(cg, pose, patches, count, gap, ys):
     one contact that one ellipse cannot describe: the shallower patch's force is scaled by
     prominence / (PROMINENCE_FULL depth), from 1 down to 0 as the ridge sinks to its level. The force
     stays continuous when two minima are born or merge, and a ripple in a conformal contact is not counted
-    twice. The patches are in order across the wheel (increasing P_JM).
+    twice. The patches are in order across the wheel (increasing Patch.grid_index).
     """
     for k in range(count):
-        patches[k, P_WEIGHT] = 1.0
+        patches[k, Patch.weight] = 1.0
     for k in range(count - 1):
-        ja = int(patches[k, P_JM])
-        jb = int(patches[k + 1, P_JM])
+        ja = int(patches[k, Patch.grid_index])
+        jb = int(patches[k + 1, Patch.grid_index])
         _scan(cg, pose, ja + 1, jb, 1, gap, ys)
         ridge = gap[ja]
         for q in range(ja + 1, jb):
@@ -451,12 +506,12 @@ def _set_weights(cg, pose, patches, count, gap, ys):
 def share_weight(patches, ka, kb, ridge):
     """Lower the share weight of the shallower of patches ka, kb by the prominence of the ridge (the
     highest gap) between them, as `_set_weights` describes; the contact table calls it with its ridge."""
-    s = ka if patches[ka, P_GAP] > patches[kb, P_GAP] else kb
-    depth = -patches[s, P_GAP]
-    w = (ridge - patches[s, P_GAP]) / (PROMINENCE_FULL * depth)
+    s = ka if patches[ka, Patch.gap] > patches[kb, Patch.gap] else kb
+    depth = -patches[s, Patch.gap]
+    w = (ridge - patches[s, Patch.gap]) / (PROMINENCE_FULL * depth)
     w = min(1.0, max(0.0, w))
-    if w < patches[s, P_WEIGHT]:
-        patches[s, P_WEIGHT] = w
+    if w < patches[s, Patch.weight]:
+        patches[s, Patch.weight] = w
 
 
 @core
@@ -504,30 +559,30 @@ def _fill_patch(cg, pose, jm, j0, j1, gap, patches, slot):
         if den > 0.0:
             t = min(0.5, max(-0.5, 0.5 * (gl - gr) / den))
             g = g - 0.125 * (gl - gr) * (gl - gr) / den
-    yp = cg[H_WY0] + (jm + t) * cg[H_DW]
+    yp = cg[GeometryHeader.wheel_y0] + (jm + t) * cg[GeometryHeader.wheel_step]
     X, Y, Z, radius, sw, kw = _trace_point(cg, pose, yp)
     _, slope = rail_height(cg, Y)
     kr = _rail_curvature(cg, Y)
-    patches[slot, P_Y] = Y
-    patches[slot, P_Z] = Z
-    patches[slot, P_X] = X
-    patches[slot, P_GAP] = g
-    patches[slot, P_SLOPE] = slope
-    patches[slot, P_YP] = yp
-    patches[slot, P_RADIUS] = radius
+    patches[slot, Patch.y] = Y
+    patches[slot, Patch.z] = Z
+    patches[slot, Patch.x] = X
+    patches[slot, Patch.gap] = g
+    patches[slot, Patch.slope] = slope
+    patches[slot, Patch.wheel_y] = yp
+    patches[slot, Patch.radius] = radius
     # relative lateral curvature: the wheel surface seen from the rail has curvature -kw
-    patches[slot, P_B] = 0.5 * (-kw - kr)
-    patches[slot, P_A] = 0.5 / (radius * math.sqrt(1.0 + sw * sw))
-    patches[slot, P_JM] = jm
-    patches[slot, P_HERTZ_C1 + 2] = 0.0           # the Hertz shape is computed from A and B
+    patches[slot, Patch.curvature_b] = 0.5 * (-kw - kr)
+    patches[slot, Patch.curvature_a] = 0.5 / (radius * math.sqrt(1.0 + sw * sw))
+    patches[slot, Patch.grid_index] = jm
+    patches[slot, Patch.hertz_shape + HertzShape.stiffness] = 0.0           # the Hertz shape is computed from A and B
 
 
 @core
 def wheel_lift(cg, z, phi):
     """The paper's hp for the left wheel: height of the lowest point of the nominal rolling circle above
     the rail's highest point (m). Right wheel: call with the mirrored pose (-phi)."""
-    r0 = cg[H_R0]
-    lw = cg[H_LW]
+    r0 = cg[GeometryHeader.nominal_radius]
+    lw = cg[GeometryHeader.rolling_circle_distance]
     return r0 + z + lw * math.sin(phi) - r0 * math.cos(phi)
 
 
@@ -550,7 +605,7 @@ def rigid_contact(cg, y, psi, gap, ys):
     is zero (Newton with the exact kinematic Jacobian of a rigid wheelset). Returns (z, phi, jl, jr):
     jl, jr are the wheel grid indices of the left and right contact points.
     """
-    lw = cg[H_LW]
+    lw = cg[GeometryHeader.rolling_circle_distance]
     z = 0.0
     phi = 0.0
     jl = 0

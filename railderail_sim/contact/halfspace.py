@@ -108,6 +108,8 @@ import warnings
 import numpy as np
 from scipy import ndimage
 
+from .hertz import combined_modulus
+
 MIN_ELEMENTS = 3          # minimum number of elements in each direction of the grid
 _STRUCT8 = np.ones((3, 3), dtype=bool)
 
@@ -178,7 +180,7 @@ def displacement(p, dx, dy, E, nu):
     """Combined normal surface displacement u = C p [m] of the (ny, nx) pressure field p [Pa]
     (FFT product; both bodies of modulus E and Poisson's ratio nu)."""
     p = np.asarray(p, dtype=np.float64)
-    E_star = E / (2.0 * (1.0 - nu * nu))
+    E_star = combined_modulus(E, nu, E, nu)
     return _Operator(p.shape[1], p.shape[0], dx, dy, E_star)(p)
 
 
@@ -448,7 +450,7 @@ def halfspace_patch(h, dx, dy, E, nu, N=None, delta=None, tol=1e-8, max_iter=500
         if y.shape != (ny,) or abs((y[-1] - y[0]) / (ny - 1) - dy) > 1e-6 * dy:
             raise ValueError(f"halfspace: y must have {ny} points spaced dy = {dy!r} m")
 
-    E_star = E / (2.0 * (1.0 - nu * nu))
+    E_star = combined_modulus(E, nu, E, nu)
     dA = dx * dy
     empty = {
         "pressure": np.zeros_like(h), "contact": np.zeros(h.shape, dtype=bool),

@@ -101,7 +101,10 @@ _AGM_MAXIT = 60
 
 @core
 def combined_modulus(E1, nu1, E2, nu2):
-    """E* with 1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2 [Pa] (Johnson 1985, §4.2)."""
+    """E* with 1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2 [Pa] (Johnson 1985, §4.2); for two bodies of the same
+    material its closed form E / (2 (1 - nu^2)), which the contact models use (wheel and rail steel)."""
+    if E1 == E2 and nu1 == nu2:
+        return E1 / (2.0 * (1.0 - nu1 * nu1))
     return 1.0 / ((1.0 - nu1 * nu1) / E1 + (1.0 - nu2 * nu2) / E2)
 
 

@@ -63,7 +63,7 @@ empirical constant.
 
 Data layout (allocation-free cores; the caller allocates):
 ``xl`` (n,) strip half-lengths [m] (0 outside patches), ``pid`` (n,) int patch index or -1,
-``patches`` (max_patches, NPROP) float rows indexed by the ``P_*`` constants below.
+``patches`` (max_patches, NPROP) float rows, one `DiscretePatch` record each.
 ``kp_patches`` is a Python convenience wrapper that allocates and returns a list of dicts.
 
 References
@@ -82,30 +82,37 @@ import math
 import numpy as np
 
 from ..jit import core
+from ..record import Record
 from .creep import kalker_coefficients
 from .fastsim import BOUND_ELLIPTIC, fastsim_strip, flexibilities
+from .hertz import combined_modulus
 
 EPS_DEFAULT = 0.55
 
-# patch property columns
-P_N = 0          # normal load of the patch [N]
-P_YMIN = 1       # lateral extent of the patch (interpolated zero of f) [m]
-P_YMAX = 2
-P_LENGTH = 3     # 2 max x_L [m]
-P_WIDTH = 4      # P_YMAX - P_YMIN [m]
-P_AREA = 5       # sum 2 x_L ds [m^2]
-P_YC = 6         # pressure-weighted centroid y [m]
-P_PMAX = 7       # maximum pressure [Pa]
-P_DELTA = 8      # local approach delta_k = delta - gap_min [m]
-P_Y0 = 9         # y of the deepest point (reference point for creepages) [m]
-P_XL0 = 10       # x_L at y0 [m]
-P_P0 = 11        # pressure at (0, y0) [Pa]
-P_AEQ = 12       # equivalent-ellipse semi-axes (x, y) [m]
-P_BEQ = 13
-P_J0 = 14        # strip index range [j0, j1) of the patch run (as floats)
-P_J1 = 15
-P_JM = 16        # strip index of the deepest point
-NPROP = 17
+
+
+class DiscretePatch(Record):
+    """A row of the `patches` output of `kp_normal`: one Kik-Piotrowski patch."""
+    normal_force = "N", "normal load of the patch"
+    y_min = "m", "lateral extent: first interpolated zero of the interpenetration f"
+    y_max = "m", "lateral extent: last zero of f"
+    length = "m", "2 max x_L"
+    width = "m", "y_max - y_min"
+    area = "m^2", "sum of 2 x_L ds"
+    y_centroid = "m", "pressure-weighted centroid y"
+    p_max = "Pa", "maximum pressure"
+    approach = "m", "local approach delta_k = delta - gap_min"
+    y0 = "m", "y of the deepest point (the reference point of the creepages)"
+    xl0 = "m", "x_L at y0"
+    p0 = "Pa", "pressure at (0, y0)"
+    a_eq = "m", "equivalent ellipse: semi-axis along x"
+    b_eq = "m", "equivalent ellipse: lateral semi-axis"
+    j0 = "-", "first strip index of the patch run"
+    j1 = "-", "strip index just past the run"
+    jm = "-", "strip index of the deepest point"
+
+
+NPROP = DiscretePatch.size()
 
 # Gauss-Legendre nodes/weights on [-1, 1]
 _G2X = 0.5773502691896257
@@ -227,7 +234,7 @@ def kp_normal_force(s, gap, R_long, delta, E, nu, eps):
         return 0.0
     n = s.shape[0]
     ds = s[1] - s[0]
-    Estar = E / (2.0 * (1.0 - nu * nu))
+    Estar = combined_modulus(E, nu, E, nu)
     Ntot = 0.0
     j = 0
     while j < n:
@@ -248,7 +255,7 @@ def kp_normal(s, gap, R_long, delta, E, nu, eps, xl, pid, patches):
     s (n,) uniform lateral grid [m]; gap (n,) undeformed normal separation [m] (min 0); R_long (n,)
     wheel longitudinal radius [m]; delta [m]; E [Pa], nu; eps virtual-penetration factor.
     Outputs (caller-allocated): xl (n,) half-lengths, pid (n,) int patch index (-1 outside),
-    patches (maxp, NPROP) rows (see P_* constants). Patches beyond maxp are ignored (their strips
+    patches (maxp, NPROP) rows (`DiscretePatch`). Patches beyond maxp are ignored (their strips
     keep pid = -1 and xl = 0); the return value counts the stored patches.
     """
     _check_inputs(s, gap, R_long, E, nu, eps)
@@ -264,7 +271,7 @@ def kp_normal(s, gap, R_long, delta, E, nu, eps, xl, pid, patches):
         return 0
     ds = s[1] - s[0]
     s0 = s[0]
-    Estar = E / (2.0 * (1.0 - nu * nu))
+    Estar = combined_modulus(E, nu, E, nu)
     np_ = 0
     j = 0
     while j < n and np_ < maxp:
@@ -313,24 +320,24 @@ def kp_normal(s, gap, R_long, delta, E, nu, eps, xl, pid, patches):
         width = ymax - ymin
         p0 = N * xl0 / IS
         row = patches[np_]
-        row[P_N] = N
-        row[P_YMIN] = ymin
-        row[P_YMAX] = ymax
-        row[P_LENGTH] = 2.0 * xlmax
-        row[P_WIDTH] = width
-        row[P_AREA] = area
-        row[P_YC] = ymom / IS
-        row[P_PMAX] = p0 * xlmax / xl0
-        row[P_DELTA] = dk
-        row[P_Y0] = s0 + jm * ds
-        row[P_XL0] = xl0
-        row[P_P0] = p0
+        row[DiscretePatch.normal_force] = N
+        row[DiscretePatch.y_min] = ymin
+        row[DiscretePatch.y_max] = ymax
+        row[DiscretePatch.length] = 2.0 * xlmax
+        row[DiscretePatch.width] = width
+        row[DiscretePatch.area] = area
+        row[DiscretePatch.y_centroid] = ymom / IS
+        row[DiscretePatch.p_max] = p0 * xlmax / xl0
+        row[DiscretePatch.approach] = dk
+        row[DiscretePatch.y0] = s0 + jm * ds
+        row[DiscretePatch.xl0] = xl0
+        row[DiscretePatch.p0] = p0
         ratio = xlmax / (0.5 * width)
-        row[P_AEQ] = math.sqrt(area / math.pi * ratio)
-        row[P_BEQ] = math.sqrt(area / (math.pi * ratio))
-        row[P_J0] = r0
-        row[P_J1] = r1
-        row[P_JM] = jm
+        row[DiscretePatch.a_eq] = math.sqrt(area / math.pi * ratio)
+        row[DiscretePatch.b_eq] = math.sqrt(area / (math.pi * ratio))
+        row[DiscretePatch.j0] = r0
+        row[DiscretePatch.j1] = r1
+        row[DiscretePatch.jm] = jm
         np_ += 1
     return np_
 
@@ -404,25 +411,25 @@ def kp_creep_forces(s, xl, patches, k, xi_x, xi_y, phi, mu, G, nu, nx):
     """Creep forces (Fx, Fy) on the wheel for KP patch k by strip-wise FASTSIM.
 
     s (n,) grid, xl (n,) and patches from ``kp_normal``; creepages xi_x, xi_y [-] and spin phi
-    [1/m] at the patch's reference point y0 = patches[k, P_Y0]; mu friction coefficient; G [Pa]
+    [1/m] at the patch's reference point y0 = patches[k, DiscretePatch.y0]; mu friction coefficient; G [Pa]
     shear modulus; nu Poisson's ratio; nx elements per strip (e.g. fastsim.NX_DEFAULT). Sign
     convention as creep.py (forces oppose the creepage).
     """
     row = patches[k]
-    N = row[P_N]
+    N = row[DiscretePatch.normal_force]
     if not (N > 0.0):
         return 0.0, 0.0
     ds = s[1] - s[0]
     s0 = s[0]
-    aeq = row[P_AEQ]
-    beq = row[P_BEQ]
+    aeq = row[DiscretePatch.a_eq]
+    beq = row[DiscretePatch.b_eq]
     C11, C22, C23, C33 = kalker_coefficients(aeq / beq, nu)
     L1, L2, L3 = flexibilities(aeq, beq, G, C11, C22, C23)
-    p0 = row[P_P0]
-    xl0 = row[P_XL0]
-    y0 = row[P_Y0]
-    j0 = int(row[P_J0])
-    j1 = int(row[P_J1])
+    p0 = row[DiscretePatch.p0]
+    xl0 = row[DiscretePatch.xl0]
+    y0 = row[DiscretePatch.y0]
+    j0 = int(row[DiscretePatch.j0])
+    j1 = int(row[DiscretePatch.j1])
     Fx = 0.0
     Fy = 0.0
     for j in range(j0, j1):
@@ -438,7 +445,8 @@ def kp_creep_forces(s, xl, patches, k, xi_x, xi_y, phi, mu, G, nu, nx):
 
 
 def kp_patches(s, gap, R_long, delta, E, nu, eps=EPS_DEFAULT, max_patches=4):
-    """Python convenience wrapper (allocates): returns (xl, pid, list of patch dicts, patches)."""
+    """Python convenience wrapper (allocates): returns (xl, pid, a dict of DiscretePatch fields per patch,
+    patches)."""
     s = np.ascontiguousarray(s, dtype=np.float64)
     gap = np.ascontiguousarray(gap, dtype=np.float64)
     R_long = np.ascontiguousarray(R_long, dtype=np.float64)
@@ -447,14 +455,10 @@ def kp_patches(s, gap, R_long, delta, E, nu, eps=EPS_DEFAULT, max_patches=4):
     pid = np.full(n, -1, dtype=np.int64)
     patches = np.zeros((int(max_patches), NPROP))
     m = kp_normal(s, gap, R_long, float(delta), float(E), float(nu), float(eps), xl, pid, patches)
-    names = {"N": P_N, "y_min": P_YMIN, "y_max": P_YMAX, "length": P_LENGTH, "width": P_WIDTH,
-             "area": P_AREA, "y_centroid": P_YC, "p_max": P_PMAX, "delta_local": P_DELTA,
-             "y0": P_Y0, "xl0": P_XL0, "p0": P_P0, "a_eq": P_AEQ, "b_eq": P_BEQ}
     out = []
     for k in range(m):
-        d = {key: float(patches[k, c]) for key, c in names.items()}
-        d["j0"] = int(patches[k, P_J0])
-        d["j1"] = int(patches[k, P_J1])
-        d["jm"] = int(patches[k, P_JM])
+        d = {field.name: float(patches[k, field]) for field in DiscretePatch}
+        for field in (DiscretePatch.j0, DiscretePatch.j1, DiscretePatch.jm):
+            d[field.name] = int(d[field.name])
         out.append(d)
     return xl, pid, out, patches

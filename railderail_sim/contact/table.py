@@ -44,7 +44,9 @@ import numpy as np
 
 from ..jit import core, core_inline
 from . import geometry as geo
+from .geometry import Candidates, GeometryHeader, HertzShape, Patch
 from .hertz import hertz_shape
+from ..record import Record
 
 # Grid (left-wheel form: the right wheel is the mirrored left one, so one table serves both rails)
 U_MIN, U_MAX, DU = -0.020, 0.030, 2.5e-5       # m; lateral axis u (above), + toward the rail
@@ -56,15 +58,46 @@ JUMP = 24                                       # wheel grid steps (3 mm); a min
                                                 # nodes (or between yaws) is not the same contact
 SLOPE_SPREAD = 0.30                             # largest spread of tan(contact angle) over a cell's nodes
 
-# Quantities of one tabulated minimum, each with three yaw coefficients (q0, q1, q2)
-Q_GAP, Q_Y, Q_X, Q_QZ, Q_SLOPE, Q_YP, Q_AC, Q_BC, Q_C = range(9)
-NQ = 9
-S_RIDGE = 3 * NQ                                # highest gap between this minimum and the next one (m)
-S_J = S_RIDGE + 1                               # wheel grid index at psi = 0
-S_COLS = S_J + 1
-N_COUNT, N_GMIN = 0, 1                          # per node: minima kept (-1: node unusable), smallest gap
-N_SLOT0 = 2
-N_COLS = N_SLOT0 + geo.MAX_PATCHES * S_COLS
+
+
+class Tabulated(Record):
+    """The quantities tabulated for one minimum of the gap (at z = 0), each as yaw terms."""
+    gap = "m", "vertical gap at the minimum"
+    y = "m", "contact point's track-frame Y"
+    x = "m", "contact point's lead"
+    height = "m", "contact point's track-frame Z minus r0"
+    slope = "-", "rail slope at the contact"
+    wheel_y = "m", "wheel profile coordinate of the contact"
+    hertz_a = "m N^(-1/3)", "Hertz shape at E* = 1 Pa: a_c"
+    hertz_b = "m N^(-1/3)", "Hertz shape at E* = 1 Pa: b_c"
+    hertz_stiffness = "N m^-1.5", "Hertz shape at E* = 1 Pa: C"
+
+
+class YawTerms(Record):
+    """q(psi) = q0 + q1 psi + q2 psi^2 of a tabulated quantity."""
+    q0 = "as the quantity", "value at psi = 0"
+    q1 = "per rad", "first-order yaw term"
+    q2 = "per rad^2", "second-order yaw term"
+
+
+class TableMinimum(Record):
+    """One minimum kept at a node."""
+    quantities = "-", "each Tabulated quantity's yaw terms", (Tabulated.size(),), YawTerms
+    ridge = "m", "highest gap between this minimum and the next one"
+    grid_index = "-", "wheel grid index of the minimum at psi = 0"
+
+
+class TableNode(Record):
+    """One node of the table (lateral u, roll phi)."""
+    count = "-", "minima kept (-1: the node is unusable)"
+    min_gap = "m", "smallest gap along the trace line"
+    minima = "-", "the minima, in order across the wheel", (geo.MAX_PATCHES,), TableMinimum
+
+
+NQ = Tabulated.size()
+YAW_TERMS = YawTerms.size()
+M_SIZE = TableMinimum.size()
+N_COLS = TableNode.size()
 MAX_MINIMA = 16                                 # local minima looked at per node
 
 
@@ -75,11 +108,12 @@ def attach(cg):
     base = cg.shape[0]
     out = np.zeros(base + ny * nphi * N_COLS)
     out[:base] = cg
-    out[geo.H_TABLE] = base
-    out[geo.H_TAB_NY], out[geo.H_TAB_Y0], out[geo.H_TAB_DY] = ny, U_MIN, DU
-    out[geo.H_TAB_NPHI], out[geo.H_TAB_PHI0], out[geo.H_TAB_DPHI] = nphi, -PHI_MAX, DPHI
-    out[geo.H_TAB_PSI_MAX] = PSI_MAX
-    nw = int(cg[geo.H_NW])
+    H = GeometryHeader
+    for field, value in ((H.table, base), (H.table_u_points, ny), (H.table_u0, U_MIN), (H.table_u_step, DU),
+                         (H.table_roll_points, nphi), (H.table_roll0, -PHI_MAX), (H.table_roll_step, DPHI),
+                         (H.table_yaw_max, PSI_MAX)):
+        out[field] = value
+    nw = int(cg[GeometryHeader.wheel_points])
     _build(out, np.zeros(nw), np.zeros(nw), np.zeros((geo.MAX_PATCHES, geo.P_COLS)),
            np.zeros((3, geo.MAX_PATCHES, NQ)), np.zeros(MAX_MINIMA, dtype=np.int64))
     return out
@@ -88,26 +122,31 @@ def attach(cg):
 @core
 def _quantities(cg, row, q):
     """Tabulated quantities of one patch row of `geometry._fill_patch` (at z = 0) into q[:]."""
-    q[Q_GAP] = row[geo.P_GAP]
-    q[Q_Y] = row[geo.P_Y]
-    q[Q_X] = row[geo.P_X]
-    q[Q_QZ] = row[geo.P_Z] - cg[geo.H_R0]
-    q[Q_SLOPE] = row[geo.P_SLOPE]
-    q[Q_YP] = row[geo.P_YP]
-    q[Q_AC], q[Q_BC], q[Q_C] = hertz_shape(row[geo.P_A], row[geo.P_B], 1.0)
+    q[Tabulated.gap] = row[Patch.gap]
+    q[Tabulated.y] = row[Patch.y]
+    q[Tabulated.x] = row[Patch.x]
+    q[Tabulated.height] = row[Patch.z] - cg[GeometryHeader.nominal_radius]
+    q[Tabulated.slope] = row[Patch.slope]
+    q[Tabulated.wheel_y] = row[Patch.wheel_y]
+    a, b, stiffness = hertz_shape(row[Patch.curvature_a], row[Patch.curvature_b], 1.0)
+    q[Tabulated.hertz_a] = a
+    q[Tabulated.hertz_b] = b
+    q[Tabulated.hertz_stiffness] = stiffness
 
 
 @core
 def _build(cg, gap, ys, patches, qs, minima):
-    base = int(cg[geo.H_TABLE])
-    ny = int(cg[geo.H_TAB_NY])
-    nphi = int(cg[geo.H_TAB_NPHI])
+    base = int(cg[GeometryHeader.table])
+    ny = int(cg[GeometryHeader.table_u_points])
+    nphi = int(cg[GeometryHeader.table_roll_points])
     h = PSI_FIT
+    r0 = cg[GeometryHeader.nominal_radius]
+    lw = cg[GeometryHeader.rolling_circle_distance]
     for iy in range(ny):
-        u = cg[geo.H_TAB_Y0] + iy * cg[geo.H_TAB_DY]
+        u = cg[GeometryHeader.table_u0] + iy * cg[GeometryHeader.table_u_step]
         for ip in range(nphi):
-            phi = cg[geo.H_TAB_PHI0] + ip * cg[geo.H_TAB_DPHI]
-            y = u - phi * (cg[geo.H_R0] - 0.5 * cg[geo.H_LW] * phi)
+            phi = cg[GeometryHeader.table_roll0] + ip * cg[GeometryHeader.table_roll_step]
+            y = u - phi * (r0 - 0.5 * lw * phi)
             o = base + (iy * nphi + ip) * N_COLS
             pose = geo.pose_constants(cg, y, 0.0, phi, 0.0)
             j0, j1 = geo.wheel_range(cg, pose)
@@ -129,16 +168,16 @@ def _build(cg, gap, ys, patches, qs, minima):
                 for k in range(worst, nmin - 1):
                     minima[k] = minima[k + 1]
                 nmin -= 1
-            cg[o + N_GMIN] = gmin
+            cg[o + TableNode.min_gap] = gmin
             for k in range(nmin):
-                s = o + N_SLOT0 + k * S_COLS
+                s = o + TableNode.minima + k * M_SIZE
                 ridge = geo.NO_RAIL_GAP
                 if k + 1 < nmin:
                     ridge = gap[minima[k]]
                     for j in range(minima[k] + 1, minima[k + 1]):
                         ridge = max(ridge, gap[j])
-                cg[s + S_RIDGE] = ridge
-                cg[s + S_J] = minima[k]
+                cg[s + TableMinimum.ridge] = ridge
+                cg[s + TableMinimum.grid_index] = minima[k]
             usable = True
             for k in range(nmin):
                 jm = minima[k]
@@ -150,36 +189,48 @@ def _build(cg, gap, ys, patches, qs, minima):
                 pose_y = geo.pose_constants(cg, y, 0.0, phi, psi)
                 a0, a1 = geo.wheel_range(cg, pose_y)
                 for k in range(nmin):
-                    jc = int(cg[o + N_SLOT0 + k * S_COLS + S_J])
+                    jc = int(cg[o + TableNode.minima + k * M_SIZE + TableMinimum.grid_index])
                     jm = geo.local_minimum(cg, pose_y, min(max(jc, a0), a1 - 1), a0, a1, 1, gap, ys)
                     if abs(jm - jc) > JUMP:
                         usable = False
                     geo._fill_patch(cg, pose_y, jm, a0, a1, gap, patches, 0)
                     _quantities(cg, patches[0], qs[1 + side, k])
             for k in range(nmin):
-                s = o + N_SLOT0 + k * S_COLS
+                s = o + TableNode.minima + k * M_SIZE
                 for q in range(NQ):
                     q0 = qs[0, k, q]
                     qp = qs[1, k, q]
                     qm = qs[2, k, q]
-                    cg[s + 3 * q] = q0
-                    cg[s + 3 * q + 1] = (qp - qm) / (2.0 * h)
-                    cg[s + 3 * q + 2] = (qp + qm - 2.0 * q0) / (2.0 * h * h)
-            cg[o + N_COUNT] = nmin if usable else -1
+                    terms = _quantity(s, q)
+                    cg[terms + YawTerms.q0] = q0
+                    cg[terms + YawTerms.q1] = (qp - qm) / (2.0 * h)
+                    cg[terms + YawTerms.q2] = (qp + qm - 2.0 * q0) / (2.0 * h * h)
+            cg[o + TableNode.count] = nmin if usable else -1
+
+
+@core_inline
+def _quantity(minimum, q):
+    """Offset of Tabulated quantity q's yaw terms in the TableMinimum at offset `minimum`."""
+    return minimum + TableMinimum.quantities + YAW_TERMS * q
 
 
 @core_inline
 def _at_yaw(cg, i, psi):
-    """One node's yaw polynomial q0 + q1 psi + q2 psi^2 stored at cg[i:i+3]."""
-    return cg[i] + psi * (cg[i + 1] + psi * cg[i + 2])
+    """One node's yaw polynomial q0 + q1 psi + q2 psi^2 stored at cg[i:i+3] (YawTerms)."""
+    return cg[i + YawTerms.q0] + psi * (cg[i + YawTerms.q1] + psi * cg[i + YawTerms.q2])
 
 
 @core_inline
-def _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, col, psi):
-    """Bilinear interpolation of the yaw polynomial q0 + q1 psi + q2 psi^2 stored at column col."""
-    c0 = w00 * cg[n00 + col] + w01 * cg[n01 + col] + w10 * cg[n10 + col] + w11 * cg[n11 + col]
-    c1 = w00 * cg[n00 + col + 1] + w01 * cg[n01 + col + 1] + w10 * cg[n10 + col + 1] + w11 * cg[n11 + col + 1]
-    c2 = w00 * cg[n00 + col + 2] + w01 * cg[n01 + col + 2] + w10 * cg[n10 + col + 2] + w11 * cg[n11 + col + 2]
+def _value(cg, nodes, weights, col, psi):
+    """Bilinear interpolation over the cell's four nodes of the yaw polynomial stored at column col."""
+    n00, n01, n10, n11 = nodes
+    w00, w01, w10, w11 = weights
+    c0 = (w00 * cg[n00 + col + YawTerms.q0] + w01 * cg[n01 + col + YawTerms.q0] + w10 * cg[n10 + col + YawTerms.q0]
+          + w11 * cg[n11 + col + YawTerms.q0])
+    c1 = (w00 * cg[n00 + col + YawTerms.q1] + w01 * cg[n01 + col + YawTerms.q1] + w10 * cg[n10 + col + YawTerms.q1]
+          + w11 * cg[n11 + col + YawTerms.q1])
+    c2 = (w00 * cg[n00 + col + YawTerms.q2] + w01 * cg[n01 + col + YawTerms.q2] + w10 * cg[n10 + col + YawTerms.q2]
+          + w11 * cg[n11 + col + YawTerms.q2])
     return c0 + psi * (c1 + psi * c2)
 
 
@@ -189,17 +240,19 @@ def table_patches(cg, y, z, phi, psi, patches, cand):
     does not apply (the caller then searches online).
 
     Fills the patch columns of `geometry.find_patches` (contact point, gap, slope, wheel coordinate, grid
-    index, share weight; the wheel radius and A, B are NaN) plus the Hertz shape at E* = 1 (P_HERTZ_C1...),
+    index, share weight; the wheel radius and A, B are NaN) plus the Hertz shape at E* = 1 (Patch.hertz_shape),
     and lists the minima below TRACK_GAP in `cand` for the in-step search, should a later stage leave the
     table.
     """
-    base = int(cg[geo.H_TABLE])
-    if base == 0 or abs(psi) > cg[geo.H_TAB_PSI_MAX]:
+    base = int(cg[GeometryHeader.table])
+    if base == 0 or abs(psi) > cg[GeometryHeader.table_yaw_max]:
         return -1, 0.0
-    u = (y + phi * (cg[geo.H_R0] - 0.5 * cg[geo.H_LW] * phi) - cg[geo.H_TAB_Y0]) / cg[geo.H_TAB_DY]
-    v = (phi - cg[geo.H_TAB_PHI0]) / cg[geo.H_TAB_DPHI]
-    ny = int(cg[geo.H_TAB_NY])
-    nphi = int(cg[geo.H_TAB_NPHI])
+    r0 = cg[GeometryHeader.nominal_radius]
+    lw = cg[GeometryHeader.rolling_circle_distance]
+    u = (y + phi * (r0 - 0.5 * lw * phi) - cg[GeometryHeader.table_u0]) / cg[GeometryHeader.table_u_step]
+    v = (phi - cg[GeometryHeader.table_roll0]) / cg[GeometryHeader.table_roll_step]
+    ny = int(cg[GeometryHeader.table_u_points])
+    nphi = int(cg[GeometryHeader.table_roll_points])
     if not (u >= 0.0 and u < ny - 1 and v >= 0.0 and v < nphi - 1):
         return -1, 0.0
     i = int(u)
@@ -210,18 +263,20 @@ def table_patches(cg, y, z, phi, psi, patches, cand):
     n01 = n00 + N_COLS
     n10 = n00 + nphi * N_COLS
     n11 = n10 + N_COLS
-    count = cg[n00 + N_COUNT]
-    if count < 0 or cg[n01 + N_COUNT] != count or cg[n10 + N_COUNT] != count or cg[n11 + N_COUNT] != count:
-        return -1, 0.0
+    nodes = (n00, n01, n10, n11)
+    count = cg[n00 + TableNode.count]
+    for n in nodes:
+        if count < 0 or cg[n + TableNode.count] != count:
+            return -1, 0.0
     nmin = int(count)
     for s in range(nmin):
-        col = N_SLOT0 + s * S_COLS + S_J
+        col = TableNode.minima + s * M_SIZE + TableMinimum.grid_index
         j = cg[n00 + col]
         lo = min(j, cg[n01 + col], cg[n10 + col], cg[n11 + col])
         hi = max(j, cg[n01 + col], cg[n10 + col], cg[n11 + col])
         if hi - lo > JUMP:
             return -1, 0.0
-        col = N_SLOT0 + s * S_COLS + 3 * Q_SLOPE
+        col = _quantity(TableNode.minima + s * M_SIZE, Tabulated.slope)
         s00 = _at_yaw(cg, n00 + col, psi)
         s01 = _at_yaw(cg, n01 + col, psi)
         s10 = _at_yaw(cg, n10 + col, psi)
@@ -232,41 +287,47 @@ def table_patches(cg, y, z, phi, psi, patches, cand):
     w01 = (1.0 - ty) * tp
     w10 = ty * (1.0 - tp)
     w11 = ty * tp
-    gmin = w00 * cg[n00 + N_GMIN] + w01 * cg[n01 + N_GMIN] + w10 * cg[n10 + N_GMIN] + w11 * cg[n11 + N_GMIN] + z
-    r0z = cg[geo.H_R0] + z
+    weights = (w00, w01, w10, w11)
+    gmin = (w00 * cg[n00 + TableNode.min_gap] + w01 * cg[n01 + TableNode.min_gap] + w10 * cg[n10 + TableNode.min_gap]
+            + w11 * cg[n11 + TableNode.min_gap] + z)
+    r0z = r0 + z
     count = 0
     ncand = 0
     ridge = -geo.NO_RAIL_GAP               # highest gap since the last patch
     for s in range(nmin):
-        o = N_SLOT0 + s * S_COLS
-        g = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_GAP, psi) + z
+        o = TableNode.minima + s * M_SIZE
+        g = _value(cg, nodes, weights, _quantity(o, Tabulated.gap), psi) + z
         gmin = min(gmin, g)
-        yp = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_YP, psi)
-        jm = int(round((yp - cg[geo.H_WY0]) / cg[geo.H_DW]))
+        yp = _value(cg, nodes, weights, _quantity(o, Tabulated.wheel_y), psi)
+        jm = int(round((yp - cg[GeometryHeader.wheel_y0]) / cg[GeometryHeader.wheel_step]))
         if g < geo.TRACK_GAP and ncand < geo.MAX_CANDIDATES:
+            cand[Candidates.indices + ncand] = jm
             ncand += 1
-            cand[ncand] = jm
         if g < 0.0 and count < geo.MAX_PATCHES:
             row = patches[count]
-            row[geo.P_GAP] = g
-            row[geo.P_Y] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_Y, psi)
-            row[geo.P_X] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_X, psi)
-            row[geo.P_Z] = r0z + _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_QZ, psi)
-            row[geo.P_SLOPE] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_SLOPE, psi)
-            row[geo.P_YP] = yp
-            row[geo.P_RADIUS] = math.nan           # not tabulated: the wheel's contact needs only the Hertz
-            row[geo.P_A] = math.nan                # shape below (a stale value from an online search would
-            row[geo.P_B] = math.nan                # pass silently)
-            row[geo.P_HERTZ_C1] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_AC, psi)
-            row[geo.P_HERTZ_C1 + 1] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_BC, psi)
-            row[geo.P_HERTZ_C1 + 2] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, o + 3 * Q_C, psi)
-            row[geo.P_JM] = jm
-            row[geo.P_WEIGHT] = 1.0
+            row[Patch.gap] = g
+            row[Patch.y] = _value(cg, nodes, weights, _quantity(o, Tabulated.y), psi)
+            row[Patch.x] = _value(cg, nodes, weights, _quantity(o, Tabulated.x), psi)
+            row[Patch.z] = r0z + _value(cg, nodes, weights, _quantity(o, Tabulated.height), psi)
+            row[Patch.slope] = _value(cg, nodes, weights, _quantity(o, Tabulated.slope), psi)
+            row[Patch.wheel_y] = yp
+            # not tabulated: the wheel's contact needs only the Hertz shape below (a stale value from an
+            # online search would pass silently)
+            row[Patch.radius] = math.nan
+            row[Patch.curvature_a] = math.nan
+            row[Patch.curvature_b] = math.nan
+            shape = Patch.hertz_shape
+            row[shape + HertzShape.a_coefficient] = _value(cg, nodes, weights, _quantity(o, Tabulated.hertz_a), psi)
+            row[shape + HertzShape.b_coefficient] = _value(cg, nodes, weights, _quantity(o, Tabulated.hertz_b), psi)
+            row[shape + HertzShape.stiffness] = _value(cg, nodes, weights, _quantity(o, Tabulated.hertz_stiffness),
+                                                       psi)
+            row[Patch.grid_index] = jm
+            row[Patch.weight] = 1.0
             if count > 0:                  # share weights as in geometry._set_weights, the ridge from the table
                 geo.share_weight(patches, count - 1, count, ridge + z)
             count += 1
             ridge = -geo.NO_RAIL_GAP
-        ridge = max(ridge, w00 * cg[n00 + o + S_RIDGE] + w01 * cg[n01 + o + S_RIDGE]
-                    + w10 * cg[n10 + o + S_RIDGE] + w11 * cg[n11 + o + S_RIDGE])
-    cand[0] = ncand
+        ridge = max(ridge, w00 * cg[n00 + o + TableMinimum.ridge] + w01 * cg[n01 + o + TableMinimum.ridge]
+                    + w10 * cg[n10 + o + TableMinimum.ridge] + w11 * cg[n11 + o + TableMinimum.ridge])
+    cand[Candidates.count] = ncand
     return count, gmin

@@ -13,66 +13,130 @@ For each interpenetration patch found by `geometry.find_patches`:
 The force and its moment about the wheelset centre are returned in the wheelset's track axes.
 
 Only the left wheel is written out; `wheel_forces` mirrors the pose for the right wheel.
+
+Arguments come in groups: `pose` = (y, z, phi, psi), the wheelset's lateral and vertical displacement
+(m) and roll and yaw (rad) relative to the rails; `motion` = (vx, vy, vz, ox, oy, oz, spin, speed), the
+absolute velocity of the wheelset centre and its angular velocity without spin (track axes), the spin
+about the axle (rad/s) and the forward speed that normalises the creepages (m/s); `scratch` the
+`ContactScratch` buffers (`contact_scratch(cg)`).
 """
+from collections import namedtuple
 import math
 
+import numpy as np
+
 from ..jit import core, core_inline
+from ..record import Record
 from . import geometry as geo
 from .creep import creep_forces
+from .geometry import Candidates, GeometryHeader, HertzShape, Patch
 from .hertz import hertz_shape
 from . import kik_piotrowski as kp
+from .kik_piotrowski import DiscretePatch
 from . import table as tab
 
-# Contact parameter array cp
-C_ESTAR, C_G, C_NU, C_MU, C_CHI, C_NORMAL, C_CREEP = 0, 1, 2, 3, 4, 5, 6
-C_QP_MIN_LOAD = 7     # vertical load below which Q/P is not evaluated (N): an unloaded wheel's ratio means nothing
-C_ESTAR_CBRT = 8      # E*^(1/3): scales the contact table's Hertz shape (given at E* = 1 Pa)
-C_SIZE = 9
 NORMAL_HERTZ, NORMAL_DISCRETE = 0, 1
 KP_MIN_STRIPS = 24    # strips across a Kik-Piotrowski patch at least (a flange patch spans 4-6 grid points)
 
-# Per-wheel output record
-W_LIFT = 0            # wheel lift hp (m)
-W_Q = 1               # lateral force on the rail, + toward the rail's field side (N)
-W_P = 2               # vertical force on the rail, + down (N)
-W_FX = 3              # longitudinal force on the rail (N)
-W_QP = 4              # derailment coefficient Q/P (0 when the load is below C_QP_MIN_LOAD)
-W_CPOS = 5            # main patch: lateral position on the rail from the head axis, + field side (m)
-W_CANGLE = 6          # main patch contact angle (rad)
-W_LEN = 7             # main patch length 2a (m)
-W_WID = 8             # main patch width 2b (m)
-W_COUNT = 9           # number of patches
-W_GAP = 10            # smallest wheel-rail gap (m, negative when in contact)
-W_PATCH0 = 11         # per patch: lateral position, lead x, length, width, normal force, contact angle
-W_PATCH_COLS = 6
-W_SIZE = W_PATCH0 + geo.MAX_PATCHES * W_PATCH_COLS
+
+class ContactConstants(Record):
+    """The contact constants array cp."""
+    youngs_modulus = "Pa", "Young's modulus E of wheel and rail"
+    combined_modulus = "Pa", "E* = E / (2 (1 - nu^2)) of two bodies of the same material"
+    combined_modulus_cbrt = "Pa^(1/3)", "E*^(1/3): scales the contact table's Hertz shape (given at E* = 1 Pa)"
+    shear_modulus = "Pa", "shear modulus G"
+    poisson_ratio = "-", "Poisson's ratio"
+    friction = "-", "friction coefficient"
+    contact_damping = "s/m", "Hunt-Crossley coefficient chi: N = C d^1.5 (1 + chi d')"
+    normal_model = "-", "NORMAL_HERTZ or NORMAL_DISCRETE"
+    creep_model = "-", "creep law, one of creep.LINEAR, SHEN_HEDRICK_ELKINS, POLACH, FASTSIM"
+    qp_min_load = "N", "vertical load below which Q/P is not evaluated (an unloaded wheel's ratio means nothing)"
+
+
+C_SIZE = ContactConstants.size()
+
+
+class WheelPatch(Record):
+    """One contact patch in a wheel's output record."""
+    lateral_position = "m", "contact point on the rail from the head axis, + field side"
+    lead = "m", "contact point's lead along the track from the wheelset centre"
+    length = "m", "patch length 2a along the track"
+    width = "m", "patch width 2b across it"
+    normal_force = "N", "normal force"
+    contact_angle = "rad", "contact angle, + toward the flange"
+
+
+class Wheel(Record):
+    """A wheel's output record (right wheels in their mirrored, left-wheel form)."""
+    wheel_lift = "m", "wheel lift hp: the nominal rolling circle's lowest point above the rail's highest point"
+    lateral_force = "N", "lateral force Q on the rail, + toward the rail's field side"
+    vertical_force = "N", "vertical force P on the rail, + down"
+    longitudinal_force = "N", "longitudinal force on the rail"
+    derailment_coefficient = "-", "Q/P (0 while P is below ContactConstants.qp_min_load)"
+    contact_position = "m", "main patch (the most loaded one): lateral position on the rail from the head axis"
+    contact_angle = "rad", "main patch: contact angle"
+    patch_length = "m", "main patch: length 2a"
+    patch_width = "m", "main patch: width 2b"
+    contact_count = "-", "number of patches"
+    min_gap = "m", "smallest wheel-rail gap (negative when in contact)"
+    patches = "-", "every patch, in order across the wheel (unused rows 0)", (geo.MAX_PATCHES,), WheelPatch
+
+
+W_SIZE = Wheel.size()
+WP_SIZE = WheelPatch.size()
+
+
+class Strip(Record):
+    """Rows of the discrete (Kik-Piotrowski) patch's strip buffer `ContactScratch.kpbuf`."""
+    lateral = "m", "lateral tangent coordinate of the strip"
+    gap = "m", "normal separation from the deepest point"
+    radius = "m", "the wheel's longitudinal radius in the contact plane"
+    half_length = "m", "strip half-length x_L (kik_piotrowski.kp_normal's output)"
+
+
+# buffers of one wheel's contact evaluation (allocated by `contact_scratch`): gap and trace-point Y on the
+# wheel grid, the patch rows, the discrete patch's strips, strip patch ids and its patch row
+ContactScratch = namedtuple("ContactScratch", "gap ys patches kpbuf kpid kprow")
+
+
+def contact_scratch(cg):
+    """Buffers of `wheel_forces` for the packed geometry cg."""
+    nw = int(cg[GeometryHeader.wheel_points])
+    return ContactScratch(gap=np.zeros(nw), ys=np.zeros(nw), patches=np.zeros((geo.MAX_PATCHES, geo.P_COLS)),
+                          kpbuf=np.zeros((Strip.size(), nw)), kpid=np.zeros(nw, dtype=np.int64),
+                          kprow=np.zeros((1, DiscretePatch.size())))
+
+
+def candidates(count=1):
+    """Candidate lists (`geometry.Candidates`) of `count` wheels."""
+    return np.zeros((count, Candidates.size()))
 
 
 @core
-def left_wheel(cg, cp, y, z, phi, psi, vx0, vy0, vz0, ox, oy, oz, spin, speed, gap, ys, patches, cand, tracked,
-               kpbuf, kpid, kprow, rec):
-    """Contact forces of the left wheel of a wheelset.
+def left_wheel(cg, cp, pose, motion, scratch, cand, tracked, rec):
+    """Contact forces of the left wheel of a wheelset at `pose` with `motion` (module docstring).
 
-    y, z, phi, psi: pose relative to the rails (m, rad); vx0, vy0, vz0: absolute velocity of the wheelset
-    centre, ox, oy, oz: its absolute angular velocity without spin (track axes); spin: rolling angular
-    speed (rad/s) about the axle; speed: forward speed for the creepages (m/s). Returns the force on the
-    wheel and its moment about the wheelset centre, (Fx, Fy, Fz, Mx, My, Mz) in track axes (scalars, not
-    arrays: this runs 48 times per time step); fills the output record `rec` on full searches.
+    Returns the force on the wheel and its moment about the wheelset centre, (Fx, Fy, Fz, Mx, My, Mz) in
+    track axes (scalars, not arrays: this runs 48 times per time step); fills the `Wheel` record `rec` and
+    the patch rows on full searches.
     The patches come from the contact table when cg carries one and the pose is inside it
     (`contact.table`); otherwise from the exact search: `tracked` then follows the minima listed in `cand`
     by the last full search (inside a time step) instead of searching the whole profile
     (`geometry.track_patches`).
     """
+    y, z, phi, psi = pose
+    vx0, vy0, vz0, ox, oy, oz, spin, speed = motion
+    gap, ys, patches = scratch.gap, scratch.ys, scratch.patches
     count, gmin = tab.table_patches(cg, y, z, phi, psi, patches, cand)
     if count < 0:                       # no table, or the pose is outside it: exact online search
         if tracked:
             count = geo.track_patches(cg, y, z, phi, psi, gap, ys, patches, cand)
             gmin = 0.0
             for k in range(count):
-                gmin = min(gmin, patches[k, geo.P_GAP])
+                gmin = min(gmin, patches[k, Patch.gap])
         else:
             count, gmin = geo.find_patches(cg, y, z, phi, psi, gap, ys, patches, cand)
-    r0 = cg[geo.H_R0]
+    r0 = cg[GeometryHeader.nominal_radius]
     cphi = math.cos(phi)
     sphi = math.sin(phi)
     cpsi = math.cos(psi)
@@ -84,12 +148,12 @@ def left_wheel(cg, cp, y, z, phi, psi, vx0, vy0, vz0, ox, oy, oz, spin, speed, g
     wx = ox + spin * ax_x
     wy = oy + spin * ax_y
     wz = oz + spin * ax_z
-    estar = cp[C_ESTAR]
-    shear = cp[C_G]
-    nu = cp[C_NU]
-    mu = cp[C_MU]
-    chi = cp[C_CHI]
-    model = int(cp[C_CREEP])
+    estar = cp[ContactConstants.combined_modulus]
+    shear = cp[ContactConstants.shear_modulus]
+    nu = cp[ContactConstants.poisson_ratio]
+    mu = cp[ContactConstants.friction]
+    chi = cp[ContactConstants.contact_damping]
+    model = int(cp[ContactConstants.creep_model])
     fy_tot = 0.0
     fz_tot = 0.0
     fx_tot = 0.0
@@ -102,43 +166,44 @@ def left_wheel(cg, cp, y, z, phi, psi, vx0, vy0, vz0, ox, oy, oz, spin, speed, g
     if record:
         for q in range(rec.shape[0]):
             rec[q] = 0.0
-        rec[W_LIFT] = geo.wheel_lift(cg, z, phi)
-        rec[W_GAP] = gmin
-        rec[W_COUNT] = count
+        rec[Wheel.wheel_lift] = geo.wheel_lift(cg, z, phi)
+        rec[Wheel.min_gap] = gmin
+        rec[Wheel.contact_count] = count
     for k in range(count):
-        patches[k, geo.P_NORMAL] = 0.0
-        slope = patches[k, geo.P_SLOPE]
+        patches[k, Patch.normal_force] = 0.0
+        slope = patches[k, Patch.slope]
         cd = 1.0 / math.sqrt(1.0 + slope * slope)
         sd = slope * cd
-        d = -patches[k, geo.P_GAP] * cd
+        d = -patches[k, Patch.gap] * cd
         if d <= 0.0:
             continue
         # contact frame: normal n (rail into wheel), lateral tangent t, longitudinal e_x
         nY, nZ = -sd, cd
         tY, tZ = cd, sd
-        rx = patches[k, geo.P_X]
-        ry = patches[k, geo.P_Y] - y
-        rz = patches[k, geo.P_Z] - (r0 + z)
+        rx = patches[k, Patch.x]
+        ry = patches[k, Patch.y] - y
+        rz = patches[k, Patch.z] - (r0 + z)
         # velocity of the wheel material point at the contact
         vx = vx0 + wy * rz - wz * ry
         vy = vy0 + wz * rx - wx * rz
         vz = vz0 + wx * ry - wy * rx
         approach_rate = -(vy * nY + vz * nZ)
-        discrete = int(cp[C_NORMAL]) == NORMAL_DISCRETE
+        discrete = int(cp[ContactConstants.normal_model]) == NORMAL_DISCRETE
         if discrete:
-            n_el, a, b, a_eq, b_eq = _discrete_normal(cg, y, z, phi, psi, int(patches[k, geo.P_JM]),
-                                                      patches[k, geo.P_GAP], cd, gap, ys, kpbuf, kpid,
-                                                      kprow, cp[C_ESTAR], nu)
+            n_el, a, b, a_eq, b_eq = _discrete_normal(cg, pose, int(patches[k, Patch.grid_index]),
+                                                      patches[k, Patch.gap], cd, scratch,
+                                                      cp[ContactConstants.youngs_modulus], nu)
         if not discrete or record:
-            if patches[k, geo.P_HERTZ_C1 + 2] > 0.0:     # from the contact table, at E* = 1 Pa
-                ac = patches[k, geo.P_HERTZ_C1] / cp[C_ESTAR_CBRT]
-                bc = patches[k, geo.P_HERTZ_C1 + 1] / cp[C_ESTAR_CBRT]
-                stiff = patches[k, geo.P_HERTZ_C1 + 2] * estar
+            shape = Patch.hertz_shape
+            if patches[k, shape + HertzShape.stiffness] > 0.0:     # from the contact table, at E* = 1 Pa
+                ac = patches[k, shape + HertzShape.a_coefficient] / cp[ContactConstants.combined_modulus_cbrt]
+                bc = patches[k, shape + HertzShape.b_coefficient] / cp[ContactConstants.combined_modulus_cbrt]
+                stiff = patches[k, shape + HertzShape.stiffness] * estar
             else:
-                ac, bc, stiff = hertz_shape(patches[k, geo.P_A], patches[k, geo.P_B], estar)
+                ac, bc, stiff = hertz_shape(patches[k, Patch.curvature_a], patches[k, Patch.curvature_b], estar)
         if not discrete:
             # a part of a wider contact carries its share only (geometry._set_weights)
-            n_el = patches[k, geo.P_WEIGHT] * stiff * d * math.sqrt(d)
+            n_el = patches[k, Patch.weight] * stiff * d * math.sqrt(d)
             cube_root = n_el ** (1.0 / 3.0)
             a = ac * cube_root
             b = bc * cube_root
@@ -154,21 +219,21 @@ def left_wheel(cg, cp, y, z, phi, psi, vx0, vy0, vz0, ox, oy, oz, spin, speed, g
         fx, ft, mz = creep_forces(model, xi_x, xi_y, phi_s, a_eq, b_eq, normal, mu, shear, nu)
         if record:
             row = patches[k]
-            row[geo.P_NORMAL] = normal
-            row[geo.P_APPROACH] = d
-            row[geo.P_HALF_LENGTH] = a
-            row[geo.P_HALF_WIDTH] = b
-            row[geo.P_AEQ] = a_eq
-            row[geo.P_BEQ] = b_eq
+            row[Patch.normal_force] = normal
+            row[Patch.approach] = d
+            row[Patch.half_length] = a
+            row[Patch.half_width] = b
+            row[Patch.creep_a] = a_eq
+            row[Patch.creep_b] = b_eq
             cube_root = normal ** (1.0 / 3.0)
-            row[geo.P_HERTZ_A] = ac * cube_root
-            row[geo.P_HERTZ_B] = bc * cube_root
-            row[geo.P_XI_X] = xi_x
-            row[geo.P_XI_Y] = xi_y
-            row[geo.P_SPIN] = phi_s
-            row[geo.P_FX] = fx
-            row[geo.P_FT] = ft
-            row[geo.P_MZ] = mz
+            row[Patch.hertz_a] = ac * cube_root
+            row[Patch.hertz_b] = bc * cube_root
+            row[Patch.creepage_x] = xi_x
+            row[Patch.creepage_y] = xi_y
+            row[Patch.spin_creepage] = phi_s
+            row[Patch.creep_force_x] = fx
+            row[Patch.creep_force_lateral] = ft
+            row[Patch.spin_moment] = mz
         Fx = fx
         Fy = normal * nY + ft * tY
         Fz = normal * nZ + ft * tZ
@@ -180,31 +245,32 @@ def left_wheel(cg, cp, y, z, phi, psi, vx0, vy0, vz0, ox, oy, oz, spin, speed, g
         fy_tot += Fy
         fz_tot += Fz
         if record:
-            o = W_PATCH0 + k * W_PATCH_COLS
-            rec[o] = patches[k, geo.P_Y] - cg[geo.H_RAIL_AXIS_Y]
-            rec[o + 1] = rx
-            rec[o + 2] = 2.0 * a
-            rec[o + 3] = 2.0 * b
-            rec[o + 4] = normal
-            rec[o + 5] = math.atan(slope)
+            o = Wheel.patches + k * WP_SIZE
+            rec[o + WheelPatch.lateral_position] = patches[k, Patch.y] - cg[GeometryHeader.rail_axis_y]
+            rec[o + WheelPatch.lead] = rx
+            rec[o + WheelPatch.length] = 2.0 * a
+            rec[o + WheelPatch.width] = 2.0 * b
+            rec[o + WheelPatch.normal_force] = normal
+            rec[o + WheelPatch.contact_angle] = math.atan(slope)
             if normal > nmax:           # the main patch: the most loaded one
                 nmax = normal
-                rec[W_CPOS] = rec[o]
-                rec[W_CANGLE] = rec[o + 5]
-                rec[W_LEN] = rec[o + 2]
-                rec[W_WID] = rec[o + 3]
+                rec[Wheel.contact_position] = rec[o + WheelPatch.lateral_position]
+                rec[Wheel.contact_angle] = rec[o + WheelPatch.contact_angle]
+                rec[Wheel.patch_length] = rec[o + WheelPatch.length]
+                rec[Wheel.patch_width] = rec[o + WheelPatch.width]
     if not record:
         return fx_tot, fy_tot, fz_tot, mx_tot, my_tot, mz_tot
     # forces on the rail: Q toward the left rail's field side (+Y), P downward
-    rec[W_Q] = -fy_tot
-    rec[W_P] = fz_tot
-    rec[W_FX] = -fx_tot
-    rec[W_QP] = rec[W_Q] / rec[W_P] if rec[W_P] > cp[C_QP_MIN_LOAD] else 0.0
+    rec[Wheel.lateral_force] = -fy_tot
+    rec[Wheel.vertical_force] = fz_tot
+    rec[Wheel.longitudinal_force] = -fx_tot
+    loaded = rec[Wheel.vertical_force] > cp[ContactConstants.qp_min_load]
+    rec[Wheel.derailment_coefficient] = rec[Wheel.lateral_force] / rec[Wheel.vertical_force] if loaded else 0.0
     return fx_tot, fy_tot, fz_tot, mx_tot, my_tot, mz_tot
 
 
 @core
-def _discrete_normal(cg, y, z, phi, psi, jm, gmin, cos_angle, gap, ys, kpbuf, kpid, kprow, estar, nu):
+def _discrete_normal(cg, pose, jm, gmin, cos_angle, scratch, youngs, nu):
     """Kik-Piotrowski normal load of one patch from the gap along its extent.
 
     The patch's extent on the wheel grid (`geometry.run_bounds`, one step wider on each side) is sampled
@@ -214,42 +280,42 @@ def _discrete_normal(cg, y, z, phi, psi, jm, gmin, cos_angle, gap, ys, kpbuf, kp
     in the contact plane is r sqrt(1 + r'^2). Returns (N, a, b, a_eq, b_eq): half the patch's length and
     width, and the semi-axes of its equivalent ellipse for the creep forces.
     """
-    ja, jb = geo.run_bounds(cg, y, z, phi, psi, jm, gap, ys)
-    dw = cg[geo.H_DW]
-    yp0 = cg[geo.H_WY0] + (ja - 1) * dw
-    yp1 = cg[geo.H_WY0] + (jb + 1) * dw
+    y, z, phi, psi = pose
+    kpbuf, kprow = scratch.kpbuf, scratch.kprow
+    ja, jb = geo.run_bounds(cg, y, z, phi, psi, jm, scratch.gap, scratch.ys)
+    dw = cg[GeometryHeader.wheel_step]
+    yp0 = cg[GeometryHeader.wheel_y0] + (ja - 1) * dw
+    yp1 = cg[GeometryHeader.wheel_y0] + (jb + 1) * dw
     n = max(jb - ja + 3, KP_MIN_STRIPS)
     n = min(n, kpbuf.shape[1])
-    pose = geo.pose_constants(cg, y, z, phi, psi)
+    trace = geo.pose_constants(cg, y, z, phi, psi)
     y_first = 0.0
     y_last = 0.0
     for i in range(n):
         yp = yp0 + (yp1 - yp0) * i / (n - 1)
-        X, Y, Z, r, sw, kw = geo._trace_point(cg, pose, yp)
+        X, Y, Z, r, sw, kw = geo._trace_point(cg, trace, yp)
         zr, _ = geo.rail_height(cg, Y)
-        kpbuf[1, i] = (Z - zr - gmin) * cos_angle
-        kpbuf[2, i] = r * math.sqrt(1.0 + sw * sw)
+        kpbuf[Strip.gap, i] = (Z - zr - gmin) * cos_angle
+        kpbuf[Strip.radius, i] = r * math.sqrt(1.0 + sw * sw)
         if i == 0:
             y_first = Y
         y_last = Y
     ds = abs(y_last - y_first) / ((n - 1) * cos_angle)
     for i in range(n):
-        kpbuf[0, i] = i * ds
-        if kpbuf[1, i] < 0.0:
-            kpbuf[1, i] = 0.0
-    # E from E* for identical materials (E* = E / (2 (1 - nu^2)))
-    E = estar * 2.0 * (1.0 - nu * nu)
-    count = kp.kp_normal(kpbuf[0, :n], kpbuf[1, :n], kpbuf[2, :n], -gmin * cos_angle, E, nu, kp.EPS_DEFAULT,
-                         kpbuf[3, :n], kpid[:n], kprow)
+        kpbuf[Strip.lateral, i] = i * ds
+        if kpbuf[Strip.gap, i] < 0.0:
+            kpbuf[Strip.gap, i] = 0.0
+    count = kp.kp_normal(kpbuf[Strip.lateral, :n], kpbuf[Strip.gap, :n], kpbuf[Strip.radius, :n], -gmin * cos_angle,
+                         youngs, nu, kp.EPS_DEFAULT, kpbuf[Strip.half_length, :n], scratch.kpid[:n], kprow)
     if count == 0:
         return 0.0, 0.0, 0.0, 0.0, 0.0
-    return (kprow[0, kp.P_N], 0.5 * kprow[0, kp.P_LENGTH], 0.5 * kprow[0, kp.P_WIDTH], kprow[0, kp.P_AEQ],
-            kprow[0, kp.P_BEQ])
+    row = kprow[0]
+    return (row[DiscretePatch.normal_force], 0.5 * row[DiscretePatch.length], 0.5 * row[DiscretePatch.width],
+            row[DiscretePatch.a_eq], row[DiscretePatch.b_eq])
 
 
 @core_inline
-def wheel_forces(cg, cp, side, y, z, phi, psi, vx, vy, vz, ox, oy, oz, spin, speed, gap, ys, patches, cand,
-                 tracked, kpbuf, kpid, kprow, rec):
+def wheel_forces(cg, cp, side, pose, motion, scratch, cand, tracked, rec):
     """Contact force and moment of wheel `side` (0 left, 1 right): (Fx, Fy, Fz, Mx, My, Mz), track axes.
 
     The right wheel is the left wheel of the wheelset mirrored in the x-z plane: y, phi, psi, the lateral
@@ -257,8 +323,9 @@ def wheel_forces(cg, cp, side, y, z, phi, psi, vx, vy, vz, ox, oy, oz, spin, spe
     moments change sign back.
     """
     if side == 0:
-        return left_wheel(cg, cp, y, z, phi, psi, vx, vy, vz, ox, oy, oz, spin, speed, gap, ys, patches, cand,
-                          tracked, kpbuf, kpid, kprow, rec)
-    fx, fy, fz, mx, my, mz = left_wheel(cg, cp, -y, z, -phi, -psi, vx, -vy, vz, -ox, oy, -oz, spin, speed, gap, ys,
-                                        patches, cand, tracked, kpbuf, kpid, kprow, rec)
+        return left_wheel(cg, cp, pose, motion, scratch, cand, tracked, rec)
+    y, z, phi, psi = pose
+    vx, vy, vz, ox, oy, oz, spin, speed = motion
+    fx, fy, fz, mx, my, mz = left_wheel(cg, cp, (-y, z, -phi, -psi), (vx, -vy, vz, -ox, oy, -oz, spin, speed),
+                                        scratch, cand, tracked, rec)
     return fx, -fy, fz, -mx, my, -mz

@@ -13,7 +13,6 @@ which the staircase (held on the steady curve) does not, so the two need not agr
 how much. Bisection assumes that every speed above a derailing one derails too (checked at the bracket).
 """
 from dataclasses import dataclass, replace
-import math
 
 import numpy as np
 

@@ -18,18 +18,37 @@ import math
 import numpy as np
 
 from ..jit import core
+from ..record import Record
 
-# Layout of the packed track array.
 N_SEG = 5                      # straight, transition, curve, transition, straight
-I_BREAKS = 0                   # 6 breakpoints s_0 .. s_5 (m)
-I_CURV = 6                     # curvature at the 6 breakpoints (1/m), linear in between
-I_CANT = 12                    # cant angle magnitude at the 6 breakpoints (rad), linear in cant height
-I_CANT_H = 18                  # cant height at the 6 breakpoints (m)
-I_RAIL_SPACING = 24            # distance between rail centres e (m)
-I_DIR = 25                     # +1 curve to the left, -1 to the right
-I_EXC = 26                     # excitation: start s (m), length (m), amplitude (m)
-I_GRID = 29                    # heading/position grid: step (m), number of nodes, first node s
-I_NODES = 32                   # nodes: heading, X, Y at each grid node (3 * n)
+N_BREAKS = N_SEG + 1
+
+
+class TrackHeader(Record):
+    """Header of the packed track array (`pack_track`); the heading/position grid's nodes follow it."""
+    breaks = "m", "the breakpoints s_0 .. s_5 of the five sections", (N_BREAKS,)
+    curvature = "1/m", "curvature magnitude at the breakpoints, linear in between", (N_BREAKS,)
+    cant = "rad", "cant angle magnitude at the breakpoints (linear in cant height in between)", (N_BREAKS,)
+    cant_height = "m", "cant height at the breakpoints", (N_BREAKS,)
+    rail_spacing = "m", "distance e between the rail centres"
+    direction = "-", "+1 curve to the left, -1 to the right"
+    excitation_start = "m", "lateral alignment defect: start s"
+    excitation_length = "m", "lateral alignment defect: length"
+    excitation_amplitude = "m", "lateral alignment defect: peak amplitude (0 = none)"
+    grid_step = "m", "step of the heading/position grid"
+    grid_nodes = "-", "nodes of the grid"
+    grid_first = "m", "s of the first node"
+
+
+class TrackNode(Record):
+    """One node of the heading/position grid."""
+    heading = "rad", "heading of the track tangent"
+    x = "m", "ground X of the centre line"
+    y = "m", "ground Y of the centre line"
+
+
+T_HEAD = TrackHeader.size()
+T_NODE = TrackNode.size()
 GRID_STEP = 0.5                # m; Taylor expansion from the nearest node is exact to ~1e-9 m
 # 4-point Gauss-Legendre abscissae and weights on [-1, 1] (the node integration's quadrature)
 GAUSS_X = np.array([-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526])
@@ -49,18 +68,19 @@ def pack_track(straight_in, transition_in, curve, transition_out, straight_out, 
     curv = np.array([0.0, 0.0, kappa, kappa, 0.0, 0.0])
     cant_h = np.array([0.0, 0.0, cant_height, cant_height, 0.0, 0.0])
     cant = np.arcsin(cant_h / rail_spacing)
-    head = np.zeros(I_NODES)
-    head[I_BREAKS:I_BREAKS + 6] = breaks
-    head[I_CURV:I_CURV + 6] = curv
-    head[I_CANT:I_CANT + 6] = cant
-    head[I_CANT_H:I_CANT_H + 6] = cant_h
-    head[I_RAIL_SPACING] = rail_spacing
-    head[I_DIR] = 1.0 if direction >= 0 else -1.0
-    head[I_EXC:I_EXC + 3] = excitation
+    head = np.zeros(T_HEAD)
+    head[TrackHeader.breaks.columns] = breaks
+    head[TrackHeader.curvature.columns] = curv
+    head[TrackHeader.cant.columns] = cant
+    head[TrackHeader.cant_height.columns] = cant_h
+    head[TrackHeader.rail_spacing] = rail_spacing
+    head[TrackHeader.direction] = 1.0 if direction >= 0 else -1.0
+    head[TrackHeader.excitation_start], head[TrackHeader.excitation_length], head[TrackHeader.excitation_amplitude] = \
+        excitation
     s_first = -margin
     n = int(math.ceil((breaks[-1] + 2 * margin) / GRID_STEP)) + 1
-    head[I_GRID:I_GRID + 3] = (GRID_STEP, n, s_first)
-    track = np.concatenate((head, np.zeros(3 * n)))
+    head[TrackHeader.grid_step], head[TrackHeader.grid_nodes], head[TrackHeader.grid_first] = GRID_STEP, n, s_first
+    track = np.concatenate((head, np.zeros(T_NODE * n)))
     _integrate_nodes(track)
     return track
 
@@ -68,10 +88,10 @@ def pack_track(straight_in, transition_in, curve, transition_out, straight_out, 
 @core
 def _piece(track, s):
     """Segment index k with breaks[k] <= s < breaks[k+1], clamped to the straight ends (-1 or 5)."""
-    if s < track[I_BREAKS]:
+    if s < track[TrackHeader.breaks]:
         return -1
     for k in range(N_SEG):
-        if s < track[I_BREAKS + k + 1]:
+        if s < track[TrackHeader.breaks + k + 1]:
             return k
     return N_SEG
 
@@ -82,12 +102,12 @@ def curvature(track, s):
     k = _piece(track, s)
     if k < 0 or k >= N_SEG:
         return 0.0, 0.0
-    s0 = track[I_BREAKS + k]
-    s1 = track[I_BREAKS + k + 1]
-    c0 = track[I_CURV + k]
-    c1 = track[I_CURV + k + 1]
+    s0 = track[TrackHeader.breaks + k]
+    s1 = track[TrackHeader.breaks + k + 1]
+    c0 = track[TrackHeader.curvature + k]
+    c1 = track[TrackHeader.curvature + k + 1]
     slope = (c1 - c0) / (s1 - s0)
-    d = track[I_DIR]
+    d = track[TrackHeader.direction]
     return d * (c0 + slope * (s - s0)), d * slope
 
 
@@ -97,16 +117,16 @@ def cant(track, s):
     k = _piece(track, s)
     if k < 0 or k >= N_SEG:
         return 0.0, 0.0
-    s0 = track[I_BREAKS + k]
-    s1 = track[I_BREAKS + k + 1]
-    h0 = track[I_CANT_H + k]
-    h1 = track[I_CANT_H + k + 1]
-    e = track[I_RAIL_SPACING]
+    s0 = track[TrackHeader.breaks + k]
+    s1 = track[TrackHeader.breaks + k + 1]
+    h0 = track[TrackHeader.cant_height + k]
+    h1 = track[TrackHeader.cant_height + k + 1]
+    e = track[TrackHeader.rail_spacing]
     dh = (h1 - h0) / (s1 - s0)
     h = h0 + dh * (s - s0)
     ang = math.asin(h / e)
     dang = dh / (e * math.cos(ang))
-    d = -track[I_DIR]
+    d = -track[TrackHeader.direction]
     return d * ang, d * dang
 
 
@@ -125,15 +145,15 @@ def section(track, s):
 def _heading_exact(track, s):
     """Heading (rad) by exact integration of the piecewise-linear curvature from s = 0."""
     h = 0.0
-    d = track[I_DIR]
+    d = track[TrackHeader.direction]
     for k in range(N_SEG):
-        s0 = track[I_BREAKS + k]
-        s1 = track[I_BREAKS + k + 1]
+        s0 = track[TrackHeader.breaks + k]
+        s1 = track[TrackHeader.breaks + k + 1]
         if s <= s0:
             break
         e = min(s, s1)
-        c0 = track[I_CURV + k]
-        slope = (track[I_CURV + k + 1] - c0) / (s1 - s0)
+        c0 = track[TrackHeader.curvature + k]
+        slope = (track[TrackHeader.curvature + k + 1] - c0) / (s1 - s0)
         u = e - s0
         h += d * (c0 * u + 0.5 * slope * u * u)
     return h
@@ -142,9 +162,9 @@ def _heading_exact(track, s):
 @core
 def _integrate_nodes(track):
     """Fill the heading/position grid by 4-point Gauss-Legendre quadrature of (cos h, sin h) per step."""
-    step = track[I_GRID]
-    n = int(track[I_GRID + 1])
-    s_first = track[I_GRID + 2]
+    step = track[TrackHeader.grid_step]
+    n = int(track[TrackHeader.grid_nodes])
+    s_first = track[TrackHeader.grid_first]
     x = s_first  # straight before s = 0 along the x axis
     y = 0.0
     for i in range(n):
@@ -156,10 +176,10 @@ def _integrate_nodes(track):
                 hq = _heading_exact(track, sq)
                 x += 0.5 * step * GAUSS_W[q] * math.cos(hq)
                 y += 0.5 * step * GAUSS_W[q] * math.sin(hq)
-        j = I_NODES + 3 * i
-        track[j] = _heading_exact(track, s)
-        track[j + 1] = x
-        track[j + 2] = y
+        j = T_HEAD + T_NODE * i
+        track[j + TrackNode.heading] = _heading_exact(track, s)
+        track[j + TrackNode.x] = x
+        track[j + TrackNode.y] = y
 
 
 @core
@@ -169,9 +189,9 @@ def lateral_defect(track, s):
     One full period of a cosine-shaped lateral kink: y(s) = A/2 (1 - cos(2 pi (s - s0) / L)) for
     s0 <= s <= s0 + L. Smooth (C1), zero outside, peak amplitude A in the middle.
     """
-    s0 = track[I_EXC]
-    length = track[I_EXC + 1]
-    amp = track[I_EXC + 2]
+    s0 = track[TrackHeader.excitation_start]
+    length = track[TrackHeader.excitation_length]
+    amp = track[TrackHeader.excitation_amplitude]
     if amp == 0.0 or s < s0 or s > s0 + length:
         return 0.0, 0.0
     w = 2.0 * math.pi / length
@@ -186,16 +206,16 @@ def frame(track, s):
     X, Y by a third-order expansion about the nearest grid node (error below 1e-7 m on the 0.5 m grid,
     largest next to a curvature break); the heading is exact.
     """
-    step = track[I_GRID]
-    n = int(track[I_GRID + 1])
-    s_first = track[I_GRID + 2]
+    step = track[TrackHeader.grid_step]
+    n = int(track[TrackHeader.grid_nodes])
+    s_first = track[TrackHeader.grid_first]
     i = int(math.floor((s - s_first) / step + 0.5))
     if i < 0:
         i = 0
     elif i > n - 1:
         i = n - 1
-    j = I_NODES + 3 * i
-    h0 = track[j]
+    j = T_HEAD + T_NODE * i
+    h0 = track[j + TrackNode.heading]
     d = s - (s_first + i * step)
     kap, dkap = curvature(track, s_first + i * step)
     # heading along the step: h0 + kap d + dkap d^2/2 ; integrate cos/sin to third order in d
@@ -203,8 +223,8 @@ def frame(track, s):
     sn = math.sin(h0)
     d2 = d * d
     d3 = d2 * d
-    x = track[j + 1] + c * d - sn * (0.5 * kap * d2 + dkap * d3 / 6.0) - c * kap * kap * d3 / 6.0
-    y = track[j + 2] + sn * d + c * (0.5 * kap * d2 + dkap * d3 / 6.0) - sn * kap * kap * d3 / 6.0
+    x = track[j + TrackNode.x] + c * d - sn * (0.5 * kap * d2 + dkap * d3 / 6.0) - c * kap * kap * d3 / 6.0
+    y = track[j + TrackNode.y] + sn * d + c * (0.5 * kap * d2 + dkap * d3 / 6.0) - sn * kap * kap * d3 / 6.0
     heading = _heading_exact(track, s)
     roll, _ = cant(track, s)
     return x, y, heading, roll
@@ -212,4 +232,4 @@ def frame(track, s):
 
 def end_of_line(track):
     """Distance (m) of the end of the last straight."""
-    return float(track[I_BREAKS + N_SEG])
+    return float(track[TrackHeader.breaks + N_SEG])

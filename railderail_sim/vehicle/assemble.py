@@ -12,10 +12,15 @@ import numpy as np
 
 from .. import profiles
 from ..contact import creep, geometry, table, wheelset
+from ..contact.geometry import GeometryHeader
+from ..contact.hertz import combined_modulus
+from ..contact.wheelset import ContactConstants
 from ..parameters import GRAVITY, ContactParameters, TrackParameters, VehicleParameters
 from ..ranges import check_range
 from ..track import alignment
-from . import layout as L
+from .dynamics import ModelArrays
+from .layout import (BOGIES, BUMP_POINTS, CAR_BODY, N_DAMPER, WHEELSETS, AntiRollBar, BodyTable, BumpStop,
+                     Bushing, Damper, State, VehicleConstants)
 
 WHEEL_GRID_STEP = 1.25e-4      # m; with parabolic refinement the gap minimum is right to ~1 micrometre
 CREEP_MODELS = {"linear": creep.LINEAR, "she": creep.SHEN_HEDRICK_ELKINS, "polach": creep.POLACH,
@@ -42,31 +47,44 @@ class Model:
     static_wheel_load: float = 0.0
     extra: dict = field(default_factory=dict)
 
-    def core_args(self, speed_table):
-        """Arguments of `dynamics.rhs` after (x, dx), in order, for a speed table."""
-        return (self.bodies, self.vp, self.bush, self.damp, self.bump, self.arb, self.track,
-                np.ascontiguousarray(speed_table, dtype=np.float64), self.cg, self.cp)
+    @property
+    def arrays(self):
+        """The arrays of the core, as `dynamics.rhs` and `integrator.advance` take them."""
+        return ModelArrays(bodies=self.bodies, vp=self.vp, bush=self.bush, damp=self.damp, bump=self.bump,
+                           arb=self.arb, track=self.track, cg=self.cg, cp=self.cp)
+
+    @property
+    def flange_height(self):
+        """Flange height of the wheel above its nominal rolling circle (m)."""
+        return float(self.vp[VehicleConstants.flange_height])
+
+    @property
+    def climb_displacement(self):
+        """Lateral displacement that puts the flange tip over the rail's highest point (m)."""
+        return float(self.vp[VehicleConstants.climb_displacement])
 
 
 def body_table(vp: VehicleParameters):
+    """Rows of the body table (layout.BodyTable), in the order of layout.Body."""
     a = vp.bogie_semi_distance
     w = vp.wheelbase_semi
-    rows = [
-        (vp.car_body_mass, vp.car_body_roll_inertia, vp.car_body_pitch_inertia, vp.car_body_yaw_inertia,
-         0.0, vp.car_body_cog_height, 0.0),
-    ]
+    rows = [BodyTable.pack(mass=vp.car_body_mass, roll_inertia=vp.car_body_roll_inertia,
+                           pitch_inertia=vp.car_body_pitch_inertia, yaw_inertia=vp.car_body_yaw_inertia,
+                           station=0.0, height=vp.car_body_cog_height)]
     for xb in (a, -a):
-        rows.append((vp.bogie_frame_mass, vp.bogie_frame_roll_inertia, vp.bogie_frame_pitch_inertia,
-                     vp.bogie_frame_yaw_inertia, xb, vp.bogie_frame_cog_height, 0.0))
+        rows.append(BodyTable.pack(mass=vp.bogie_frame_mass, roll_inertia=vp.bogie_frame_roll_inertia,
+                                   pitch_inertia=vp.bogie_frame_pitch_inertia, yaw_inertia=vp.bogie_frame_yaw_inertia,
+                                   station=xb, height=vp.bogie_frame_cog_height))
     for xw in (a + w, a - w, -a + w, -a - w):
-        rows.append((vp.wheelset_mass, vp.wheelset_roll_inertia, vp.wheelset_spin_inertia,
-                     vp.wheelset_yaw_inertia, xw, vp.rolling_radius, 1.0))
-    return np.array(rows, dtype=np.float64)
+        rows.append(BodyTable.pack(mass=vp.wheelset_mass, roll_inertia=vp.wheelset_roll_inertia,
+                                   pitch_inertia=vp.wheelset_spin_inertia, yaw_inertia=vp.wheelset_yaw_inertia,
+                                   station=xw, height=vp.rolling_radius, is_wheelset=1.0))
+    return np.array(rows)
 
 
 def _local(bodies, b, q):
     """Vehicle-coordinate point q in body b's coordinates (relative to its reference point)."""
-    return (q[0] - bodies[b, L.B_STATION], q[1], q[2] - bodies[b, L.B_HEIGHT])
+    return (q[0] - bodies[b, BodyTable.station], q[1], q[2] - bodies[b, BodyTable.height])
 
 
 def element_tables(vp: VehicleParameters, bodies):
@@ -79,19 +97,20 @@ def element_tables(vp: VehicleParameters, bodies):
     air_preload = vp.car_body_mass * g / 4.0
 
     def add_bush(ba, bb, q, k, c, f0):
-        bush.append((ba, bb, *_local(bodies, ba, q), *_local(bodies, bb, q), *k, *c, *f0))
+        bush.append(Bushing.pack(body_a=ba, body_b=bb, point_a=_local(bodies, ba, q), point_b=_local(bodies, bb, q),
+                                 stiffness=k, damping=c, preload=f0))
 
     def add_damper(ba, bb, qa, qb, knee, c1, c2, ks, state):
-        length = math.dist(qa, qb)
-        damp.append((ba, bb, *_local(bodies, ba, qa), *_local(bodies, bb, qb), knee, c1, c2, ks, length,
-                     L.I_DAMPER + state))
+        damp.append(Damper.pack(body_a=ba, body_b=bb, point_a=_local(bodies, ba, qa), point_b=_local(bodies, bb, qb),
+                                knee_velocity=knee, damping=c1, damping_after_knee=c2, series_stiffness=ks,
+                                length=math.dist(qa, qb), state=State.dampers + state))
 
     state = 0
-    for i, bogie in enumerate(L.BOGIES):
+    for i, bogie in enumerate(BOGIES):
         xb = a if i == 0 else -a
         toward_centre = -1.0 if i == 0 else 1.0
         for j, wsx in enumerate((xb + w, xb - w)):
-            wheelset_body = L.WHEELSETS[2 * i + j]
+            wheelset_body = WHEELSETS[2 * i + j]
             for side in (1.0, -1.0):
                 add_bush(bogie, wheelset_body, (wsx, side * vp.primary_semi_spacing, vp.rolling_radius),
                          (vp.primary_longitudinal_stiffness, vp.primary_lateral_stiffness,
@@ -99,35 +118,35 @@ def element_tables(vp: VehicleParameters, bodies):
                          (0.0, vp.primary_lateral_damping, vp.primary_vertical_damping),
                          (0.0, 0.0, -box_preload))
         for side in (1.0, -1.0):
-            add_bush(bogie, L.CAR_BODY, (xb, side * vp.air_spring_semi_spacing, vp.secondary_height),
+            add_bush(bogie, CAR_BODY, (xb, side * vp.air_spring_semi_spacing, vp.secondary_height),
                      (vp.secondary_longitudinal_stiffness, vp.secondary_lateral_stiffness,
                       vp.secondary_vertical_stiffness), (0.0, 0.0, 0.0), (0.0, 0.0, air_preload))
-            add_bush(bogie, L.CAR_BODY,
+            add_bush(bogie, CAR_BODY,
                      (xb, side * vp.secondary_vertical_damper_semi_spacing, vp.secondary_height),
                      (0.0, 0.0, 0.0), (0.0, 0.0, vp.secondary_vertical_damping), (0.0, 0.0, 0.0))
             qa = (xb, side * vp.yaw_damper_semi_spacing, vp.yaw_damper_height)
             qb = (xb + toward_centre * vp.yaw_damper_length, side * vp.yaw_damper_semi_spacing,
                   vp.yaw_damper_height)
-            add_damper(bogie, L.CAR_BODY, qa, qb, vp.yaw_damper_knee_velocity, vp.yaw_damper_damping,
+            add_damper(bogie, CAR_BODY, qa, qb, vp.yaw_damper_knee_velocity, vp.yaw_damper_damping,
                        vp.yaw_damper_damping_after_knee, vp.yaw_damper_series_stiffness, state)
             state += 1
-    for i, bogie in enumerate(L.BOGIES):
+    for i, bogie in enumerate(BOGIES):
         xb = a if i == 0 else -a
         # the lateral damper as a mirrored pair of half dampers (brackets 0.5 m apart across the track),
         # so that the car is exactly mirror-symmetric; in parallel they act as the one damper of the set
         half = 0.25
         for side in (1.0, -1.0):
-            add_damper(bogie, L.CAR_BODY, (xb, -side * half, vp.lateral_damper_height),
+            add_damper(bogie, CAR_BODY, (xb, -side * half, vp.lateral_damper_height),
                        (xb, side * half, vp.lateral_damper_height), vp.lateral_damper_knee_velocity,
                        0.5 * vp.lateral_damper_damping, 0.5 * vp.lateral_damper_damping_after_knee,
                        0.5 * vp.lateral_damper_series_stiffness, state)
             state += 1
         q = (xb, 0.0, vp.bump_stop_height)
-        bump.append((bogie, L.CAR_BODY, *_local(bodies, bogie, q), *_local(bodies, L.CAR_BODY, q)))
-        arb.append((bogie, L.CAR_BODY, vp.anti_roll_stiffness))
-    assert state == L.N_DAMPER
-    return (np.array(bush, dtype=np.float64), np.array(damp, dtype=np.float64),
-            np.array(bump, dtype=np.float64), np.array(arb, dtype=np.float64))
+        bump.append(BumpStop.pack(body_a=bogie, body_b=CAR_BODY, point_a=_local(bodies, bogie, q),
+                                  point_b=_local(bodies, CAR_BODY, q)))
+        arb.append(AntiRollBar.pack(body_a=bogie, body_b=CAR_BODY, stiffness=vp.anti_roll_stiffness))
+    assert state == N_DAMPER
+    return np.array(bush), np.array(damp), np.array(bump), np.array(arb)
 
 
 def contact_geometry(contact: ContactParameters, track: TrackParameters, rolling_radius):
@@ -165,36 +184,32 @@ def contact_array(contact: ContactParameters, static_wheel_load=0.0):
                          f"{', '.join(CREEP_MODELS)}")
     check_range("friction coefficient", contact.friction_coefficient, 0.0, 1.0, lo_open=True)
     E, nu = contact.youngs_modulus, contact.poisson_ratio
-    cp = np.zeros(wheelset.C_SIZE)
-    cp[wheelset.C_ESTAR] = E / (2.0 * (1.0 - nu * nu))
-    cp[wheelset.C_ESTAR_CBRT] = cp[wheelset.C_ESTAR] ** (1.0 / 3.0)
-    cp[wheelset.C_G] = contact.shear_modulus
-    cp[wheelset.C_NU] = nu
-    cp[wheelset.C_MU] = contact.friction_coefficient
-    cp[wheelset.C_CHI] = contact.contact_damping
-    cp[wheelset.C_NORMAL] = NORMAL_MODELS[contact.normal_model]
-    cp[wheelset.C_CREEP] = CREEP_MODELS[contact.creep_model]
-    cp[wheelset.C_QP_MIN_LOAD] = contact.derailment_coefficient_min_load * static_wheel_load
-    return cp
+    estar = combined_modulus(E, nu, E, nu)
+    return ContactConstants.pack(youngs_modulus=E, combined_modulus=estar, combined_modulus_cbrt=estar ** (1.0 / 3.0),
+                                 shear_modulus=contact.shear_modulus, poisson_ratio=nu,
+                                 friction=contact.friction_coefficient, contact_damping=contact.contact_damping,
+                                 normal_model=NORMAL_MODELS[contact.normal_model],
+                                 creep_model=CREEP_MODELS[contact.creep_model],
+                                 qp_min_load=contact.derailment_coefficient_min_load * static_wheel_load)
 
 
 def vehicle_array(vp: VehicleParameters, cg, lift_tolerance):
-    v = np.zeros(L.V_SIZE)
-    v[L.V_G] = GRAVITY
-    v[L.V_R0] = vp.rolling_radius
-    v[L.V_SPIN_INERTIA] = vp.wheelset_spin_inertia
-    v[L.V_BUMP_CLEARANCE] = vp.bump_stop_clearance
+    """The vehicle constants (layout.VehicleConstants)."""
     n = len(vp.bump_stop_travel)
-    if n > 8 or len(vp.bump_stop_force) != n:
-        raise ValueError("bump-stop law needs 1 to 8 (travel, force) points of equal count")
-    v[L.V_BUMP_N] = n
-    v[L.V_BUMP_TRAVEL:L.V_BUMP_TRAVEL + n] = vp.bump_stop_travel
-    v[L.V_BUMP_FORCE:L.V_BUMP_FORCE + n] = vp.bump_stop_force
-    v[L.V_FLANGE_HEIGHT] = cg[geometry.H_FLANGE_HEIGHT]
-    # flange tip above the rail's highest point
-    v[L.V_CLIMB_DISPLACEMENT] = cg[geometry.H_RAIL_TOP_Y] - (cg[geometry.H_LW] + cg[geometry.H_FLANGE_TIP_YP])
-    v[L.V_LIFT_TOLERANCE] = lift_tolerance
-    return v
+    if not 1 <= n <= BUMP_POINTS or len(vp.bump_stop_force) != n:
+        raise ValueError(f"bump-stop law needs 1 to {BUMP_POINTS} (travel, force) points of equal count")
+    travel = np.zeros(BUMP_POINTS)
+    force = np.zeros(BUMP_POINTS)
+    travel[:n] = vp.bump_stop_travel
+    force[:n] = vp.bump_stop_force
+    # the flange tip above the rail's highest point
+    H = GeometryHeader
+    climb = cg[H.rail_top_y] - (cg[H.rolling_circle_distance] + cg[H.flange_tip_y])
+    return VehicleConstants.pack(gravity=GRAVITY, rolling_radius=vp.rolling_radius,
+                                 spin_inertia=vp.wheelset_spin_inertia, bump_clearance=vp.bump_stop_clearance,
+                                 bump_points=n, bump_travel=travel, bump_force=force,
+                                 flange_height=cg[H.flange_height], climb_displacement=climb,
+                                 lift_tolerance=lift_tolerance)
 
 
 def build_model(vehicle: VehicleParameters, track: TrackParameters, contact: ContactParameters,

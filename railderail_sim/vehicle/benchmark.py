@@ -43,7 +43,7 @@ def run():
     out["real_time_factor_hertz_atol_1e-7"] = _rtf(replace(scenario(radius=1000.0, speed_kmh=300.0), atol=1e-7,
                                                            rtol=1e-6))[0]
     out["default_scenario_simulated_s"] = sim.t
-    out["steps_per_simulated_s"] = float(sim.work["hstate"][1]) / sim.t
+    out["steps_per_simulated_s"] = sim.steps[0] / sim.t
     out["real_time_factor_hertz_250kmh_whole_line"] = _rtf(scenario(radius=1000.0, speed_kmh=250.0))[0]
     out["real_time_factor_discrete"] = _rtf(scenario(radius=1000.0, speed_kmh=300.0, contact_model="discrete"))[0]
     out["peak_memory_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0

@@ -18,12 +18,21 @@ Formulation (details and assumptions in docs/vehicle-model.md):
 - Wheel-rail forces from `contact.wheelset` at each wheelset's pose relative to the rails (including the
   optional lateral alignment defect).
 """
+from collections import namedtuple
 import math
 
 from ..jit import core
 from ..contact import wheelset as ws
+from ..record import Record
 from ..track import alignment as trk
-from . import layout as L
+from .layout import (AntiRollBar, BodyTable, BumpStop, Bushing, Damper, Dof, N_BODY, N_DOF, State, Vector,
+                     VehicleConstants, WHEELSETS)
+
+# the model's arrays (built by vehicle.assemble), as the core's functions take them
+ModelArrays = namedtuple("ModelArrays", "bodies vp bush damp bump arb track cg cp")
+# buffers of one right-hand side: per-body kinematics, one wheel's contact scratch, each wheel's contact
+# candidates (geometry.Candidates) and wheel record (wheelset.Wheel)
+RhsBuffers = namedtuple("RhsBuffers", "kin contact cands recs")
 
 
 @core
@@ -87,57 +96,68 @@ def _compose(out, o, ot, yaw, pitch, rel_roll):
         out[o + 3 * r + 2] = t0 * q02 + t1 * q12 + t2 * q22
 
 
-# columns of the per-body kinematics scratch array
-K_P = 0          # ground position of the reference point (3)
-K_R = 3          # body rotation matrix, ground <- body (9)
-K_V = 12         # ground velocity of the reference point (3)
-K_W = 15         # ground angular velocity (3)
-K_RT = 18        # track rotation matrix, ground <- track (9)
-K_WT = 27        # track-frame angular velocity in track axes (3)
-K_VT = 30        # absolute velocity in track axes (3)
-K_F = 33         # force accumulator, ground axes (3)
-K_M = 36         # moment accumulator about the reference point, ground axes (3)
-K_COLS = 39
+class Kinematics(Record):
+    """A row of the per-body kinematics scratch array `kin` (one per body), filled by `kinematics`."""
+    position = "m", "ground position of the reference point", (), Vector
+    rotation = "-", "body rotation matrix, ground <- body, row-major", (3, 3)
+    velocity = "m/s", "ground velocity of the reference point", (), Vector
+    angular_velocity = "rad/s", "ground angular velocity", (), Vector
+    track_rotation = "-", "track rotation matrix at the body's station, ground <- track, row-major", (3, 3)
+    track_angular_velocity = "rad/s", "the track frame's angular velocity, track axes", (), Vector
+    track_velocity = "m/s", "absolute velocity of the reference point, track axes", (), Vector
+    force = "N", "force accumulator, ground axes", (), Vector
+    moment = "N m", "moment accumulator about the reference point, ground axes", (), Vector
+
+
+K_COLS = Kinematics.size()
+MATRIX = Kinematics.rotation.width
+VECTOR = Vector.size()
+
+
+@core
+def _vector(row, o):
+    """The Vector at offset o of a row."""
+    return row[o + Vector.x], row[o + Vector.y], row[o + Vector.z]
 
 
 @core
 def _point(kin, b, p0, p1, p2):
     """Ground position, ground velocity and ground-axes arm of a body-fixed point."""
-    R = kin[b, K_R:K_R + 9]
+    R = kin[b, Kinematics.rotation:Kinematics.rotation + MATRIX]
     ax = R[0] * p0 + R[1] * p1 + R[2] * p2
     ay = R[3] * p0 + R[4] * p1 + R[5] * p2
     az = R[6] * p0 + R[7] * p1 + R[8] * p2
-    w = kin[b, K_W:K_W + 3]
-    px = kin[b, K_P] + ax
-    py = kin[b, K_P + 1] + ay
-    pz = kin[b, K_P + 2] + az
-    vx = kin[b, K_V] + w[1] * az - w[2] * ay
-    vy = kin[b, K_V + 1] + w[2] * ax - w[0] * az
-    vz = kin[b, K_V + 2] + w[0] * ay - w[1] * ax
+    w = kin[b, Kinematics.angular_velocity:Kinematics.angular_velocity + VECTOR]
+    px = kin[b, Kinematics.position + Vector.x] + ax
+    py = kin[b, Kinematics.position + Vector.y] + ay
+    pz = kin[b, Kinematics.position + Vector.z] + az
+    vx = kin[b, Kinematics.velocity + Vector.x] + w[1] * az - w[2] * ay
+    vy = kin[b, Kinematics.velocity + Vector.y] + w[2] * ax - w[0] * az
+    vz = kin[b, Kinematics.velocity + Vector.z] + w[0] * ay - w[1] * ax
     return px, py, pz, vx, vy, vz, ax, ay, az
 
 
 @core
 def _apply(kin, b, fx, fy, fz, ax, ay, az):
     """Add a ground-axes force acting at arm (ax, ay, az) from body b's reference point."""
-    kin[b, K_F] += fx
-    kin[b, K_F + 1] += fy
-    kin[b, K_F + 2] += fz
-    kin[b, K_M] += ay * fz - az * fy
-    kin[b, K_M + 1] += az * fx - ax * fz
-    kin[b, K_M + 2] += ax * fy - ay * fx
+    kin[b, Kinematics.force + Vector.x] += fx
+    kin[b, Kinematics.force + Vector.y] += fy
+    kin[b, Kinematics.force + Vector.z] += fz
+    kin[b, Kinematics.moment + Vector.x] += ay * fz - az * fy
+    kin[b, Kinematics.moment + Vector.y] += az * fx - ax * fz
+    kin[b, Kinematics.moment + Vector.z] += ax * fy - ay * fx
 
 
 @core
 def _to_body_axes(kin, a, dx, dy, dz):
-    R = kin[a, K_R:K_R + 9]
+    R = kin[a, Kinematics.rotation:Kinematics.rotation + MATRIX]
     return (R[0] * dx + R[3] * dy + R[6] * dz, R[1] * dx + R[4] * dy + R[7] * dz,
             R[2] * dx + R[5] * dy + R[8] * dz)
 
 
 @core
 def _to_ground(kin, a, lx, ly, lz):
-    R = kin[a, K_R:K_R + 9]
+    R = kin[a, Kinematics.rotation:Kinematics.rotation + MATRIX]
     return (R[0] * lx + R[1] * ly + R[2] * lz, R[3] * lx + R[4] * ly + R[5] * lz,
             R[6] * lx + R[7] * ly + R[8] * lz)
 
@@ -166,15 +186,15 @@ def damper_rate(f, knee, c1, c2):
 @core
 def bump_force(vp, u):
     """Bump-stop force magnitude (N) at lateral deflection magnitude u (m)."""
-    clear = vp[L.V_BUMP_CLEARANCE]
+    clear = vp[VehicleConstants.bump_clearance]
     if u <= clear:
         return 0.0
-    n = int(vp[L.V_BUMP_N])
+    n = int(vp[VehicleConstants.bump_points])
     u0 = clear
     f0 = 0.0
     for i in range(n):
-        u1 = vp[L.V_BUMP_TRAVEL + i]
-        f1 = vp[L.V_BUMP_FORCE + i]
+        u1 = vp[VehicleConstants.bump_travel + i]
+        f1 = vp[VehicleConstants.bump_force + i]
         if u <= u1 or i == n - 1:
             return f0 + (f1 - f0) * (u - u0) / (u1 - u0)
         u0 = u1
@@ -185,76 +205,78 @@ def bump_force(vp, u):
 @core
 def kinematics(x, bodies, track, sp, kin):
     """Fill the per-body kinematics scratch array; returns (v, dv/ds)."""
-    s = x[L.I_S]
+    s = x[State.s]
     v, dvds = speed_at(sp, s)
-    for b in range(L.N_BODY):
-        o = L.N_DOF * b
-        ov = L.I_VEL + o
-        sb = s + bodies[b, L.B_STATION]
+    for b in range(N_BODY):
+        o = State.positions + N_DOF * b
+        ov = State.velocities + N_DOF * b
+        sb = s + bodies[b, BodyTable.station]
         X, Y, heading, roll = trk.frame(track, sb)
         kap, _ = trk.curvature(track, sb)
         _, droll = trk.cant(track, sb)
-        y = x[o]
-        z = x[o + 1]
-        h = bodies[b, L.B_HEIGHT] + z
+        y = x[o + Dof.lateral]
+        z = x[o + Dof.vertical]
+        h = bodies[b, BodyTable.height] + z
         wtx = v * droll
         wty = v * kap * math.sin(roll)
         wtz = v * kap * math.cos(roll)
-        kin[b, K_WT] = wtx
-        kin[b, K_WT + 1] = wty
-        kin[b, K_WT + 2] = wtz
-        _track_rotation(kin[b], K_RT, heading, roll)
-        _compose(kin[b], K_R, K_RT, x[o + 4], x[o + 3], x[o + 2])
-        RT = kin[b, K_RT:K_RT + 9]
-        kin[b, K_P] = X + RT[1] * y + RT[2] * h
-        kin[b, K_P + 1] = Y + RT[4] * y + RT[5] * h
-        kin[b, K_P + 2] = RT[7] * y + RT[8] * h
+        kin[b, Kinematics.track_angular_velocity + Vector.x] = wtx
+        kin[b, Kinematics.track_angular_velocity + Vector.y] = wty
+        kin[b, Kinematics.track_angular_velocity + Vector.z] = wtz
+        _track_rotation(kin[b], Kinematics.track_rotation, heading, roll)
+        _compose(kin[b], Kinematics.rotation, Kinematics.track_rotation, x[o + Dof.yaw], x[o + Dof.pitch],
+                 x[o + Dof.roll])
+        RT = kin[b, Kinematics.track_rotation:Kinematics.track_rotation + MATRIX]
+        kin[b, Kinematics.position + Vector.x] = X + RT[1] * y + RT[2] * h
+        kin[b, Kinematics.position + Vector.y] = Y + RT[4] * y + RT[5] * h
+        kin[b, Kinematics.position + Vector.z] = RT[7] * y + RT[8] * h
         # absolute velocity in track axes; V_x keeps the body at its station
         vtx = v + wty * h - wtz * y
-        vty = x[ov]
-        vtz = x[ov + 1]
-        kin[b, K_VT] = vtx
-        kin[b, K_VT + 1] = vty
-        kin[b, K_VT + 2] = vtz
-        kin[b, K_V] = RT[0] * vtx + RT[1] * vty + RT[2] * vtz
-        kin[b, K_V + 1] = RT[3] * vtx + RT[4] * vty + RT[5] * vtz
-        kin[b, K_V + 2] = RT[6] * vtx + RT[7] * vty + RT[8] * vtz
-        wx = x[ov + 2]
-        wy = wty if bodies[b, L.B_WHEELSET] > 0.5 else x[ov + 3]
-        wz = x[ov + 4]
-        kin[b, K_W] = RT[0] * wx + RT[1] * wy + RT[2] * wz
-        kin[b, K_W + 1] = RT[3] * wx + RT[4] * wy + RT[5] * wz
-        kin[b, K_W + 2] = RT[6] * wx + RT[7] * wy + RT[8] * wz
-        for k in range(6):
-            kin[b, K_F + k] = 0.0
+        vty = x[ov + Dof.lateral]
+        vtz = x[ov + Dof.vertical]
+        kin[b, Kinematics.track_velocity + Vector.x] = vtx
+        kin[b, Kinematics.track_velocity + Vector.y] = vty
+        kin[b, Kinematics.track_velocity + Vector.z] = vtz
+        kin[b, Kinematics.velocity + Vector.x] = RT[0] * vtx + RT[1] * vty + RT[2] * vtz
+        kin[b, Kinematics.velocity + Vector.y] = RT[3] * vtx + RT[4] * vty + RT[5] * vtz
+        kin[b, Kinematics.velocity + Vector.z] = RT[6] * vtx + RT[7] * vty + RT[8] * vtz
+        wx = x[ov + Dof.roll]
+        wy = wty if bodies[b, BodyTable.is_wheelset] > 0.5 else x[ov + Dof.pitch]
+        wz = x[ov + Dof.yaw]
+        kin[b, Kinematics.angular_velocity + Vector.x] = RT[0] * wx + RT[1] * wy + RT[2] * wz
+        kin[b, Kinematics.angular_velocity + Vector.y] = RT[3] * wx + RT[4] * wy + RT[5] * wz
+        kin[b, Kinematics.angular_velocity + Vector.z] = RT[6] * wx + RT[7] * wy + RT[8] * wz
+        for k in range(VECTOR):
+            kin[b, Kinematics.force + k] = 0.0
+            kin[b, Kinematics.moment + k] = 0.0
     return v, dvds
 
 
 @core
-def suspension(x, dx, vp, bush, damp, bump, arb, kin):
+def suspension(x, dx, model, kin):
     """Add all suspension forces to the kinematics accumulators; damper state rates into dx."""
+    vp, bush, damp, bump, arb = model.vp, model.bush, model.damp, model.bump, model.arb
     for e in range(bush.shape[0]):
-        a = int(bush[e, L.E_A])
-        b = int(bush[e, L.E_B])
-        pax, pay, paz, vax, vay, vaz, aax, aay, aaz = _point(kin, a, bush[e, L.E_PA], bush[e, L.E_PA + 1],
-                                                             bush[e, L.E_PA + 2])
-        pbx, pby, pbz, vbx, vby, vbz, abx, aby, abz = _point(kin, b, bush[e, L.E_PB], bush[e, L.E_PB + 1],
-                                                             bush[e, L.E_PB + 2])
+        a = int(bush[e, Bushing.body_a])
+        b = int(bush[e, Bushing.body_b])
+        pax, pay, paz, vax, vay, vaz, aax, aay, aaz = _point(kin, a, *_vector(bush[e], Bushing.point_a))
+        pbx, pby, pbz, vbx, vby, vbz, abx, aby, abz = _point(kin, b, *_vector(bush[e], Bushing.point_b))
         dlx, dly, dlz = _to_body_axes(kin, a, pbx - pax, pby - pay, pbz - paz)
         ddx, ddy, ddz = _to_body_axes(kin, a, vbx - vax, vby - vay, vbz - vaz)
-        fx = bush[e, L.E_F0] - bush[e, L.E_K] * dlx - bush[e, L.E_C] * ddx
-        fy = bush[e, L.E_F0 + 1] - bush[e, L.E_K + 1] * dly - bush[e, L.E_C + 1] * ddy
-        fz = bush[e, L.E_F0 + 2] - bush[e, L.E_K + 2] * dlz - bush[e, L.E_C + 2] * ddz
+        f0x, f0y, f0z = _vector(bush[e], Bushing.preload)
+        kx, ky, kz = _vector(bush[e], Bushing.stiffness)
+        cx, cy, cz = _vector(bush[e], Bushing.damping)
+        fx = f0x - kx * dlx - cx * ddx
+        fy = f0y - ky * dly - cy * ddy
+        fz = f0z - kz * dlz - cz * ddz
         gx, gy, gz = _to_ground(kin, a, fx, fy, fz)
         _apply(kin, b, gx, gy, gz, abx, aby, abz)
         _apply(kin, a, -gx, -gy, -gz, aax, aay, aaz)
     for e in range(damp.shape[0]):
-        a = int(damp[e, L.D_A])
-        b = int(damp[e, L.D_B])
-        pax, pay, paz, vax, vay, vaz, aax, aay, aaz = _point(kin, a, damp[e, L.D_PA], damp[e, L.D_PA + 1],
-                                                             damp[e, L.D_PA + 2])
-        pbx, pby, pbz, vbx, vby, vbz, abx, aby, abz = _point(kin, b, damp[e, L.D_PB], damp[e, L.D_PB + 1],
-                                                             damp[e, L.D_PB + 2])
+        a = int(damp[e, Damper.body_a])
+        b = int(damp[e, Damper.body_b])
+        pax, pay, paz, vax, vay, vaz, aax, aay, aaz = _point(kin, a, *_vector(damp[e], Damper.point_a))
+        pbx, pby, pbz, vbx, vby, vbz, abx, aby, abz = _point(kin, b, *_vector(damp[e], Damper.point_b))
         dxl = pbx - pax
         dyl = pby - pay
         dzl = pbz - paz
@@ -262,13 +284,13 @@ def suspension(x, dx, vp, bush, damp, bump, arb, kin):
         ex = dxl / length
         ey = dyl / length
         ez = dzl / length
-        knee = damp[e, L.D_KNEE]
-        c1 = damp[e, L.D_C1]
-        c2 = damp[e, L.D_C2]
-        ks = damp[e, L.D_KS]
-        si = int(damp[e, L.D_STATE])
+        knee = damp[e, Damper.knee_velocity]
+        c1 = damp[e, Damper.damping]
+        c2 = damp[e, Damper.damping_after_knee]
+        ks = damp[e, Damper.series_stiffness]
+        si = int(damp[e, Damper.state])
         if ks > 0.0:
-            f = ks * (length - damp[e, L.D_L0] - x[si])
+            f = ks * (length - damp[e, Damper.length] - x[si])
             dx[si] = damper_rate(f, knee, c1, c2)
         else:
             rate = ex * (vbx - vax) + ey * (vby - vay) + ez * (vbz - vaz)
@@ -277,12 +299,10 @@ def suspension(x, dx, vp, bush, damp, bump, arb, kin):
         _apply(kin, b, -f * ex, -f * ey, -f * ez, abx, aby, abz)
         _apply(kin, a, f * ex, f * ey, f * ez, aax, aay, aaz)
     for e in range(bump.shape[0]):
-        a = int(bump[e, L.S_A])
-        b = int(bump[e, L.S_B])
-        pax, pay, paz, _, _, _, aax, aay, aaz = _point(kin, a, bump[e, L.S_PA], bump[e, L.S_PA + 1],
-                                                      bump[e, L.S_PA + 2])
-        pbx, pby, pbz, _, _, _, abx, aby, abz = _point(kin, b, bump[e, L.S_PB], bump[e, L.S_PB + 1],
-                                                      bump[e, L.S_PB + 2])
+        a = int(bump[e, BumpStop.body_a])
+        b = int(bump[e, BumpStop.body_b])
+        pax, pay, paz, _, _, _, aax, aay, aaz = _point(kin, a, *_vector(bump[e], BumpStop.point_a))
+        pbx, pby, pbz, _, _, _, abx, aby, abz = _point(kin, b, *_vector(bump[e], BumpStop.point_b))
         _, dly, _ = _to_body_axes(kin, a, pbx - pax, pby - pay, pbz - paz)
         f = bump_force(vp, abs(dly))
         if f > 0.0:
@@ -291,45 +311,47 @@ def suspension(x, dx, vp, bush, damp, bump, arb, kin):
             _apply(kin, b, gx, gy, gz, abx, aby, abz)
             _apply(kin, a, -gx, -gy, -gz, aax, aay, aaz)
     for e in range(arb.shape[0]):
-        a = int(arb[e, L.R_A])
-        b = int(arb[e, L.R_B])
-        Ra = kin[a, K_R:K_R + 9]
-        Rb = kin[b, K_R:K_R + 9]
+        a = int(arb[e, AntiRollBar.body_a])
+        b = int(arb[e, AntiRollBar.body_b])
+        Ra = kin[a, Kinematics.rotation:Kinematics.rotation + MATRIX]
+        Rb = kin[b, Kinematics.rotation:Kinematics.rotation + MATRIX]
         # relative rotation Ra^T Rb: roll angle from its antisymmetric (2,1) - (1,2) part
         r21 = Ra[2] * Rb[1] + Ra[5] * Rb[4] + Ra[8] * Rb[7]
         r12 = Ra[1] * Rb[2] + Ra[4] * Rb[5] + Ra[7] * Rb[8]
         ang = 0.5 * (r21 - r12)
-        mx, my, mz = _to_ground(kin, a, -arb[e, L.R_K] * ang, 0.0, 0.0)
-        kin[b, K_M] += mx
-        kin[b, K_M + 1] += my
-        kin[b, K_M + 2] += mz
-        kin[a, K_M] -= mx
-        kin[a, K_M + 1] -= my
-        kin[a, K_M + 2] -= mz
+        mx, my, mz = _to_ground(kin, a, -arb[e, AntiRollBar.stiffness] * ang, 0.0, 0.0)
+        kin[b, Kinematics.moment + Vector.x] += mx
+        kin[b, Kinematics.moment + Vector.y] += my
+        kin[b, Kinematics.moment + Vector.z] += mz
+        kin[a, Kinematics.moment + Vector.x] -= mx
+        kin[a, Kinematics.moment + Vector.y] -= my
+        kin[a, Kinematics.moment + Vector.z] -= mz
 
 
 @core
-def rhs(x, dx, bodies, vp, bush, damp, bump, arb, track, sp, cg, cp, kin, gap, ys, patches, cands, tracked,
-        kpbuf, kpid, kprow, recs):
-    """dx = f(x). Wheel records of the 8 wheels are left in recs (8 x W_SIZE).
+def rhs(x, dx, model, sp, buffers, tracked):
+    """dx = f(x) for the ModelArrays `model` and the speed table sp; the wheel records of the 8 wheels are
+    left in buffers.recs (8 x W_SIZE).
 
-    cands (8 x (1 + MAX_CANDIDATES)): contact minima per wheel, written by a full search (tracked False)
-    and followed by the cheap local search when `tracked` (the later stages of one RK4 step).
+    buffers.cands (one `geometry.Candidates` per wheel): contact minima written by a full search (tracked
+    False) and followed by the cheap local search when `tracked` (the inner stages of one step).
     """
+    bodies, vp, track = model.bodies, model.vp, model.track
+    kin, cands, recs = buffers.kin, buffers.cands, buffers.recs
     v, dvds = kinematics(x, bodies, track, sp, kin)
-    suspension(x, dx, vp, bush, damp, bump, arb, kin)
-    g = vp[L.V_G]
-    r0 = vp[L.V_R0]
-    spin_i = vp[L.V_SPIN_INERTIA]
+    suspension(x, dx, model, kin)
+    g = vp[VehicleConstants.gravity]
+    r0 = vp[VehicleConstants.rolling_radius]
+    spin_i = vp[VehicleConstants.spin_inertia]
     # the motors/brakes supply the torque that keeps the wheels turning with the prescribed acceleration
     traction = spin_i * v * dvds / r0
-    s = x[L.I_S]
-    for b in range(L.N_BODY):
-        o = L.N_DOF * b
-        ov = L.I_VEL + o
-        RT = kin[b, K_RT:K_RT + 9]
-        F = kin[b, K_F:K_F + 3]
-        M = kin[b, K_M:K_M + 3]
+    s = x[State.s]
+    for b in range(N_BODY):
+        o = State.positions + N_DOF * b
+        ov = State.velocities + N_DOF * b
+        RT = kin[b, Kinematics.track_rotation:Kinematics.track_rotation + MATRIX]
+        F = kin[b, Kinematics.force:Kinematics.force + VECTOR]
+        M = kin[b, Kinematics.moment:Kinematics.moment + VECTOR]
         # ground -> track axes
         fx = RT[0] * F[0] + RT[3] * F[1] + RT[6] * F[2]
         fy = RT[1] * F[0] + RT[4] * F[1] + RT[7] * F[2]
@@ -337,27 +359,28 @@ def rhs(x, dx, bodies, vp, bush, damp, bump, arb, track, sp, cg, cp, kin, gap, y
         mx = RT[0] * M[0] + RT[3] * M[1] + RT[6] * M[2]
         my = RT[1] * M[0] + RT[4] * M[1] + RT[7] * M[2]
         mz = RT[2] * M[0] + RT[5] * M[1] + RT[8] * M[2]
-        wtx = kin[b, K_WT]
-        wty = kin[b, K_WT + 1]
-        wtz = kin[b, K_WT + 2]
-        vtx = kin[b, K_VT]
-        vty = kin[b, K_VT + 1]
-        vtz = kin[b, K_VT + 2]
-        wx = x[ov + 2]
-        wz = x[ov + 4]
-        is_ws = bodies[b, L.B_WHEELSET] > 0.5
-        wy = wty if is_ws else x[ov + 3]
-        spin = x[ov + 3]                          # wheelsets: spin about the axle (rad/s)
+        wtx = kin[b, Kinematics.track_angular_velocity + Vector.x]
+        wty = kin[b, Kinematics.track_angular_velocity + Vector.y]
+        wtz = kin[b, Kinematics.track_angular_velocity + Vector.z]
+        vtx = kin[b, Kinematics.track_velocity + Vector.x]
+        vty = kin[b, Kinematics.track_velocity + Vector.y]
+        vtz = kin[b, Kinematics.track_velocity + Vector.z]
+        wx = x[ov + Dof.roll]
+        wz = x[ov + Dof.yaw]
+        is_ws = bodies[b, BodyTable.is_wheelset] > 0.5
+        wy = wty if is_ws else x[ov + Dof.pitch]
+        spin = x[ov + Dof.pitch]                          # wheelsets: spin about the axle (rad/s)
         # wheel-rail force and moment of both wheels of a wheelset (track axes, about its centre)
         cx = cy = cz = cmx = cmy = cmz = 0.0
         if is_ws:
-            yd, dyd = trk.lateral_defect(track, s + bodies[b, L.B_STATION])
-            wheel = b - L.WHEELSETS[0]
+            yd, dyd = trk.lateral_defect(track, s + bodies[b, BodyTable.station])
+            wheel = b - WHEELSETS[0]
+            pose = (x[o + Dof.lateral] - yd, x[o + Dof.vertical], x[o + Dof.roll], x[o + Dof.yaw] - dyd)
+            motion = (vtx, vty, vtz, wx, wy, wz, spin, v)
             for side in range(2):
-                f0, f1, f2, m0, m1, m2 = ws.wheel_forces(
-                    cg, cp, side, x[o] - yd, x[o + 1], x[o + 2], x[o + 4] - dyd, vtx, vty, vtz, wx, wy, wz, spin,
-                    v, gap, ys, patches, cands[2 * wheel + side], tracked, kpbuf, kpid, kprow,
-                    recs[2 * wheel + side])
+                k = 2 * wheel + side
+                f0, f1, f2, m0, m1, m2 = ws.wheel_forces(model.cg, model.cp, side, pose, motion, buffers.contact,
+                                                         cands[k], tracked, recs[k])
                 cx += f0
                 cy += f1
                 cz += f2
@@ -370,39 +393,39 @@ def rhs(x, dx, bodies, vp, bush, damp, bump, arb, track, sp, cg, cp, kin, gap, y
             mx += cmx
             my += cmy
             mz += cmz
-        m = bodies[b, L.B_MASS]
-        ix = bodies[b, L.B_IX]
-        iy = bodies[b, L.B_IY]
-        iz = bodies[b, L.B_IZ]
+        m = bodies[b, BodyTable.mass]
+        ix = bodies[b, BodyTable.roll_inertia]
+        iy = bodies[b, BodyTable.pitch_inertia]
+        iz = bodies[b, BodyTable.yaw_inertia]
         roll_t = math.atan2(RT[7], RT[8])
         # translation: dV/dt = F/m + g_T - omega_T x V
-        dx[ov] = fy / m - g * math.sin(roll_t) - (wtz * vtx - wtx * vtz)
-        dx[ov + 1] = fz / m - g * math.cos(roll_t) - (wtx * vty - wty * vtx)
+        dx[ov + Dof.lateral] = fy / m - g * math.sin(roll_t) - (wtz * vtx - wtx * vtz)
+        dx[ov + Dof.vertical] = fz / m - g * math.cos(roll_t) - (wtx * vty - wty * vtx)
         # rotation: I dw/dt = M - w x (I w) - spin gyroscopic term
         gx = (iz - iy) * wy * wz
         gy = (ix - iz) * wz * wx
         gz = (iy - ix) * wx * wy
         if is_ws:
-            cphi = math.cos(x[o + 2])
-            ax_x = -math.sin(x[o + 4]) * cphi
-            ax_y = math.cos(x[o + 4]) * cphi
-            ax_z = math.sin(x[o + 2])
+            cphi = math.cos(x[o + Dof.roll])
+            ax_x = -math.sin(x[o + Dof.yaw]) * cphi
+            ax_y = math.cos(x[o + Dof.yaw]) * cphi
+            ax_z = math.sin(x[o + Dof.roll])
             hs = spin_i * spin
             gx += hs * (wy * ax_z - wz * ax_y)
             gz += hs * (wx * ax_y - wy * ax_x)
             # spin: the contact forces' moment about the axle (the axle boxes do not turn with the wheels)
-            dx[ov + 3] = ((cmx * ax_x + cmy * ax_y + cmz * ax_z) + traction) / spin_i
+            dx[ov + Dof.pitch] = ((cmx * ax_x + cmy * ax_y + cmz * ax_z) + traction) / spin_i
         else:
-            dx[ov + 3] = (my - gy) / iy
-        dx[ov + 2] = (mx - gx) / ix
-        dx[ov + 4] = (mz - gz) / iz
+            dx[ov + Dof.pitch] = (my - gy) / iy
+        dx[ov + Dof.roll] = (mx - gx) / ix
+        dx[ov + Dof.yaw] = (mz - gz) / iz
         # kinematics of the relative coordinates
-        h = bodies[b, L.B_HEIGHT] + x[o + 1]
-        dx[o] = vty + wtx * h
-        dx[o + 1] = vtz - wtx * x[o]
-        dx[o + 2] = wx - wtx
-        dx[o + 3] = 0.0 if is_ws else x[ov + 3] - wty
-        dx[o + 4] = wz - wtz
-    dx[L.I_S] = v
+        h = bodies[b, BodyTable.height] + x[o + Dof.vertical]
+        dx[o + Dof.lateral] = vty + wtx * h
+        dx[o + Dof.vertical] = vtz - wtx * x[o + Dof.lateral]
+        dx[o + Dof.roll] = wx - wtx
+        dx[o + Dof.pitch] = 0.0 if is_ws else x[ov + Dof.pitch] - wty
+        dx[o + Dof.yaw] = wz - wtz
+    dx[State.s] = v
     return v
 

@@ -12,24 +12,46 @@ every output instant, so the simulator node can advance the core by exactly one 
 `advance` is the one stepper: the batch API runs it to the end of the line, the ROS node calls it once
 per publication period with the same buffers.
 """
+from collections import namedtuple
 import math
 
 import numpy as np
 
 from ..jit import core
-from ..contact import geometry as geo
-from ..contact import kik_piotrowski as kp
 from ..contact import wheelset as ws
+from ..record import Record
 from ..track import alignment as trk
 from . import dynamics as dyn
-from . import layout as L
+from .layout import (BodyTable, Dof, N_BODY, N_DAMPER, N_DOF, N_STATE, N_WHEEL, N_WHEELSET, OutputRow,
+                     State, VehicleConstants, WheelsetOutput, WHEELSETS)
 
 RUNNING, DERAILED, DIVERGED, END_OF_LINE = 0, 1, 2, 3
 MECH_FLANGE_CLIMBING, MECH_WHEEL_UNLOADING = 1, 2
 
-# event array: what happened when advance stopped
-EV_T, EV_S, EV_WHEELSET, EV_SIDE, EV_MECH, EV_LIFT, EV_LATERAL, EV_SPEED, EV_INDEX, EV_VALUE = range(10)
-EV_SIZE = 10
+
+class Event(Record):
+    """What happened when `advance` stopped (DERAILED: the derailment; DIVERGED: the runaway state)."""
+    time = "s", "simulated time"
+    position = "m", "track position: of the derailed wheelset, or of the car-body centre"
+    wheelset = "-", "derailed wheelset (0..3 from the front)"
+    side = "-", "derailed wheel: 0 left, 1 right"
+    mechanism = "-", "MECH_FLANGE_CLIMBING or MECH_WHEEL_UNLOADING"
+    wheel_lift = "m", "the wheel's lift"
+    lateral_displacement = "m", "the wheelset's lateral displacement"
+    speed = "m/s", "forward speed"
+    state_index = "-", "DIVERGED: index of the runaway state in the state vector (-1: the step size fell)"
+    state_value = "-", "DIVERGED: its value (or the step size, s)"
+
+
+class Stepper(Record):
+    """The step control's state, kept between calls of `advance`."""
+    step = "s", "the step size to try next"
+    accepted = "-", "steps accepted"
+    rejected = "-", "steps rejected"
+
+
+EV_SIZE = Event.size()
+WS_SIZE = WheelsetOutput.size()
 
 # limits beyond which the integration has run away (not a physical state of a car on or near the track)
 LIMIT_DISPLACEMENT = 0.5       # m, any lateral/vertical body displacement
@@ -39,75 +61,75 @@ LIMIT_RATE = 60.0              # rad/s
 LIMIT_DAMPER = 0.5             # m
 LIMIT_SPIN = 1000.0            # rad/s, a wheelset's spin (about 240 rad/s at 400 km/h)
 
-N_OUT = L.O_WHEEL + 8 * ws.W_SIZE
+# the stepper's buffers: the right-hand side's (dynamics.RhsBuffers), the seven stage derivatives, the
+# trial state, the contact candidates saved before a step (restored when it is rejected), the Event and
+# the Stepper record
+Workspace = namedtuple("Workspace", "rhs stages trial cand_save event stepper")
+# error control and the stopping rules
+StepControl = namedtuple("StepControl", "atol rtol h_min h_max s_end stop_on_derailment")
 
 
 def workspace(cg):
-    """Preallocated work arrays of `advance` (reused between calls)."""
-    nw = int(cg[geo.H_NW])
-    return dict(ks=np.zeros((7, L.N_STATE)), xt=np.zeros(L.N_STATE), hstate=np.array([1e-4, 0.0, 0.0]),
-                cand_save=np.zeros((8, 1 + geo.MAX_CANDIDATES)), kin=np.zeros((L.N_BODY, dyn.K_COLS)),
-                gap=np.zeros(nw), ys=np.zeros(nw), patches=np.zeros((geo.MAX_PATCHES, geo.P_COLS)),
-                cands=np.zeros((8, 1 + geo.MAX_CANDIDATES)), kpbuf=np.zeros((4, nw)),
-                kpid=np.zeros(nw, dtype=np.int64), kprow=np.zeros((1, kp.NPROP)),
-                recs=np.zeros((8, ws.W_SIZE)),
-                event=np.zeros(EV_SIZE))
+    """Preallocated buffers of `advance` (reused between calls)."""
+    stepper = np.zeros(Stepper.size())
+    stepper[Stepper.step] = 1e-4
+    buffers = dyn.RhsBuffers(kin=np.zeros((N_BODY, dyn.K_COLS)), contact=ws.contact_scratch(cg),
+                             cands=ws.candidates(N_WHEEL), recs=np.zeros((N_WHEEL, ws.W_SIZE)))
+    return Workspace(rhs=buffers, stages=np.zeros((7, N_STATE)), trial=np.zeros(N_STATE),
+                     cand_save=ws.candidates(N_WHEEL), event=np.zeros(EV_SIZE), stepper=stepper)
 
 
 @core
-def _rhs(x, dx, bodies, vp, bush, damp, bump, arb, track, sp, cg, cp, kin, gap, ys, patches, cands,
-         tracked, kpbuf, kpid, kprow, recs):
-    return dyn.rhs(x, dx, bodies, vp, bush, damp, bump, arb, track, sp, cg, cp, kin, gap, ys, patches,
-                   cands, tracked, kpbuf, kpid, kprow, recs)
-
-
-@core
-def fill_row(row, t, x, v, bodies, vp, track, recs):
-    """One output row from the state and the wheel records of the same instant."""
-    s = x[L.I_S]
+def fill_row(row, t, x, v, model, recs):
+    """One output row (OutputRow) from the state and the wheel records of the same instant."""
+    bodies, vp, track = model.bodies, model.vp, model.track
+    s = x[State.s]
     kap, _ = trk.curvature(track, s)
     roll, _ = trk.cant(track, s)
-    direction = track[trk.I_DIR]
-    row[L.O_T] = t
-    row[L.O_S] = s
-    row[L.O_V] = v
-    row[L.O_SECTION] = trk.section(track, s)
-    row[L.O_CURV] = kap
-    row[L.O_CANT] = abs(roll)
+    direction = track[trk.TrackHeader.direction]
+    row[OutputRow.time] = t
+    row[OutputRow.position] = s
+    row[OutputRow.speed] = v
+    row[OutputRow.section] = trk.section(track, s)
+    row[OutputRow.curvature] = kap
+    row[OutputRow.cant] = abs(roll)
     # uncompensated lateral acceleration in the track plane, + toward the outside of the curve
-    row[L.O_ANC] = direction * (v * v * kap * math.cos(roll) + vp[L.V_G] * math.sin(roll))
-    for i in range(L.N_BODY * L.N_DOF):
-        row[L.O_BODY + i] = x[i]
-    for w in range(4):
-        b = L.WHEELSETS[w]
-        o = L.N_DOF * b
-        yd, dyd = trk.lateral_defect(track, s + bodies[b, L.B_STATION])
-        row[L.O_WS + 3 * w] = x[o] - yd
+    row[OutputRow.uncompensated_acceleration] = direction * (v * v * kap * math.cos(roll)
+                                                             + vp[VehicleConstants.gravity] * math.sin(roll))
+    for i in range(N_BODY * N_DOF):
+        row[OutputRow.body_states + i] = x[State.positions + i]
+    for w in range(N_WHEELSET):
+        b = WHEELSETS[w]
+        o = State.positions + N_DOF * b
+        yd, dyd = trk.lateral_defect(track, s + bodies[b, BodyTable.station])
+        r = OutputRow.wheelsets + w * WS_SIZE
+        row[r + WheelsetOutput.wheelset_lateral] = x[o + Dof.lateral] - yd
         # attack angle: + when the front of the wheelset points toward the outer rail
-        row[L.O_WS + 3 * w + 1] = -direction * (x[o + 4] - dyd)
-        row[L.O_WS + 3 * w + 2] = x[o + 2]
-    for k in range(8):
-        o = L.O_WHEEL + k * ws.W_SIZE
+        row[r + WheelsetOutput.attack_angle] = -direction * (x[o + Dof.yaw] - dyd)
+        row[r + WheelsetOutput.wheelset_roll] = x[o + Dof.roll]
+    for k in range(N_WHEEL):
+        o = OutputRow.wheels + k * ws.W_SIZE
         for q in range(ws.W_SIZE):
             row[o + q] = recs[k, q]
 
 
 @core
-def _check_derailment(x, v, t, vp, bodies, recs, event):
+def _check_derailment(x, v, t, model, recs, event):
     """The paper's geometric criterion, per wheel (docs/methods.md): True and `event` filled if met.
 
     flange climbing: lift >= flange height - tolerance and the wheelset displaced toward that wheel's rail
     by at least the displacement that puts the flange tip over the rail's highest point;
     wheel unloading (lift-off / overturning): lift >= flange height on a wheel not climbing its rail.
     """
-    hf = vp[L.V_FLANGE_HEIGHT]
-    tol = vp[L.V_LIFT_TOLERANCE]
-    yclimb = vp[L.V_CLIMB_DISPLACEMENT]
-    for w in range(4):
-        b = L.WHEELSETS[w]
-        y = x[L.N_DOF * b]
+    vp = model.vp
+    hf = vp[VehicleConstants.flange_height]
+    tol = vp[VehicleConstants.lift_tolerance]
+    yclimb = vp[VehicleConstants.climb_displacement]
+    for w in range(N_WHEELSET):
+        b = WHEELSETS[w]
+        y = x[State.positions + N_DOF * b + Dof.lateral]
         for side in range(2):
-            lift = recs[2 * w + side, ws.W_LIFT]
+            lift = recs[2 * w + side, ws.Wheel.wheel_lift]
             toward = y if side == 0 else -y
             mech = 0
             if lift >= hf - tol and toward >= yclimb:
@@ -115,14 +137,14 @@ def _check_derailment(x, v, t, vp, bodies, recs, event):
             elif lift >= hf:
                 mech = MECH_WHEEL_UNLOADING
             if mech > 0:
-                event[EV_T] = t
-                event[EV_S] = x[L.I_S] + bodies[b, L.B_STATION]
-                event[EV_WHEELSET] = w
-                event[EV_SIDE] = side
-                event[EV_MECH] = mech
-                event[EV_LIFT] = lift
-                event[EV_LATERAL] = y
-                event[EV_SPEED] = v
+                event[Event.time] = t
+                event[Event.position] = x[State.s] + model.bodies[b, BodyTable.station]
+                event[Event.wheelset] = w
+                event[Event.side] = side
+                event[Event.mechanism] = mech
+                event[Event.wheel_lift] = lift
+                event[Event.lateral_displacement] = y
+                event[Event.speed] = v
                 return True
     return False
 
@@ -130,18 +152,19 @@ def _check_derailment(x, v, t, vp, bodies, recs, event):
 @core
 def _check_divergence(x, t, event):
     bad = -1
-    for i in range(L.N_STATE):
+    for i in range(N_STATE):
         if not math.isfinite(x[i]):
             bad = i
             break
     if bad < 0:
-        for b in range(L.N_BODY):
-            o = L.N_DOF * b
-            ov = L.I_VEL + o
-            for k in range(L.N_DOF):
-                lim_p = LIMIT_DISPLACEMENT if k < 2 else LIMIT_ANGLE
-                lim_v = LIMIT_VELOCITY if k < 2 else LIMIT_RATE
-                if k == 3 and b >= L.WHEELSETS[0]:
+        for b in range(N_BODY):
+            o = State.positions + N_DOF * b
+            ov = State.velocities + N_DOF * b
+            for k in range(N_DOF):
+                translation = k == Dof.lateral or k == Dof.vertical
+                lim_p = LIMIT_DISPLACEMENT if translation else LIMIT_ANGLE
+                lim_v = LIMIT_VELOCITY if translation else LIMIT_RATE
+                if k == Dof.pitch and b >= WHEELSETS[0]:
                     lim_v = LIMIT_SPIN
                 if abs(x[o + k]) > lim_p:
                     bad = o + k
@@ -152,16 +175,16 @@ def _check_divergence(x, t, event):
             if bad >= 0:
                 break
     if bad < 0:
-        for i in range(L.I_DAMPER, L.I_DAMPER + L.N_DAMPER):
+        for i in range(State.dampers, State.dampers + N_DAMPER):
             if abs(x[i]) > LIMIT_DAMPER:
                 bad = i
                 break
     if bad < 0:
         return False
-    event[EV_T] = t
-    event[EV_S] = x[L.I_S]
-    event[EV_INDEX] = bad
-    event[EV_VALUE] = x[bad]
+    event[Event.time] = t
+    event[Event.position] = x[State.s]
+    event[Event.state_index] = bad
+    event[Event.state_value] = x[bad]
     return True
 
 
@@ -179,37 +202,39 @@ _E = np.array([71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 3
 
 
 @core
-def advance(x, t, duration, out_dt, first_row, hstate, s_end, stop_on_derailment, atol, rtol, h_min, h_max,
-            bodies, vp,
-            bush, damp, bump, arb, track, sp, cg, cp, ks, xt, cand_save, kin, gap, ys, patches, cands, kpbuf,
-            kpid, kprow, recs, event, out):
+def advance(x, t, duration, out_dt, first_row, model, sp, control, work, out):
     """Advance x in place over `duration` s from time t (a multiple of out_dt) with Dormand-Prince 5(4).
 
-    Adaptive steps under the error control (atol per state, rtol) land exactly on every output instant;
-    a row is written after every output interval, and at the start if `first_row` (the state and wheel
-    records of that instant). The last stage of each step (FSAL) searches the wheel-rail contact in full at the new
-    state; the inner stages follow the contacts found there (`geometry.track_patches`). hstate keeps the
-    step size between calls and counts the accepted and rejected steps. Stops early at END_OF_LINE, DERAILED (if stop_on_derailment) or
-    DIVERGED (state out of bounds, not finite, or step below h_min); `event` says when, where, what.
+    `model`: the dynamics.ModelArrays; sp: the speed table; `control`: the StepControl; `work`: the
+    Workspace. Adaptive steps under the error control (atol per state, rtol) land exactly on every
+    output instant; a row is written after every output interval, and at the start if `first_row` (the
+    state and wheel records of that instant). The last stage of each step (FSAL) searches the wheel-rail
+    contact in full at the new state; the inner stages follow the contacts found there
+    (`geometry.track_patches`). work.stepper keeps the step size between calls and counts the accepted
+    and rejected steps. Stops early at END_OF_LINE, DERAILED (if control.stop_on_derailment) or DIVERGED
+    (state out of bounds, not finite, or step below h_min); work.event says when, where, what.
     Returns (status, rows_written, t).
     """
+    atol, rtol, h_min, h_max = control.atol, control.rtol, control.h_min, control.h_max
+    ks, xt, cand_save, event, stepper = work.stages, work.trial, work.cand_save, work.event, work.stepper
+    buffers = work.rhs
+    cands, recs = buffers.cands, buffers.recs
     n = x.shape[0]
     rows = 0
     nout = out.shape[0]
     k0 = ks[0]
-    v = _rhs(x, k0, bodies, vp, bush, damp, bump, arb, track, sp, cg, cp, kin, gap, ys, patches, cands,
-             False, kpbuf, kpid, kprow, recs)
+    v = dyn.rhs(x, k0, model, sp, buffers, False)
     n_intervals = int(round(duration / out_dt))
-    h_prop = hstate[0]
+    h_prop = stepper[Stepper.step]
     for interval in range(n_intervals + 1):
         if (interval > 0 or first_row) and rows < nout:
-            fill_row(out[rows], t, x, v, bodies, vp, track, recs)
+            fill_row(out[rows], t, x, v, model, recs)
             rows += 1
-        if stop_on_derailment and _check_derailment(x, v, t, vp, bodies, recs, event):
-            hstate[0] = h_prop
+        if control.stop_on_derailment and _check_derailment(x, v, t, model, recs, event):
+            stepper[Stepper.step] = h_prop
             return DERAILED, rows, t
-        if x[L.I_S] >= s_end:
-            hstate[0] = h_prop
+        if x[State.s] >= control.s_end:
+            stepper[Stepper.step] = h_prop
             return END_OF_LINE, rows, t
         if interval == n_intervals:
             break
@@ -227,8 +252,7 @@ def advance(x, t, duration, out_dt, first_row, hstate, s_end, stop_on_derailment
                         acc += _A[st, j] * ks[j, i]
                     xt[i] = x[i] + h * acc
                 full = st == 6
-                vt = _rhs(xt, ks[st], bodies, vp, bush, damp, bump, arb, track, sp, cg, cp, kin, gap, ys,
-                          patches, cands, not full, kpbuf, kpid, kprow, recs)
+                vt = dyn.rhs(xt, ks[st], model, sp, buffers, not full)
             # xt holds the 5th-order solution (stage 7 is evaluated there: FSAL)
             err = 0.0
             for i in range(n):
@@ -240,31 +264,31 @@ def advance(x, t, duration, out_dt, first_row, hstate, s_end, stop_on_derailment
                 err += r * r
             err = math.sqrt(err / n)
             if err <= 1.0 and math.isfinite(err):
-                hstate[1] += 1.0
+                stepper[Stepper.accepted] += 1.0
                 for i in range(n):
                     x[i] = xt[i]
                     k0[i] = ks[6, i]
                 t = t_target if clipped else t + h
                 v = vt
                 if _check_divergence(x, t, event):
-                    hstate[0] = h_prop
+                    stepper[Stepper.step] = h_prop
                     return DIVERGED, rows, t
                 fac = 5.0 if err < 1e-10 else min(5.0, 0.9 * err ** -0.2)
                 # a step shortened to land on the output instant says nothing against the longer one
                 h_prop = min(h_max, max(h * fac, h_prop) if clipped else h * fac)
             else:
-                hstate[2] += 1.0
+                stepper[Stepper.rejected] += 1.0
                 for i in range(cands.shape[0]):
                     for j in range(cands.shape[1]):
                         cands[i, j] = cand_save[i, j]
                 fac = 0.2 if not math.isfinite(err) else max(0.2, 0.9 * err ** -0.2)
                 h_prop = h * fac
                 if h_prop < h_min:
-                    event[EV_T] = t
-                    event[EV_S] = x[L.I_S]
-                    event[EV_INDEX] = -1
-                    event[EV_VALUE] = h_prop
-                    hstate[0] = h_prop
+                    event[Event.time] = t
+                    event[Event.position] = x[State.s]
+                    event[Event.state_index] = -1
+                    event[Event.state_value] = h_prop
+                    stepper[Stepper.step] = h_prop
                     return DIVERGED, rows, t
-    hstate[0] = h_prop
+    stepper[Stepper.step] = h_prop
     return RUNNING, rows, t

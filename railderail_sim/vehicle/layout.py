@@ -1,74 +1,155 @@
-"""Index layout of the state vector, the body and element tables and the output row (numba constants).
+"""Layouts of the vehicle core's arrays (`record.Record`): the state vector, the body and force-element
+tables, the vehicle constants and the output row.
 
-State vector x (float64):
-  positions  x[5*b + k]        body b = 0..6, k: 0 lateral y, 1 vertical z (m, relative to the track frame
-                               at the body's station, + left / + up), 2 roll, 3 pitch, 4 yaw (rad,
-                               relative to the track frame)
-  velocities x[35 + 5*b + k]   k: 0 V_y, 1 V_z (absolute velocity of the body reference point, in track
-                               axes), 2..4 absolute angular velocity about the track x, y, z axes
-  dampers    x[70 + d]         elongation of the damper part of each series spring-damper element (m)
-  position   x[78]             distance s of the car-body centre along the line (m)
-Wheelsets: the k = 3 position entry (pitch angle) is unused and stays zero; the k = 3 velocity entry is the
-wheelset's spin about its axle (rad/s, about v / r), a degree of freedom driven by the contact forces.
+Bodies 0..6: the car body, the front and rear bogie frames, wheelsets 0..3 from the front. Each body
+moves relative to the track frame at its own station (docs/vehicle-model.md). Wheelsets: the `pitch`
+position of a wheelset is unused and stays zero; its `pitch` velocity is the wheelset's spin about
+its axle (rad/s, about v / r0), a degree of freedom driven by the contact forces.
 """
-N_BODY = 7
-CAR_BODY = 0
-BOGIES = (1, 2)               # front, rear
-WHEELSETS = (3, 4, 5, 6)      # front to rear
-N_DOF = 5
-I_VEL = N_BODY * N_DOF        # 35
-N_DAMPER = 8                  # 4 yaw dampers + 2 lateral dampers as mirrored pairs of halves
-I_DAMPER = 2 * I_VEL          # 70
-I_S = I_DAMPER + N_DAMPER     # 78
-N_STATE = I_S + 1             # 79
+import enum
 
-# body table columns
-B_MASS, B_IX, B_IY, B_IZ, B_STATION, B_HEIGHT, B_WHEELSET = 0, 1, 2, 3, 4, 5, 6
-B_COLS = 7
+from ..contact.wheelset import Wheel
+from ..record import Record
 
-# spring-damper "bushing" table (coincident points; stiffness and damping in the axes of body a)
-E_A, E_B = 0, 1
-E_PA = 2                      # 3 columns: point in body a coordinates (from its reference point)
-E_PB = 5                      # 3 columns: the same point in body b coordinates
-E_K = 8                       # 3 columns: stiffness x, y, z (N/m)
-E_C = 11                      # 3 columns: damping x, y, z (N s/m)
-E_F0 = 14                     # 3 columns: preload on body b, axes of a (N)
-E_COLS = 17
 
-# two-point damper table (force along the line between the points, optional series spring)
-D_A, D_B, D_PA, D_PB = 0, 1, 2, 5
-D_KNEE = 8                    # knee velocity (m/s)
-D_C1 = 9                      # damping below the knee (N s/m)
-D_C2 = 10                     # damping beyond the knee (N s/m)
-D_KS = 11                     # series stiffness (N/m), 0 = none
-D_L0 = 12                     # nominal length (m)
-D_STATE = 13                  # index of its internal state in x
-D_COLS = 14
+class Body(enum.IntEnum):
+    car_body = 0
+    front_bogie = 1
+    rear_bogie = 2
+    wheelset_0 = 3
+    wheelset_1 = 4
+    wheelset_2 = 5
+    wheelset_3 = 6
 
-# lateral bump stop table (points as for the bushing; force law in the vehicle parameter array)
-S_A, S_B, S_PA, S_PB = 0, 1, 2, 5
-S_COLS = 8
 
-# anti-roll bar table
-R_A, R_B, R_K = 0, 1, 2
-R_COLS = 3
+N_BODY = len(Body)
+CAR_BODY = int(Body.car_body)
+BOGIES = (int(Body.front_bogie), int(Body.rear_bogie))
+WHEELSETS = tuple(int(b) for b in Body if b >= Body.wheelset_0)
+N_WHEELSET = len(WHEELSETS)
+N_WHEEL = 2 * N_WHEELSET                 # wheel 2 i + 0 left, 2 i + 1 right of wheelset i
+N_DAMPER = 8                             # 4 yaw dampers + 2 lateral dampers as mirrored pairs of halves
 
-# vehicle parameter array vp
-V_G = 0                       # gravity (m/s^2)
-V_R0 = 1                      # nominal rolling radius (m)
-V_SPIN_INERTIA = 2            # wheelset spin inertia (kg m^2)
-V_BUMP_CLEARANCE = 3          # m
-V_BUMP_N = 4                  # number of points of the bump-stop law
-V_BUMP_TRAVEL = 5             # 8 slots
-V_BUMP_FORCE = 13             # 8 slots
-V_FLANGE_HEIGHT = 21          # m
-V_CLIMB_DISPLACEMENT = 22     # lateral displacement that puts the flange tip over the rail top (m)
-V_LIFT_TOLERANCE = 23         # m, see derailment criteria
-V_SIZE = 24
 
-# output row
-O_T, O_S, O_V, O_SECTION, O_CURV, O_CANT, O_ANC = 0, 1, 2, 3, 4, 5, 6
-O_BODY = 7                    # 7 x 5 body positions (as in the state)
-O_WS = O_BODY + N_BODY * N_DOF          # per wheelset: lateral rel. to the rails, attack angle, roll
-O_WS_COLS = 3
-O_WHEEL = O_WS + 4 * O_WS_COLS          # 8 wheel records of contact.wheelset.W_SIZE
+class Dof(Record):
+    """A body's degrees of freedom relative to the track frame at its station (positions), or their
+    absolute rates in track axes (velocities)."""
+    lateral = "m; m/s", "lateral, + left"
+    vertical = "m; m/s", "vertical, + up"
+    roll = "rad; rad/s", "roll about the track x axis"
+    pitch = "rad; rad/s", "pitch about the track y axis (wheelsets: unused position; spin rate)"
+    yaw = "rad; rad/s", "yaw about the track z axis"
+
+
+N_DOF = Dof.size()
+
+
+class State(Record):
+    """The state vector x of the core."""
+    positions = "m, rad", "each body's displacement relative to the track frame at its station", (N_BODY,), Dof
+    velocities = ("m/s, rad/s", "each body's absolute velocity of its reference point and absolute angular "
+                  "velocity, in track axes", (N_BODY,), Dof)
+    dampers = "m", "elongation of the damper part of each series spring-damper element", (N_DAMPER,)
+    s = "m", "distance of the car-body centre along the line"
+
+
+N_STATE = State.size()
+
+
+class Vector(Record):
+    """Components of a vector (a point, a stiffness or a force) in a table or scratch row."""
+    x = "-", "x component"
+    y = "-", "y component"
+    z = "-", "z component"
+
+
+class BodyTable(Record):
+    """A row of the body table."""
+    mass = "kg", "mass"
+    roll_inertia = "kg m^2", "inertia about the body's x axis"
+    pitch_inertia = "kg m^2", "inertia about its y axis (wheelsets: about the axle)"
+    yaw_inertia = "kg m^2", "inertia about its z axis"
+    station = "m", "longitudinal position of the reference point from the car-body centre, + forward"
+    height = "m", "height of the reference point above the rail top"
+    is_wheelset = "-", "1 for a wheelset, 0 otherwise"
+
+
+class Bushing(Record):
+    """A spring-damper between coincident points of two bodies; stiffness and damping in body a's axes."""
+    body_a = "-", "index of body a"
+    body_b = "-", "index of body b"
+    point_a = "m", "the point in body a's coordinates (from its reference point)", (), Vector
+    point_b = "m", "the same point in body b's coordinates", (), Vector
+    stiffness = "N/m", "stiffness along x, y, z", (), Vector
+    damping = "N s/m", "damping along x, y, z", (), Vector
+    preload = "N", "force on body b at the nominal position, in body a's axes", (), Vector
+
+
+class Damper(Record):
+    """A two-point damper: force along the line between its points, two-stage law, optional series spring."""
+    body_a = "-", "index of body a"
+    body_b = "-", "index of body b"
+    point_a = "m", "end point in body a's coordinates", (), Vector
+    point_b = "m", "end point in body b's coordinates", (), Vector
+    knee_velocity = "m/s", "knee (blow-off) velocity"
+    damping = "N s/m", "damping below the knee"
+    damping_after_knee = "N s/m", "damping beyond the knee"
+    series_stiffness = "N/m", "series stiffness of the end fittings, 0 = none"
+    length = "m", "nominal length"
+    state = "-", "index of its elongation state in the state vector"
+
+
+class BumpStop(Record):
+    """A lateral bump stop between coincident points (force law in the vehicle constants)."""
+    body_a = "-", "index of body a"
+    body_b = "-", "index of body b"
+    point_a = "m", "the point in body a's coordinates", (), Vector
+    point_b = "m", "the same point in body b's coordinates", (), Vector
+
+
+class AntiRollBar(Record):
+    """An anti-roll bar: a roll moment proportional to the relative roll of two bodies."""
+    body_a = "-", "index of body a"
+    body_b = "-", "index of body b"
+    stiffness = "N m/rad", "roll stiffness"
+
+
+BUMP_POINTS = 8                          # points of the bump-stop force law at most
+
+
+class VehicleConstants(Record):
+    """The vehicle constants array vp of the core."""
+    gravity = "m/s^2", "gravity"
+    rolling_radius = "m", "nominal rolling radius"
+    spin_inertia = "kg m^2", "wheelset spin inertia"
+    bump_clearance = "m", "lateral bump-stop clearance"
+    bump_points = "-", "number of points of the bump-stop law"
+    bump_travel = "m", "deflection at each point of the bump-stop law", (BUMP_POINTS,)
+    bump_force = "N", "force at each point of the bump-stop law", (BUMP_POINTS,)
+    flange_height = "m", "flange height above the nominal rolling circle"
+    climb_displacement = "m", "lateral displacement that puts the flange tip over the rail's highest point"
+    lift_tolerance = "m", "wheel lift short of the flange height at which a climbing wheel counts as derailed"
+
+
+class WheelsetOutput(Record):
+    """What the output row gives of each wheelset."""
+    wheelset_lateral = "m", "lateral displacement relative to the rails, + left"
+    attack_angle = "rad", "attack angle: + when the front of the wheelset points toward the outer rail"
+    wheelset_roll = "rad", "roll relative to the track"
+
+
+class OutputRow(Record):
+    """One output sample of the core."""
+    time = "s", "simulated time"
+    position = "m", "distance s of the car-body centre along the line"
+    speed = "m/s", "forward speed"
+    section = "-", "0 straight, 1 transition, 2 circular curve"
+    curvature = "1/m", "signed curvature at the car-body centre, + left"
+    cant = "rad", "cant angle (magnitude)"
+    uncompensated_acceleration = "m/s^2", "in the track plane, + toward the outside of the curve"
+    body_states = "m, rad", "every body's position, as in the state vector", (N_BODY,), Dof
+    wheelsets = "-", "each wheelset's pose relative to the rails", (N_WHEELSET,), WheelsetOutput
+    wheels = "-", "each wheel's contact record, [wheelset 0 left, wheelset 0 right, ...]", (N_WHEEL,), Wheel
+
+
+N_OUT = OutputRow.size()

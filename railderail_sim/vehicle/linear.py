@@ -9,21 +9,21 @@ linear at zero creepage) and nonlinear dampers through their slope below the kne
 """
 import numpy as np
 
+from . import dynamics as dyn
 from . import integrator as itg
-from . import layout as L
+from .layout import N_DOF, N_STATE, WHEELSETS, Damper, Dof, State
 from .simulate import Simulation, constant_speed, set_rolling
 
 
 def rhs_function(model, speed_kmh):
     """f(x) -> dx/dt of the full model at a constant speed, with a full contact search every call."""
     sp = constant_speed(speed_kmh)
-    w = itg.workspace(model.cg)
+    buffers = itg.workspace(model.cg).rhs
+    arrays = model.arrays
 
     def f(x):
-        dx = np.zeros(L.N_STATE)
-        itg._rhs(x, dx, model.bodies, model.vp, model.bush, model.damp, model.bump, model.arb, model.track,
-                 sp, model.cg, model.cp, w["kin"], w["gap"], w["ys"], w["patches"], w["cands"], False,
-                 w["kpbuf"], w["kpid"], w["kprow"], w["recs"])
+        dx = np.zeros(N_STATE)
+        dyn.rhs(x, dx, arrays, sp, buffers, False)
         return dx
     return f
 
@@ -31,13 +31,13 @@ def rhs_function(model, speed_kmh):
 def active_states(model):
     """Indices kept in the linear model: all but the track position, the wheelsets' unused pitch angles
     and the internal states of dampers without series stiffness."""
-    drop = {L.I_S}
-    for b in L.WHEELSETS:
-        drop.add(L.N_DOF * b + 3)
+    drop = {int(State.s)}
+    for b in WHEELSETS:
+        drop.add(State.positions + N_DOF * b + Dof.pitch)
     for e in range(model.damp.shape[0]):
-        if model.damp[e, L.D_KS] <= 0.0:
-            drop.add(int(model.damp[e, L.D_STATE]))
-    return np.array([i for i in range(L.N_STATE) if i not in drop])
+        if model.damp[e, Damper.series_stiffness] <= 0.0:
+            drop.add(int(model.damp[e, Damper.state]))
+    return np.array([i for i in range(N_STATE) if i not in drop])
 
 
 def equilibrium(sc, settle_time=1.0):
@@ -79,9 +79,10 @@ def damping_ratio(lam):
 def mode_participation(vec, idx):
     """Share of each body's lateral displacement in an eigenvector (position states, angles as m at
     1 m lever arm): array (N_BODY,)."""
-    pos = np.zeros(L.N_STATE, dtype=complex)
+    pos = np.zeros(N_STATE, dtype=complex)
     pos[idx] = vec
-    lat = np.array([abs(pos[L.N_DOF * b]) for b in range(L.N_BODY)])
-    total = np.sqrt(sum(abs(pos[i]) ** 2 for i in range(L.I_VEL)))
+    positions = State.split(pos)["positions"]
+    lat = np.abs(positions[:, Dof.lateral])
+    total = np.sqrt(np.sum(np.abs(positions) ** 2))
     return lat / total if total > 0 else lat
 

@@ -17,13 +17,16 @@ import numpy as np
 
 from ..contact import geometry as geo
 from ..contact import wheelset as ws
+from ..contact.geometry import Patch
 from ..contact.hertz import hertz_shape
+from ..contact.wheelset import ContactConstants, Wheel
 from ..parameters import ContactParameters, TrackParameters, VehicleParameters, vehicle_parameters
 from ..ranges import check_range
 from ..track import alignment
 from . import integrator as itg
-from . import layout as L
 from .assemble import build_model
+from .integrator import Event, StepControl, Stepper
+from .layout import N_DOF, N_OUT, N_STATE, WHEELSETS, Body, BodyTable, Dof, OutputRow, State, WheelsetOutput
 
 KMH = 1.0 / 3.6
 RADIUS_RANGE = (300.0, 20000.0)          # m; curves tighter than 300 m are outside the profile tables' use
@@ -122,24 +125,22 @@ def static_state(model):
     """Vertical displacement of the centred car at rest (rigid contact minus the Hertz approach, m) and the
     rolling radius of the centred wheel (m)."""
     cg = model.cg
-    nw = int(cg[geo.H_NW])
-    gap = np.zeros(nw)
-    ys = np.zeros(nw)
-    z_rigid, _, _, _ = geo.rigid_contact(cg, 0.0, 0.0, gap, ys)
-    patches = np.zeros((geo.MAX_PATCHES, geo.P_COLS))
-    n, _ = geo.find_patches(cg, 0.0, z_rigid - 1e-7, 0.0, 0.0, gap, ys, patches,
-                            np.zeros(1 + geo.MAX_CANDIDATES))
-    k = int(np.argmin(patches[:n, geo.P_GAP]))
-    _, _, stiff = hertz_shape(patches[k, geo.P_A], patches[k, geo.P_B], model.cp[ws.C_ESTAR])
-    slope = patches[k, geo.P_SLOPE]
+    scratch = ws.contact_scratch(cg)
+    z_rigid, _, _, _ = geo.rigid_contact(cg, 0.0, 0.0, scratch.gap, scratch.ys)
+    patches = scratch.patches
+    n, _ = geo.find_patches(cg, 0.0, z_rigid - 1e-7, 0.0, 0.0, scratch.gap, scratch.ys, patches, ws.candidates()[0])
+    k = int(np.argmin(patches[:n, Patch.gap]))
+    _, _, stiff = hertz_shape(patches[k, Patch.curvature_a], patches[k, Patch.curvature_b],
+                              model.cp[ContactConstants.combined_modulus])
+    slope = patches[k, Patch.slope]
     approach = (model.static_wheel_load / stiff) ** (2.0 / 3.0)
-    return z_rigid - approach * math.sqrt(1.0 + slope * slope), float(patches[k, geo.P_RADIUS])
+    return z_rigid - approach * math.sqrt(1.0 + slope * slope), float(patches[k, Patch.radius])
 
 
 def set_rolling(x, speed, rolling_radius):
     """Spin every wheelset at the free-rolling rate of the centred wheel."""
-    for b in L.WHEELSETS:
-        x[L.I_VEL + L.N_DOF * b + 3] = speed / rolling_radius
+    for b in WHEELSETS:
+        x[State.velocities + N_DOF * b + Dof.pitch] = speed / rolling_radius
 
 
 class Simulation:
@@ -151,41 +152,40 @@ class Simulation:
                                                                  sc.lift_tolerance)
         self.speed_table = np.ascontiguousarray(sc.speed_table, dtype=np.float64)
         self.work = itg.workspace(self.model.cg)
-        self.atol = state_tolerances(sc.atol)
-        self.x = np.zeros(L.N_STATE)
+        self.x = np.zeros(N_STATE)
         z0, self.rolling_radius = static_state(self.model)
-        for b in range(L.N_BODY):
-            self.x[L.N_DOF * b + 1] = z0
-        self.x[L.I_S] = sc.start_position
+        State.split(self.x)["positions"][:, Dof.vertical] = z0
+        self.x[State.s] = sc.start_position
         set_rolling(self.x, float(np.interp(sc.start_position, self.speed_table[:, 0], self.speed_table[:, 1])),
                     self.rolling_radius)
         self.t = 0.0
         self.rows_written = 0
         line_end = alignment.end_of_line(self.model.track)
-        self.s_end = line_end if math.isnan(sc.end_position) else sc.end_position
+        self.control = StepControl(atol=state_tolerances(sc.atol), rtol=sc.rtol, h_min=MIN_STEP, h_max=MAX_STEP,
+                                   s_end=line_end if math.isnan(sc.end_position) else sc.end_position,
+                                   stop_on_derailment=sc.stop_on_derailment)
         self.status = itg.RUNNING
-        self.event = self.work["event"]
+        self.event = self.work.event
 
     @property
     def output_dt(self):
         return 1.0 / self.scenario.output_rate
 
+    @property
+    def steps(self):
+        """(accepted, rejected) integration steps so far."""
+        return int(self.work.stepper[Stepper.accepted]), int(self.work.stepper[Stepper.rejected])
+
     def advance(self, duration):
         """Run for `duration` seconds of simulated time (rounded to whole output periods, or until it
         stops); returns the new output rows (one per output period; the first call also the start)."""
         if self.status != itg.RUNNING:
-            return np.zeros((0, itg.N_OUT))
+            return np.zeros((0, N_OUT))
         n = int(round(duration / self.output_dt))
         first = self.rows_written == 0
-        out = np.zeros((n + 1, itg.N_OUT))
-        w = self.work
-        m = self.model
-        status, rows, self.t = itg.advance(
-            self.x, self.t, n * self.output_dt, self.output_dt, first, w["hstate"], self.s_end,
-            self.scenario.stop_on_derailment, self.atol, self.scenario.rtol, MIN_STEP, MAX_STEP, m.bodies,
-            m.vp, m.bush, m.damp, m.bump, m.arb, m.track, self.speed_table, m.cg, m.cp, w["ks"], w["xt"],
-            w["cand_save"], w["kin"], w["gap"], w["ys"], w["patches"], w["cands"], w["kpbuf"], w["kpid"],
-            w["kprow"], w["recs"], self.event, out)
+        out = np.zeros((n + 1, N_OUT))
+        status, rows, self.t = itg.advance(self.x, self.t, n * self.output_dt, self.output_dt, first,
+                                           self.model.arrays, self.speed_table, self.control, self.work, out)
         self.rows_written += rows
         self.status = status
         if status == itg.DIVERGED:
@@ -194,11 +194,11 @@ class Simulation:
 
     def divergence_message(self):
         e = self.event
-        idx = int(e[itg.EV_INDEX])
-        where = f"the simulation diverged at t = {e[itg.EV_T]:.4f} s, track position {e[itg.EV_S]:.2f} m: "
+        idx = int(e[Event.state_index])
+        where = f"the simulation diverged at t = {e[Event.time]:.4f} s, track position {e[Event.position]:.2f} m: "
         if idx < 0:
-            return where + f"the step size fell to {e[itg.EV_VALUE]:.3g} s (below {MIN_STEP:g} s)"
-        return (where + f"{state_name(idx)} = {e[itg.EV_VALUE]:.4g} ran away (limits: displacement "
+            return where + f"the step size fell to {e[Event.state_value]:.3g} s (below {MIN_STEP:g} s)"
+        return (where + f"{state_name(idx)} = {e[Event.state_value]:.4g} ran away (limits: displacement "
                 f"{itg.LIMIT_DISPLACEMENT} m, angle {itg.LIMIT_ANGLE} rad, velocity {itg.LIMIT_VELOCITY} m/s)")
 
     def derailment(self):
@@ -206,40 +206,39 @@ class Simulation:
         if self.status != itg.DERAILED:
             return None
         e = self.event
-        side = int(e[itg.EV_SIDE])
+        side = int(e[Event.side])
         direction = self.scenario.track.direction
         inner_side = 0 if direction > 0 else 1
-        station = float(self.model.bodies[L.WHEELSETS[int(e[itg.EV_WHEELSET])], L.B_STATION])
+        wheelset = int(e[Event.wheelset])
+        station = float(self.model.bodies[WHEELSETS[wheelset], BodyTable.station])
         # position_m: where the derailed wheelset is; car_body_position_m: the car body's centre then
-        return dict(time_s=float(e[itg.EV_T]), position_m=float(e[itg.EV_S]),
-                    car_body_position_m=float(e[itg.EV_S]) - station,
-                    wheelset=int(e[itg.EV_WHEELSET]), wheel_side="left" if side == 0 else "right",
+        return dict(time_s=float(e[Event.time]), position_m=float(e[Event.position]),
+                    car_body_position_m=float(e[Event.position]) - station,
+                    wheelset=wheelset, wheel_side="left" if side == 0 else "right",
                     rail_side="inner" if side == inner_side else "outer",
-                    mechanism=MECHANISMS[int(e[itg.EV_MECH])], wheel_lift_m=float(e[itg.EV_LIFT]),
-                    lateral_displacement_m=float(e[itg.EV_LATERAL]), speed_kmh=float(e[itg.EV_SPEED]) / KMH)
+                    mechanism=MECHANISMS[int(e[Event.mechanism])], wheel_lift_m=float(e[Event.wheel_lift]),
+                    lateral_displacement_m=float(e[Event.lateral_displacement]),
+                    speed_kmh=float(e[Event.speed]) / KMH)
 
 
 def state_tolerances(atol):
     """Absolute error tolerance per state: atol for displacements, angles and damper states (m, rad),
     100 atol for velocities and rates (1/s), 1e3 atol for the track position."""
-    tol = np.full(L.N_STATE, atol)
-    tol[L.I_VEL:L.I_DAMPER] = 100.0 * atol
-    tol[L.I_S] = 1e3 * atol
+    tol = np.full(N_STATE, atol)
+    tol[State.velocities.columns] = 100.0 * atol
+    tol[State.s] = 1e3 * atol
     return tol
 
 
-BODY_NAMES = ("car_body", "front_bogie", "rear_bogie", "wheelset_1", "wheelset_2", "wheelset_3", "wheelset_4")
-DOF_NAMES = ("lateral", "vertical", "roll", "pitch", "yaw")
-
-
 def state_name(i):
-    if i < L.I_VEL:
-        return f"{BODY_NAMES[i // L.N_DOF]} {DOF_NAMES[i % L.N_DOF]} displacement"
-    if i < L.I_DAMPER:
-        j = i - L.I_VEL
-        return f"{BODY_NAMES[j // L.N_DOF]} {DOF_NAMES[j % L.N_DOF]} velocity"
-    if i < L.I_S:
-        return f"damper {i - L.I_DAMPER} elongation"
+    """Name of entry i of the state vector, e.g. 'wheelset_0 yaw displacement'."""
+    for block in (State.positions, State.velocities):
+        if block <= i < block.stop:
+            body, dof = divmod(i - block, N_DOF)
+            what = "displacement" if block is State.positions else "velocity"
+            return f"{Body(body).name} {Dof(dof).name} {what}"
+    if State.dampers <= i < State.dampers.stop:
+        return f"damper {i - State.dampers} elongation"
     return "track position"
 
 
@@ -251,21 +250,26 @@ def simulate(sc: Scenario, progress=None, chunk=1.0):
         parts.append(sim.advance(chunk))
         if progress is not None:
             progress(sim)
-    rows = np.concatenate(parts) if parts else np.zeros((0, itg.N_OUT))
+    rows = np.concatenate(parts) if parts else np.zeros((0, N_OUT))
     return Result(rows=rows, scenario=sc, status=STATUS[sim.status], derailment=sim.derailment(),
-                  flange_height=float(sim.model.vp[L.V_FLANGE_HEIGHT]),
-                  climb_displacement=float(sim.model.vp[L.V_CLIMB_DISPLACEMENT]))
+                  flange_height=sim.model.flange_height, climb_displacement=sim.model.climb_displacement)
 
 
-WHEEL_FIELDS = {"wheel_lift": ws.W_LIFT, "lateral_force": ws.W_Q, "vertical_force": ws.W_P,
-                "longitudinal_force": ws.W_FX, "derailment_coefficient": ws.W_QP,
-                "contact_position": ws.W_CPOS, "contact_angle": ws.W_CANGLE, "patch_length": ws.W_LEN,
-                "patch_width": ws.W_WID, "contact_count": ws.W_COUNT, "min_gap": ws.W_GAP}
+def output_arrays(rows):
+    """Named arrays (views) of output rows: the fields of OutputRow, with the wheelsets' and the wheels'
+    records spread into one array per field of WheelsetOutput, (n, 4), and of Wheel, (n, 8) (wheels
+    [wheelset 0 left, wheelset 0 right, ...]; `patches` (n, 8, MAX_PATCHES, 6))."""
+    fields = OutputRow.split(rows)
+    arrays = {name: view for name, view in fields.items() if name not in ("wheelsets", "wheels")}
+    arrays.update(WheelsetOutput.split(fields["wheelsets"]))
+    arrays.update(Wheel.split(fields["wheels"]))
+    return arrays
 
 
 @dataclass
 class Result:
-    """Time histories of a run. Arrays are SI; wheel arrays are (n, 8) ordered [ws1 L, ws1 R, ...]."""
+    """Time histories of a run (output rows, `layout.OutputRow`). Arrays are SI; wheel arrays are (n, 8)
+    ordered [wheelset 0 left, wheelset 0 right, ...]."""
     rows: np.ndarray
     scenario: Scenario
     status: str
@@ -273,57 +277,46 @@ class Result:
     flange_height: float = 0.0
     climb_displacement: float = 0.0
 
-    def column(self, i):
-        return self.rows[:, i]
+    def arrays(self):
+        """Named arrays of the documented output format (`output_arrays`)."""
+        return output_arrays(self.rows)
 
     @property
     def time(self):
-        return self.rows[:, L.O_T]
+        return self.rows[:, OutputRow.time]
 
     @property
     def position(self):
-        return self.rows[:, L.O_S]
+        return self.rows[:, OutputRow.position]
 
     @property
     def speed(self):
-        return self.rows[:, L.O_V]
+        return self.rows[:, OutputRow.speed]
 
     def body(self, body, dof):
-        return self.rows[:, L.O_BODY + L.N_DOF * BODY_NAMES.index(body) + DOF_NAMES.index(dof)]
+        """A body's position, e.g. body("car_body", "roll") (names of layout.Body and layout.Dof)."""
+        return self.arrays()["body_states"][:, Body[body], Dof[dof]]
 
     @property
     def wheelset_lateral(self):
-        return self.rows[:, L.O_WS:L.O_WS + 12:3]
+        return self.arrays()["wheelset_lateral"]
 
     @property
     def attack_angle(self):
-        return self.rows[:, L.O_WS + 1:L.O_WS + 12:3]
+        return self.arrays()["attack_angle"]
 
     @property
     def wheelset_roll(self):
-        return self.rows[:, L.O_WS + 2:L.O_WS + 12:3]
+        return self.arrays()["wheelset_roll"]
 
     def wheel(self, name):
-        j = WHEEL_FIELDS[name]
-        return self.rows[:, [L.O_WHEEL + k * ws.W_SIZE + j for k in range(8)]]
+        """A field of the wheel record (wheelset.Wheel) for the 8 wheels, (n, 8)."""
+        return self.arrays()[name]
 
     def patches(self, wheel_index):
-        """(n, 3, 6) per-patch lateral position, lead, length, width, normal force, contact angle."""
-        o = L.O_WHEEL + wheel_index * ws.W_SIZE + ws.W_PATCH0
-        return self.rows[:, o:o + 3 * ws.W_PATCH_COLS].reshape(-1, 3, ws.W_PATCH_COLS)
-
-    def arrays(self):
-        """Named arrays of the documented output format."""
-        d = dict(time=self.time, position=self.position, speed=self.speed,
-                 section=self.rows[:, L.O_SECTION], curvature=self.rows[:, L.O_CURV],
-                 cant=self.rows[:, L.O_CANT], uncompensated_acceleration=self.rows[:, L.O_ANC],
-                 wheelset_lateral=self.wheelset_lateral, attack_angle=self.attack_angle,
-                 wheelset_roll=self.wheelset_roll,
-                 body_states=self.rows[:, L.O_BODY:L.O_BODY + L.N_BODY * L.N_DOF].reshape(-1, L.N_BODY, L.N_DOF))
-        for name in WHEEL_FIELDS:
-            d[name] = self.wheel(name)
-        d["patches"] = np.stack([self.patches(k) for k in range(8)], axis=1)
-        return d
+        """(n, MAX_PATCHES, 6): one wheel's patches (wheelset.WheelPatch: lateral position, lead, length,
+        width, normal force, contact angle)."""
+        return self.arrays()["patches"][:, wheel_index]
 
     def summary(self):
         a = self.arrays()
