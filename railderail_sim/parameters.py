@@ -17,8 +17,10 @@ Vehicle parameter sets (selectable by name, `vehicle_parameters(name)`):
           lateral and yaw dampers), Yu's masses and dimensions.
   "zhai"  the "high-speed passenger car" preset of Zhai's Vehicle-Track Coupled Dynamics appendix as
           republished in public code, Yu's masses and dimensions.
-Inertias: for each set, the set's radii of gyration applied to Yu's masses (I = m k^2); where a set gives
-no value the HS19 radius of gyration is used and marked A.
+Inertias: for each set, the set's radii of gyration applied to Yu's masses (I = m k^2): each inertia is
+given as the (inertia, mass) of the set's own vehicle and scaled by the mass ratio, so that changing a
+mass (`vehicle_parameters(car_body_mass=...)`) changes its inertias with it. Where a set gives no value
+the HS19 radius of gyration is used and marked A.
 """
 from dataclasses import dataclass, field, fields, replace
 import math
@@ -28,8 +30,9 @@ SOURCES = {
               "Analysis of Derailment Process, Appl. Sci. 2022, 12, 11199, Tables 1-2",
     "HS19": "Numerical Investigation into the Critical Speed and Frequency of the Hunting Motion in Railway "
             "Vehicle System, Math. Probl. Eng. 2019, art. 7163732, Table 2",
-    "A380": "CRH380A parameter file Par_Vehicle_CRH380A_v6 (public MATLAB code, header: SIMPACK model "
-            "CRH2-380), as listed in shared/reference/vehicle-and-profiles.md section 3.2",
+    "A380": "CRH380A parameter file Par_Vehicle_CRH380A_v6 of public MATLAB vehicle-dynamics code (its "
+            "header cites the SIMPACK model CRH2-380; the repository was not identified), values as read in "
+            "that file",
     "Zhai": "Zhai W., Vehicle-Track Coupled Dynamics, appendix 'high-speed passenger car' preset, as "
             "republished in public vehicle-track code (vehicle-and-profiles.md section 3.2 notes)",
     "EN13674": "EN 13674-1 (60E1 = UIC60 rail head), EN 13715 (S1002); 1:40 rail inclination and 1435 mm "
@@ -59,25 +62,21 @@ class VehicleParameters:
     car_body_mass: float = _p(32000.0, "kg", "Yu2022", "V")
     bogie_frame_mass: float = _p(3300.0, "kg", "Yu2022", "V")
     wheelset_mass: float = _p(1780.0, "kg", "Yu2022", "V")
-    # --- inertias: radii of gyration of the set applied to Yu's masses
-    car_body_roll_inertia: float = _p(32000.0 * 84560.0 / 28000.0, "kg m^2", "HS19", "S",
-                                      "HS19 Ixx 84,560 kg m^2 for 28 t, scaled to 32 t")
-    car_body_pitch_inertia: float = _p(32000.0 * 1102730.0 / 28000.0, "kg m^2", "HS19", "A",
-                                       "HS19 gives no Iyy; taken equal to Izz (long slender body)")
-    car_body_yaw_inertia: float = _p(32000.0 * 1102730.0 / 28000.0, "kg m^2", "HS19", "S",
-                                     "HS19 Izz 1,102,730 kg m^2 for 28 t, scaled to 32 t")
-    bogie_frame_roll_inertia: float = _p(3300.0 * 2106.0 / 3000.0, "kg m^2", "HS19", "S",
-                                         "HS19 2,106 kg m^2 for 3.0 t, scaled to 3.3 t")
-    bogie_frame_pitch_inertia: float = _p(3300.0 * 2600.0 / 3000.0, "kg m^2", "HS19", "A",
-                                          "HS19 gives no Iyy; taken equal to Izz")
-    bogie_frame_yaw_inertia: float = _p(3300.0 * 2600.0 / 3000.0, "kg m^2", "HS19", "S",
-                                        "HS19 2,600 kg m^2 for 3.0 t, scaled to 3.3 t")
-    wheelset_roll_inertia: float = _p(1780.0 * 1029.0 / 2400.0, "kg m^2", "HS19", "S",
-                                      "HS19 Izz 1,029 kg m^2 for 2.4 t, scaled; roll taken equal to yaw")
-    wheelset_yaw_inertia: float = _p(1780.0 * 1029.0 / 2400.0, "kg m^2", "HS19", "S",
-                                     "HS19 1,029 kg m^2 for 2.4 t, scaled to 1.78 t")
-    wheelset_spin_inertia: float = _p(1780.0 * 76.0 / 1902.0, "kg m^2", "A380", "S",
-                                      "A380 Iyy 76 kg m^2 for 1,902 kg, scaled (gyroscopic terms only)")
+    # --- inertias: each set gives (inertia, mass) of its own vehicle; the inertia of ours is that inertia
+    # scaled by the mass ratio (the same radius of gyration), so a changed mass changes it too
+    car_body_roll_inertia_source: tuple = _p((84560.0, 28000.0), "kg m^2, kg", "HS19", "S", "HS19 car body Ixx")
+    car_body_pitch_inertia_source: tuple = _p((1102730.0, 28000.0), "kg m^2, kg", "HS19", "A",
+                                              "HS19 gives no Iyy; taken equal to Izz (long slender body)")
+    car_body_yaw_inertia_source: tuple = _p((1102730.0, 28000.0), "kg m^2, kg", "HS19", "S", "HS19 car body Izz")
+    bogie_frame_roll_inertia_source: tuple = _p((2106.0, 3000.0), "kg m^2, kg", "HS19", "S")
+    bogie_frame_pitch_inertia_source: tuple = _p((2600.0, 3000.0), "kg m^2, kg", "HS19", "A",
+                                                 "HS19 gives no Iyy; taken equal to Izz")
+    bogie_frame_yaw_inertia_source: tuple = _p((2600.0, 3000.0), "kg m^2, kg", "HS19", "S")
+    wheelset_roll_inertia_source: tuple = _p((1029.0, 2400.0), "kg m^2, kg", "HS19", "S",
+                                             "HS19 gives Izz only; roll taken equal to yaw")
+    wheelset_yaw_inertia_source: tuple = _p((1029.0, 2400.0), "kg m^2, kg", "HS19", "S")
+    wheelset_spin_inertia_source: tuple = _p((76.0, 1902.0), "kg m^2, kg", "A380", "S",
+                                             "A380 Iyy (enters the gyroscopic terms and the spin equation only)")
     # --- main dimensions (Yu 2022 Table 1)
     bogie_semi_distance: float = _p(8.75, "m", "Yu2022", "V", "half of 17.5 m")
     wheelbase_semi: float = _p(1.25, "m", "Yu2022", "V", "half of 2.5 m")
@@ -125,6 +124,24 @@ class VehicleParameters:
                                  "beyond the last point the last slope continues")
     bump_stop_force: tuple = _p((2.0e3, 5.0e3, 11.0e3, 25.5e3, 49.0e3), "N", "A380", "S")
 
+    def _scaled(self, mass, source):
+        inertia, source_mass = source
+        return mass * inertia / source_mass
+
+    car_body_roll_inertia = property(lambda self: self._scaled(self.car_body_mass, self.car_body_roll_inertia_source))
+    car_body_pitch_inertia = property(lambda self: self._scaled(self.car_body_mass,
+                                                                self.car_body_pitch_inertia_source))
+    car_body_yaw_inertia = property(lambda self: self._scaled(self.car_body_mass, self.car_body_yaw_inertia_source))
+    bogie_frame_roll_inertia = property(lambda self: self._scaled(self.bogie_frame_mass,
+                                                                  self.bogie_frame_roll_inertia_source))
+    bogie_frame_pitch_inertia = property(lambda self: self._scaled(self.bogie_frame_mass,
+                                                                   self.bogie_frame_pitch_inertia_source))
+    bogie_frame_yaw_inertia = property(lambda self: self._scaled(self.bogie_frame_mass,
+                                                                 self.bogie_frame_yaw_inertia_source))
+    wheelset_roll_inertia = property(lambda self: self._scaled(self.wheelset_mass, self.wheelset_roll_inertia_source))
+    wheelset_yaw_inertia = property(lambda self: self._scaled(self.wheelset_mass, self.wheelset_yaw_inertia_source))
+    wheelset_spin_inertia = property(lambda self: self._scaled(self.wheelset_mass, self.wheelset_spin_inertia_source))
+
     @property
     def static_wheel_load(self):
         """Static vertical load of one wheel on level track (N): a quarter of the car body, half a bogie
@@ -139,19 +156,23 @@ class VehicleParameters:
                 continue
             m = f.metadata
             rows.append((f.name, getattr(self, f.name), m["unit"], m["source"], m["sure"], m["note"]))
+            if f.name.endswith("_inertia_source"):
+                name = f.name[:-len("_source")]
+                rows.append((name, getattr(self, name), "kg m^2", m["source"], m["sure"],
+                             f"{name}_source scaled to this mass"))
         return rows
 
 
 _A380_OVERRIDES = dict(
     name="a380",
-    car_body_roll_inertia=32000.0 * 110200.0 / 40840.0,
-    car_body_pitch_inertia=32000.0 * 1666000.0 / 40840.0,
-    car_body_yaw_inertia=32000.0 * 1572200.0 / 40840.0,
-    bogie_frame_roll_inertia=3300.0 * 1847.0 / 2280.0,
-    bogie_frame_pitch_inertia=3300.0 * 1249.0 / 2280.0,
-    bogie_frame_yaw_inertia=3300.0 * 2280.0 / 2280.0,
-    wheelset_roll_inertia=1780.0 * 685.0 / 1902.0,
-    wheelset_yaw_inertia=1780.0 * 685.0 / 1902.0,
+    car_body_roll_inertia_source=(110200.0, 40840.0),
+    car_body_pitch_inertia_source=(1666000.0, 40840.0),
+    car_body_yaw_inertia_source=(1572200.0, 40840.0),
+    bogie_frame_roll_inertia_source=(1847.0, 2280.0),
+    bogie_frame_pitch_inertia_source=(1249.0, 2280.0),
+    bogie_frame_yaw_inertia_source=(2280.0, 2280.0),
+    wheelset_roll_inertia_source=(685.0, 1902.0),
+    wheelset_yaw_inertia_source=(685.0, 1902.0),
     bogie_frame_cog_height=0.46 + (0.51 - 0.43),
     primary_semi_spacing=1.0,
     air_spring_semi_spacing=1.23,
@@ -178,15 +199,15 @@ _A380_OVERRIDES = dict(
 
 _ZHAI_OVERRIDES = dict(
     name="zhai",
-    car_body_roll_inertia=32000.0 * 7.506e4 / 34000.0,
-    car_body_pitch_inertia=32000.0 * 2.277e6 / 34000.0,
-    car_body_yaw_inertia=32000.0 * 2.086e6 / 34000.0,
-    bogie_frame_roll_inertia=3300.0 * 2260.0 / 3000.0,
-    bogie_frame_pitch_inertia=3300.0 * 2710.0 / 3000.0,
-    bogie_frame_yaw_inertia=3300.0 * 3160.0 / 3000.0,
-    wheelset_roll_inertia=1780.0 * 915.0 / 1400.0,
-    wheelset_yaw_inertia=1780.0 * 915.0 / 1400.0,
-    wheelset_spin_inertia=1780.0 * 140.0 / 1400.0,
+    car_body_roll_inertia_source=(7.506e4, 34000.0),
+    car_body_pitch_inertia_source=(2.277e6, 34000.0),
+    car_body_yaw_inertia_source=(2.086e6, 34000.0),
+    bogie_frame_roll_inertia_source=(2260.0, 3000.0),
+    bogie_frame_pitch_inertia_source=(2710.0, 3000.0),
+    bogie_frame_yaw_inertia_source=(3160.0, 3000.0),
+    wheelset_roll_inertia_source=(915.0, 1400.0),
+    wheelset_yaw_inertia_source=(915.0, 1400.0),
+    wheelset_spin_inertia_source=(140.0, 1400.0),
     primary_longitudinal_stiffness=10.0e6,
     primary_lateral_stiffness=5.0e6,
     primary_vertical_stiffness=0.55e6,

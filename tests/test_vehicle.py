@@ -1,4 +1,4 @@
-"""Vehicle-track model validation against physics that does not depend on the code (issue 5)."""
+"""Vehicle-track model validation against physics that does not depend on the code."""
 from dataclasses import replace
 import math
 

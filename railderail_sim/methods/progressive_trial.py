@@ -40,7 +40,7 @@ class TrialResult:
     radius_m: float
     critical_derailment_speed_kmh: float     # nan if no derailment up to the top speed
     last_safe_speed_kmh: float               # last speed held over a whole step without derailment
-    derailed_wheelset: int                   # 1..4 from the front, 0 if none
+    derailed_wheelset: int                   # 0..3 from the front, -1 if none
     derailed_side: str                       # inner / outer
     derailment_position_m: float
     mechanism: str
@@ -50,7 +50,7 @@ class TrialResult:
     refined_section: str = ""
     refined_mechanism: str = ""
     refined_side: str = ""
-    refined_wheelset: int = 0
+    refined_wheelset: int = -1
     tolerance_kmh: float = float("nan")
     runs: int = 0
 
@@ -97,12 +97,12 @@ def progressive_trial(sc: Scenario = None, radius=1000.0, stair: Staircase = Sta
     r = simulate(scs)
     d = r.derailment
     res = TrialResult(radius_m=radius, critical_derailment_speed_kmh=float("nan"), last_safe_speed_kmh=float("nan"),
-                      derailed_wheelset=0, derailed_side="", derailment_position_m=float("nan"), mechanism="",
+                      derailed_wheelset=-1, derailed_side="", derailment_position_m=float("nan"), mechanism="",
                       derailment_time_s=float("nan"), runs=1)
     if d is not None:
         res.critical_derailment_speed_kmh = d["speed_kmh"]
         res.last_safe_speed_kmh = _last_safe(scs.speed_table, d["position_m"])
-        res.derailed_wheelset = d["wheelset"] + 1
+        res.derailed_wheelset = d["wheelset"]
         res.derailed_side = d["rail_side"]
         res.derailment_position_m = d["position_m"]
         res.mechanism = d["mechanism"]
@@ -144,7 +144,7 @@ def _refine(sc, radius, res, tolerance_kmh):
     res.refined_section = ("straight", "transition", "curve", "transition", "straight")[min(k, 4)]
     res.refined_mechanism = d["mechanism"]
     res.refined_side = d["rail_side"]
-    res.refined_wheelset = d["wheelset"] + 1
+    res.refined_wheelset = d["wheelset"]
     res.tolerance_kmh = tolerance_kmh
     res.runs += len(cache)
 

@@ -419,8 +419,11 @@ def write_report(out="report", quick=False, workers=None):
         paper = PAPER["critical_derailment_speed_kmh"].get(d["radius_m"])
         v = d["critical_derailment_speed_kmh"]
         rv = d.get("refined_speed_kmh", float("nan"))
+        refined = bool(d.get("refined_mechanism"))
+        wheelset, side = (d["refined_wheelset"], d["refined_side"]) if refined else (d["derailed_wheelset"],
+                                                                                   d["derailed_side"])
         lines.append(f"| {d['radius_m']:.0f} | {v:.1f} | {rv:.1f} | {paper:.0f} | {_pct(rv if rv == rv else v, paper)} | "
-                     f"ws {d.get('refined_wheelset') or d['derailed_wheelset']} {d.get('refined_side') or d['derailed_side']} "
+                     f"ws {wheelset} {side} "
                      f"| {d.get('refined_mechanism') or d['mechanism']} | {d.get('refined_section', '')} "
                      f"{d.get('refined_position_m', float('nan')):.0f} m |")
     if 800.0 in by_r and 1000.0 in by_r:
