@@ -21,6 +21,8 @@ import numba
 OPTIONS = dict(_nrt=False)     # also for the benchmarks' timing loops, so they call the core as the model does
 core = numba.njit(cache=True, **OPTIONS)
 # small functions on the hot path, inlined into their callers by numba: a call copies each array argument's
-# descriptor (about ten words), and the contact table's interpolation or the right wheel's mirror wrapper
-# cost less than their calls (about 50 ns a wheel each)
+# descriptor (about ten words), and the contact table's interpolation costs less than its call. Only for
+# scalar arguments: inlining a function that takes tuples made the vehicle's right-hand side 50 % slower
+# (measured), and every call level that passes a dozen arrays costs about as much as a wheel's table
+# lookup, which is why the right wheel's mirroring lives inside `wheelset.wheel_forces`, not in a wrapper.
 core_inline = numba.njit(cache=True, inline="always", **OPTIONS)

@@ -27,7 +27,7 @@ contact-case
                    g_n = vertical gap x cos(contact angle), s = lateral track coordinate / cos, R the
                    wheel's longitudinal radius in the contact plane r sqrt(1 + r'^2)
                    (docs/contact-models.md; the same locally plane reduction as the discrete model).
-    Per-patch quantities are computed by `wheel_patch_details`, which follows `wheelset.left_wheel` step by
+    Per-patch quantities are computed by `wheel_patch_details`, which follows `wheelset.wheel_forces` step by
     step; its force sums are checked against `wheelset.wheel_forces` on every call.
 
 Sign conventions of the output: totals in track axes (x forward, y left, z up), forces on the wheelset.
@@ -547,13 +547,13 @@ def _discrete_arrays(cg, pose, jm, gmin, cd, margin=0):
 
 def wheel_patch_details(setup: Setup, cp, pose, speed, spin, model, grid):
     """Per-patch contact data of the left wheel at `pose` (the left-wheel form of either wheel), read from
-    the patch rows that `wheelset.left_wheel` fills while it computes the forces; plus the discrete
+    the patch rows that `wheelset.wheel_forces` fills while it computes the forces; plus the discrete
     patch's outline and the half-space solution when asked."""
     cg = setup.cg
     scratch = ws.contact_scratch(cg)
     patches = scratch.patches
     rec = np.zeros(ws.W_SIZE)
-    ws.left_wheel(cg, cp, pose, (speed, 0.0, 0.0, 0.0, 0.0, 0.0, spin, speed), scratch, ws.candidates()[0], False,
+    ws.wheel_forces(cg, cp, 0, pose, (speed, 0.0, 0.0, 0.0, 0.0, 0.0, spin, speed), scratch, ws.candidates()[0], False,
                   rec)
     count = int(rec[ws.Wheel.contact_count])
     E = setup.contact.youngs_modulus

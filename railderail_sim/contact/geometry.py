@@ -77,7 +77,7 @@ class HertzShape(Record):
 
 class Patch(Record):
     """One contact patch of a wheel: a row of the `patches` array, filled by the search (geometry, or
-    the contact table) and, from `normal_force` on, by `contact.wheelset.left_wheel`."""
+    the contact table) and, from `normal_force` on, by `contact.wheelset.wheel_forces`."""
     y = "m", "contact point on the rail: track-frame Y (left-wheel form)"
     z = "m", "contact point: track-frame Z"
     x = "m", "contact point: lead along the track from the wheelset centre"

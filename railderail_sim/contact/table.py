@@ -221,10 +221,8 @@ def _at_yaw(cg, i, psi):
 
 
 @core_inline
-def _value(cg, nodes, weights, col, psi):
+def _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, col, psi):
     """Bilinear interpolation over the cell's four nodes of the yaw polynomial stored at column col."""
-    n00, n01, n10, n11 = nodes
-    w00, w01, w10, w11 = weights
     c0 = (w00 * cg[n00 + col + YawTerms.q0] + w01 * cg[n01 + col + YawTerms.q0] + w10 * cg[n10 + col + YawTerms.q0]
           + w11 * cg[n11 + col + YawTerms.q0])
     c1 = (w00 * cg[n00 + col + YawTerms.q1] + w01 * cg[n01 + col + YawTerms.q1] + w10 * cg[n10 + col + YawTerms.q1]
@@ -263,11 +261,10 @@ def table_patches(cg, y, z, phi, psi, patches, cand):
     n01 = n00 + N_COLS
     n10 = n00 + nphi * N_COLS
     n11 = n10 + N_COLS
-    nodes = (n00, n01, n10, n11)
     count = cg[n00 + TableNode.count]
-    for n in nodes:
-        if count < 0 or cg[n + TableNode.count] != count:
-            return -1, 0.0
+    if (count < 0 or cg[n01 + TableNode.count] != count or cg[n10 + TableNode.count] != count
+            or cg[n11 + TableNode.count] != count):
+        return -1, 0.0
     nmin = int(count)
     for s in range(nmin):
         col = TableNode.minima + s * M_SIZE + TableMinimum.grid_index
@@ -287,7 +284,6 @@ def table_patches(cg, y, z, phi, psi, patches, cand):
     w01 = (1.0 - ty) * tp
     w10 = ty * (1.0 - tp)
     w11 = ty * tp
-    weights = (w00, w01, w10, w11)
     gmin = (w00 * cg[n00 + TableNode.min_gap] + w01 * cg[n01 + TableNode.min_gap] + w10 * cg[n10 + TableNode.min_gap]
             + w11 * cg[n11 + TableNode.min_gap] + z)
     r0z = r0 + z
@@ -296,9 +292,9 @@ def table_patches(cg, y, z, phi, psi, patches, cand):
     ridge = -geo.NO_RAIL_GAP               # highest gap since the last patch
     for s in range(nmin):
         o = TableNode.minima + s * M_SIZE
-        g = _value(cg, nodes, weights, _quantity(o, Tabulated.gap), psi) + z
+        g = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, _quantity(o, Tabulated.gap), psi) + z
         gmin = min(gmin, g)
-        yp = _value(cg, nodes, weights, _quantity(o, Tabulated.wheel_y), psi)
+        yp = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, _quantity(o, Tabulated.wheel_y), psi)
         jm = int(round((yp - cg[GeometryHeader.wheel_y0]) / cg[GeometryHeader.wheel_step]))
         if g < geo.TRACK_GAP and ncand < geo.MAX_CANDIDATES:
             cand[Candidates.indices + ncand] = jm
@@ -306,10 +302,10 @@ def table_patches(cg, y, z, phi, psi, patches, cand):
         if g < 0.0 and count < geo.MAX_PATCHES:
             row = patches[count]
             row[Patch.gap] = g
-            row[Patch.y] = _value(cg, nodes, weights, _quantity(o, Tabulated.y), psi)
-            row[Patch.x] = _value(cg, nodes, weights, _quantity(o, Tabulated.x), psi)
-            row[Patch.z] = r0z + _value(cg, nodes, weights, _quantity(o, Tabulated.height), psi)
-            row[Patch.slope] = _value(cg, nodes, weights, _quantity(o, Tabulated.slope), psi)
+            row[Patch.y] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, _quantity(o, Tabulated.y), psi)
+            row[Patch.x] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, _quantity(o, Tabulated.x), psi)
+            row[Patch.z] = r0z + _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, _quantity(o, Tabulated.height), psi)
+            row[Patch.slope] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, _quantity(o, Tabulated.slope), psi)
             row[Patch.wheel_y] = yp
             # not tabulated: the wheel's contact needs only the Hertz shape below (a stale value from an
             # online search would pass silently)
@@ -317,9 +313,9 @@ def table_patches(cg, y, z, phi, psi, patches, cand):
             row[Patch.curvature_a] = math.nan
             row[Patch.curvature_b] = math.nan
             shape = Patch.hertz_shape
-            row[shape + HertzShape.a_coefficient] = _value(cg, nodes, weights, _quantity(o, Tabulated.hertz_a), psi)
-            row[shape + HertzShape.b_coefficient] = _value(cg, nodes, weights, _quantity(o, Tabulated.hertz_b), psi)
-            row[shape + HertzShape.stiffness] = _value(cg, nodes, weights, _quantity(o, Tabulated.hertz_stiffness),
+            row[shape + HertzShape.a_coefficient] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, _quantity(o, Tabulated.hertz_a), psi)
+            row[shape + HertzShape.b_coefficient] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, _quantity(o, Tabulated.hertz_b), psi)
+            row[shape + HertzShape.stiffness] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, _quantity(o, Tabulated.hertz_stiffness),
                                                        psi)
             row[Patch.grid_index] = jm
             row[Patch.weight] = 1.0

@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from ..jit import core, core_inline
+from ..jit import core
 from ..record import Record
 from . import geometry as geo
 from .creep import creep_forces
@@ -113,19 +113,24 @@ def candidates(count=1):
 
 
 @core
-def left_wheel(cg, cp, pose, motion, scratch, cand, tracked, rec):
-    """Contact forces of the left wheel of a wheelset at `pose` with `motion` (module docstring).
+def wheel_forces(cg, cp, side, pose, motion, scratch, cand, tracked, rec):
+    """Contact force and moment of wheel `side` (0 left, 1 right) of a wheelset at `pose` with `motion`
+    (module docstring): (Fx, Fy, Fz, Mx, My, Mz) on the wheel, about the wheelset centre, track axes.
 
-    Returns the force on the wheel and its moment about the wheelset centre, (Fx, Fy, Fz, Mx, My, Mz) in
-    track axes (scalars, not arrays: this runs 48 times per time step); fills the `Wheel` record `rec` and
-    the patch rows on full searches.
-    The patches come from the contact table when cg carries one and the pose is inside it
-    (`contact.table`); otherwise from the exact search: `tracked` then follows the minima listed in `cand`
-    by the last full search (inside a time step) instead of searching the whole profile
-    (`geometry.track_patches`).
+    Scalars, not arrays: this runs 48 times per time step. On full searches (not `tracked`) it fills the
+    `Wheel` record `rec` and the patch rows. The right wheel is the left wheel of the wheelset mirrored in
+    the x-z plane: y, phi, psi, the lateral velocity and the x and z angular velocities change sign on the
+    way in, the lateral force and the x and z moments on the way out (one function, not a wrapper: each
+    call copies a dozen array descriptors). The patches come from the contact table when cg carries one
+    and the pose is inside it (`contact.table`); otherwise from the exact search: `tracked` then follows
+    the minima listed in `cand` by the last full search (inside a time step) instead of searching the
+    whole profile (`geometry.track_patches`).
     """
+    mirror = 1.0 if side == 0 else -1.0
     y, z, phi, psi = pose
+    y, phi, psi = mirror * y, mirror * phi, mirror * psi
     vx0, vy0, vz0, ox, oy, oz, spin, speed = motion
+    vy0, ox, oz = mirror * vy0, mirror * ox, mirror * oz
     gap, ys, patches = scratch.gap, scratch.ys, scratch.patches
     count, gmin = tab.table_patches(cg, y, z, phi, psi, patches, cand)
     if count < 0:                       # no table, or the pose is outside it: exact online search
@@ -190,7 +195,7 @@ def left_wheel(cg, cp, pose, motion, scratch, cand, tracked, rec):
         approach_rate = -(vy * nY + vz * nZ)
         discrete = int(cp[ContactConstants.normal_model]) == NORMAL_DISCRETE
         if discrete:
-            n_el, a, b, a_eq, b_eq = _discrete_normal(cg, pose, int(patches[k, Patch.grid_index]),
+            n_el, a, b, a_eq, b_eq = _discrete_normal(cg, (y, z, phi, psi), int(patches[k, Patch.grid_index]),
                                                       patches[k, Patch.gap], cd, scratch,
                                                       cp[ContactConstants.youngs_modulus], nu)
         if not discrete or record:
@@ -259,14 +264,14 @@ def left_wheel(cg, cp, pose, motion, scratch, cand, tracked, rec):
                 rec[Wheel.patch_length] = rec[o + WheelPatch.length]
                 rec[Wheel.patch_width] = rec[o + WheelPatch.width]
     if not record:
-        return fx_tot, fy_tot, fz_tot, mx_tot, my_tot, mz_tot
+        return fx_tot, mirror * fy_tot, fz_tot, mirror * mx_tot, my_tot, mirror * mz_tot
     # forces on the rail: Q toward the left rail's field side (+Y), P downward
     rec[Wheel.lateral_force] = -fy_tot
     rec[Wheel.vertical_force] = fz_tot
     rec[Wheel.longitudinal_force] = -fx_tot
     loaded = rec[Wheel.vertical_force] > cp[ContactConstants.qp_min_load]
     rec[Wheel.derailment_coefficient] = rec[Wheel.lateral_force] / rec[Wheel.vertical_force] if loaded else 0.0
-    return fx_tot, fy_tot, fz_tot, mx_tot, my_tot, mz_tot
+    return fx_tot, mirror * fy_tot, fz_tot, mirror * mx_tot, my_tot, mirror * mz_tot
 
 
 @core
@@ -312,20 +317,3 @@ def _discrete_normal(cg, pose, jm, gmin, cos_angle, scratch, youngs, nu):
     row = kprow[0]
     return (row[DiscretePatch.normal_force], 0.5 * row[DiscretePatch.length], 0.5 * row[DiscretePatch.width],
             row[DiscretePatch.a_eq], row[DiscretePatch.b_eq])
-
-
-@core_inline
-def wheel_forces(cg, cp, side, pose, motion, scratch, cand, tracked, rec):
-    """Contact force and moment of wheel `side` (0 left, 1 right): (Fx, Fy, Fz, Mx, My, Mz), track axes.
-
-    The right wheel is the left wheel of the wheelset mirrored in the x-z plane: y, phi, psi, the lateral
-    velocity and the x and z angular velocities change sign; the resulting lateral force and the x and z
-    moments change sign back.
-    """
-    if side == 0:
-        return left_wheel(cg, cp, pose, motion, scratch, cand, tracked, rec)
-    y, z, phi, psi = pose
-    vx, vy, vz, ox, oy, oz, spin, speed = motion
-    fx, fy, fz, mx, my, mz = left_wheel(cg, cp, (-y, z, -phi, -psi), (vx, -vy, vz, -ox, oy, -oz, spin, speed),
-                                        scratch, cand, tracked, rec)
-    return fx, -fy, fz, -mx, my, -mz

@@ -329,23 +329,6 @@ def suspension(x, dx, model, kin):
 
 
 @core
-def wheelset_contact(model, wheelset, pose, motion, buffers, tracked):
-    """Wheel-rail force and moment of both wheels of a wheelset (track axes, about its centre)."""
-    cx = cy = cz = cmx = cmy = cmz = 0.0
-    for side in range(2):
-        k = 2 * wheelset + side
-        f0, f1, f2, m0, m1, m2 = ws.wheel_forces(model.cg, model.cp, side, pose, motion, buffers.contact,
-                                                 buffers.cands[k], tracked, buffers.recs[k])
-        cx += f0
-        cy += f1
-        cz += f2
-        cmx += m0
-        cmy += m1
-        cmz += m2
-    return cx, cy, cz, cmx, cmy, cmz
-
-
-@core
 def rhs(x, dx, model, sp, buffers, tracked):
     """dx = f(x) for the ModelArrays `model` and the speed table sp; the wheel records of the 8 wheels are
     left in buffers.recs (8 x W_SIZE).
@@ -392,8 +375,17 @@ def rhs(x, dx, model, sp, buffers, tracked):
         if is_ws:
             yd, dyd = trk.lateral_defect(track, s + bodies[b, BodyTable.station])
             pose = (x[o + Dof.lateral] - yd, x[o + Dof.vertical], x[o + Dof.roll], x[o + Dof.yaw] - dyd)
-            cx, cy, cz, cmx, cmy, cmz = wheelset_contact(model, b - WHEELSETS[0], pose,
-                                                         (vtx, vty, vtz, wx, wy, wz, spin, v), buffers, tracked)
+            motion = (vtx, vty, vtz, wx, wy, wz, spin, v)
+            for side in range(2):
+                k = 2 * (b - WHEELSETS[0]) + side
+                f0, f1, f2, m0, m1, m2 = ws.wheel_forces(model.cg, model.cp, side, pose, motion, buffers.contact,
+                                                         cands[k], tracked, recs[k])
+                cx += f0
+                cy += f1
+                cz += f2
+                cmx += m0
+                cmy += m1
+                cmz += m2
             fx += cx
             fy += cy
             fz += cz

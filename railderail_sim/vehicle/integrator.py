@@ -80,11 +80,6 @@ def workspace(cg):
 
 
 @core
-def _rhs(x, dx, model, sp, buffers, tracked):
-    return dyn.rhs(x, dx, model, sp, buffers, tracked)
-
-
-@core
 def fill_row(row, t, x, v, model, recs):
     """One output row (OutputRow) from the state and the wheel records of the same instant."""
     bodies, vp, track = model.bodies, model.vp, model.track
@@ -228,7 +223,7 @@ def advance(x, t, duration, out_dt, first_row, model, sp, control, work, out):
     rows = 0
     nout = out.shape[0]
     k0 = ks[0]
-    v = _rhs(x, k0, model, sp, buffers, False)
+    v = dyn.rhs(x, k0, model, sp, buffers, False)
     n_intervals = int(round(duration / out_dt))
     h_prop = stepper[Stepper.step]
     for interval in range(n_intervals + 1):
@@ -257,7 +252,7 @@ def advance(x, t, duration, out_dt, first_row, model, sp, control, work, out):
                         acc += _A[st, j] * ks[j, i]
                     xt[i] = x[i] + h * acc
                 full = st == 6
-                vt = _rhs(xt, ks[st], model, sp, buffers, not full)
+                vt = dyn.rhs(xt, ks[st], model, sp, buffers, not full)
             # xt holds the 5th-order solution (stage 7 is evaluated there: FSAL)
             err = 0.0
             for i in range(n):
