@@ -8,7 +8,7 @@ there, rail head width.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 import math
 
 import numpy as np
@@ -16,6 +16,7 @@ import numpy as np
 from ..contact import conicity
 from ..contact import geometry as geo
 from ..contact.nadal import nadal_limit
+from ..jsonout import NOT_WRITTEN
 from ..ranges import check_range
 from .wheel_rail_pair import WheelRailPair
 
@@ -61,7 +62,7 @@ class ProfileSection:
 @dataclass(frozen=True, kw_only=True)
 class ContactGeometry:
     """The result of `contact_geometry` (SI); `table` holds the rigid-contact rows."""
-    pair: WheelRailPair
+    pair: WheelRailPair = field(metadata=NOT_WRITTEN)
     y_max_m: float
     step_m: float
     equivalent_conicity: float
