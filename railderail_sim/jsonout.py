@@ -2,7 +2,9 @@
 
 Standard JSON (RFC 8259) has no NaN or infinity: a value that is not finite (a criterion that never
 fired, a speed that was not reached) is written as null. numpy scalars and arrays become numbers and
-lists, dataclasses their fields, paths and other objects their text.
+lists, dataclasses their fields, paths and other objects their text. A dataclass field whose metadata is
+NOT_WRITTEN (drawing arrays, back references) is left out, one marked WRITTEN_IF_SET while it is None
+(a part of a result that only some models compute).
 """
 import dataclasses
 import json
@@ -10,6 +12,11 @@ import math
 from pathlib import PurePath
 
 import numpy as np
+
+from .atomic import atomic_write
+
+NOT_WRITTEN = {"jsonout": "never"}
+WRITTEN_IF_SET = {"jsonout": "if set"}
 
 
 def plain(obj):
@@ -30,10 +37,15 @@ def plain(obj):
     if obj is None or isinstance(obj, str):
         return obj
     if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
-        return plain({f.name: getattr(obj, f.name) for f in dataclasses.fields(obj)})
+        return plain({f.name: getattr(obj, f.name) for f in dataclasses.fields(obj) if _written(f, obj)})
     if isinstance(obj, PurePath):
         return str(obj)
     return str(obj)
+
+
+def _written(field, obj):
+    rule = field.metadata.get("jsonout")
+    return rule != "never" and not (rule == "if set" and getattr(obj, field.name) is None)
 
 
 def dumps(obj, indent=None):
@@ -42,19 +54,6 @@ def dumps(obj, indent=None):
 
 
 def write(path, obj, indent=1):
-    """Write obj as JSON to path atomically (a temporary file beside it, then a rename)."""
-    import os
-    import tempfile
-
-    path = os.fspath(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(path)}.", dir=os.path.dirname(os.path.abspath(path)))
-    try:
-        with os.fdopen(fd, "w") as handle:
-            handle.write(dumps(obj, indent=indent) + "\n")
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
+    """Write obj as JSON to path atomically (`atomic.atomic_write`)."""
+    with atomic_write(path) as handle:
+        handle.write(dumps(obj, indent=indent) + "\n")

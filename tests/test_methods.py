@@ -12,10 +12,9 @@ from railderail_sim.methods import root_locus as rl
 from railderail_sim.methods.progressive_trial import Staircase, progressive_trial
 from railderail_sim.methods.sweep import cases, sweep
 from railderail_sim.parameters import ContactParameters, TrackParameters, vehicle_parameters
-from railderail_sim.vehicle import Scenario, constant_speed, simulate
+from railderail_sim.vehicle.simulate import Scenario, constant_speed, simulate, straight_track
 from railderail_sim.vehicle.assemble import contact_geometry
 from railderail_sim.vehicle.linear import active_states, equilibrium
-from railderail_sim.vehicle.simulate import straight_track
 
 
 def test_free_wheelset_eigenvalue_is_the_kinematic_frequency():

@@ -76,7 +76,7 @@ def test_wheel_layout(tmp_path):
         mode = infos[f"{data}data/lib/railderail/{launcher}"].external_attr >> 16
         assert mode & stat.S_IXUSR, f"lib/railderail/{launcher} is not executable"
     assert not [name for name in infos if name.startswith(data + "scripts/")]
-    assert "railderail_sim/cli.py" in infos and "railderail_monitor/node.py" in infos
+    assert "railderail_sim/cli/__init__.py" in infos and "railderail_monitor/node.py" in infos
     for name, target in CONSOLE_SCRIPTS.items():
         assert f"{name} = {target}".encode() in entry_points
 

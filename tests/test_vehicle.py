@@ -7,9 +7,9 @@ import pytest
 
 from railderail_sim.contact import conicity
 from railderail_sim.parameters import GRAVITY, ContactParameters, TrackParameters, vehicle_parameters
-from railderail_sim.vehicle import Scenario, Simulation, SimulationDiverged, constant_speed, simulate
+from railderail_sim.vehicle.simulate import (Scenario, Simulation, SimulationDiverged, constant_speed, simulate,
+                                             straight_track)
 from railderail_sim.vehicle.assemble import contact_geometry
-from railderail_sim.vehicle.simulate import straight_track
 
 MASS = 32000.0 + 2 * 3300.0 + 4 * 1780.0
 

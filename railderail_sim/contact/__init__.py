@@ -1,4 +1,4 @@
-"""Wheel-rail contact (numba core): geometry (trace-line search) and its precomputed table, Hertz,
-Kalker's linear theory and saturated creep laws, FASTSIM, Kik-Piotrowski non-elliptic patches, the exact
-half-space solver, Nadal's limit, rigid-contact tables and equivalent conicity, and the forces of one
-wheel (`wheelset`). See docs/contact-models.md. Import the modules themselves."""
+"""Wheel-rail contact models (numba cores): contact geometry and search, Hertz, Kalker linear theory and
+saturated creep laws, FASTSIM, Kik-Piotrowski non-elliptic patches, the exact half-space solver,
+Nadal's limit. See docs/contact-models.md. Import the modules themselves (`from railderail_sim.contact
+import hertz`): this file imports nothing, so that loading one model does not compile them all."""

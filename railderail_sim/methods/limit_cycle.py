@@ -9,7 +9,8 @@ scan over a speed grid and bisection to a stated tolerance. With a subcritical (
 result depends on the excitation size: a larger kick finds the limit cycle at a lower speed, which is why
 it lies below the linear critical speed.
 
-The bifurcation-style diagram (Yu 2022, Fig. 2) is the final oscillation amplitude against speed.
+The bifurcation-style diagram (Yu 2022, Fig. 2; `plotting.limit_cycle_figure`) is the final oscillation
+amplitude against speed.
 """
 from dataclasses import dataclass, replace
 
@@ -88,26 +89,3 @@ def limit_cycle(sc: Scenario = None, speeds_kmh=None, tolerance_kmh=1.0, amplitu
                       amplitudes_m=np.array([runs[s] for s in v]), excitation_amplitude_m=amplitude,
                       excitation_length_m=length)
 
-
-def plot(result: LimitCycle, path, linear_critical_speed_kmh=None):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    a = np.where(np.isfinite(result.amplitudes_m), result.amplitudes_m, np.nan) * 1e3
-    ax.plot(result.speeds_kmh, a, "o-", ms=4, label="final amplitude after the excitation")
-    ax.axhline(THRESHOLD_M * 1e3, color="k", lw=0.8, ls=":", label="0.1 mm criterion")
-    if np.isfinite(result.nonlinear_critical_speed_kmh):
-        ax.axvline(result.nonlinear_critical_speed_kmh, color="r", ls="--",
-                   label=f"nonlinear critical speed {result.nonlinear_critical_speed_kmh:.0f} km/h")
-    if linear_critical_speed_kmh is not None and np.isfinite(linear_critical_speed_kmh):
-        ax.axvline(linear_critical_speed_kmh, color="b", ls="--",
-                   label=f"linear critical speed {linear_critical_speed_kmh:.0f} km/h")
-    ax.set_yscale("symlog", linthresh=0.01)
-    ax.set_xlabel("speed (km/h)")
-    ax.set_ylabel("wheelset lateral amplitude (mm)")
-    ax.legend(fontsize=8)
-    ax.set_title(f"limit cycle after a {result.excitation_amplitude_m * 1e3:.0f} mm lateral kink")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)

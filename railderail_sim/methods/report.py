@@ -5,19 +5,22 @@ paper: the paper's numbers are only printed beside ours, with the difference and
 `quick` runs a reduced set (fewer speeds, three radii, no sensitivity) for smoke tests.
 """
 from dataclasses import replace
-import json
 import math
 import os
 import time
 
 import numpy as np
 
+from .. import jsonout, plotting
+from ..atomic import atomic_write
 from ..parameters import ContactParameters, TrackParameters, vehicle_parameters
 from ..vehicle.simulate import Scenario, constant_speed, simulate
 from . import limit_cycle as lc
 from . import root_locus as rl
 from . import sweep as sw
+from .contact_patch import wheel_patch_details
 from .progressive_trial import Staircase
+from .wheel_rail_pair import build_pair
 
 # Every number Yu et al. 2022 state (section in brackets)
 PAPER = {
@@ -36,17 +39,6 @@ PAPER = {
     "tread_patch_mm": (11.0, 11.0),                       # §4.2 Fig. 7a
     "flange_root_patch_mm": (17.4, 7.8),                  # §4.2 Fig. 7c
 }
-
-
-def _fig(path, draw, size=(8, 4.5)):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=size)
-    draw(ax)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
 
 
 def _pct(ours, theirs):
@@ -89,16 +81,9 @@ def _process_figures(runs, out):
     ]
     names = []
     for name, label, get in specs:
-        def draw(ax, get=get, label=label):
-            for radius, run in sorted(runs.items()):
-                v = run.speed[0] * 3.6
-                ax.plot(run.position, get(run, inner[radius]), lw=0.8, label=f"R {radius:.0f} m, {v:.0f} km/h")
-            for s in (200.0, 400.0, 1400.0, 1600.0):
-                ax.axvline(s, color="0.7", lw=0.6, ls=":")
-            ax.set_xlabel("position of the car-body centre (m)")
-            ax.set_ylabel(label)
-            ax.legend(fontsize=7)
-        _fig(os.path.join(out, name), draw)
+        series = [(run.position, get(run, inner[radius]), f"R {radius:.0f} m, {run.speed[0] * 3.6:.0f} km/h")
+                  for radius, run in sorted(runs.items())]
+        plotting.position_figure(os.path.join(out, name), series, label, markers=(200.0, 400.0, 1400.0, 1600.0))
         names.append((name, label))
     return names
 
@@ -177,65 +162,34 @@ def _phase_rows(run):
 def _patch_phases(run, out):
     """Contact patch of the outer wheel, front wheelset, at the phases of Yu 2022 Fig. 7: Hertz ellipse,
     discrete Kik-Piotrowski outline and the exact half-space pressure (contact/halfspace.py)."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.patches import Ellipse
-    from ..contact import cli as ccli
-    from ..vehicle.assemble import contact_array
     sc = run.scenario
-    setup = ccli.build_setup(sc.contact.wheel_profile, sc.track.rail_profile, model="halfspace",
-                             friction=sc.contact.friction_coefficient)
-    cp = contact_array(setup.contact)
+    pair = build_pair(sc.contact.wheel_profile, sc.track.rail_profile, model="halfspace",
+                      friction=sc.contact.friction_coefficient)
     right = sc.track.direction > 0                  # the outer wheel of a left curve is the right one
-    rows = []
+    side = "right" if right else "left"
+    rows, panels = [], []
     bodies = run.arrays()["body_states"]
-    fig, axes = plt.subplots(2, 3, figsize=(13, 8))
-    for ax, label, i in zip(axes.ravel(), PHASES, _phase_rows(run)):
+    for label, i in zip(PHASES, _phase_rows(run)):
         if i < 0:
-            ax.axis("off")
-            ax.set_title(f"{label}: not reached")
+            panels.append((None, None, f"{label}: not reached"))
             continue
         ws1 = bodies[i, 3]
         y, z, phi, psi = run.wheelset_lateral[i, 0], ws1[1], ws1[2], ws1[4]
         pose = (-y, z, -phi, -psi) if right else (y, z, phi, psi)
         v = run.speed[i]
-        details, plot = ccli.wheel_patch_details(setup, cp, pose, v, v / sc.vehicle.rolling_radius,
-                                                    "halfspace", 48)
+        details = wheel_patch_details(pair, pose, v, v / sc.vehicle.rolling_radius, grid=48)
         if not details:
-            ax.set_title(f"{label}: no contact")
+            panels.append((None, None, f"{label}: no contact"))
             continue
-        k = int(np.argmax([d["normal_force_N"] for d in details]))
-        d, pd = details[k], plot[k]
-        h = pd["halfspace"]
-        p = np.where(h["pressure"] > 0, h["pressure"], np.nan) / 1e6
-        m = ax.pcolormesh(h["s"] * 1e3, h["x"] * 1e3, p.T, shading="nearest", cmap="viridis")
-        fig.colorbar(m, ax=ax, label="pressure (MPa)", shrink=0.8)
-        inside = pd["xl"] > 0
-        s_mm = np.concatenate(([pd["s_edges"][0]], pd["s"][inside], [pd["s_edges"][1]])) * 1e3
-        xl_mm = np.concatenate(([0.0], pd["xl"][inside], [0.0])) * 1e3
-        ax.plot(np.concatenate((s_mm, s_mm[::-1])), np.concatenate((xl_mm, -xl_mm[::-1])), "r-", lw=1.2,
-                label="Kik-Piotrowski")
-        ax.add_patch(Ellipse((0.0, 0.0), 2e3 * pd["b"], 2e3 * pd["a"], fill=False, ls="--", color="k",
-                             label="Hertz"))
-        lim = 1.2 * max(np.max(np.abs(h["x"])), np.max(np.abs(h["s"]))) * 1e3
-        ax.set_xlim(-lim, lim)
-        ax.set_ylim(-lim, lim)
-        ax.set_aspect("equal")
-        ax.set_xlabel("lateral in the contact plane (mm)")
-        ax.set_ylabel("rolling direction (mm)")
-        ax.legend(fontsize=7)
-        ax.set_title(f"{label}, s = {run.position[i]:.0f} m\n{len(details)} patch(es), angle "
-                     f"{math.degrees(d['contact_angle_rad']):.0f} deg, N {d['normal_force_N'] / 1e3:.0f} kN", fontsize=9)
-        hs = d["halfspace"]
+        d = max(details, key=lambda p: p.normal_force_N)
+        panels.append((d, side, f"{label}, s = {run.position[i]:.0f} m\n{len(details)} patch(es), angle "
+                                f"{math.degrees(d.contact_angle_rad):.0f} deg, N {d.normal_force_N / 1e3:.0f} kN"))
         rows.append(dict(phase=label, position_m=float(run.position[i]), patches=len(details),
-                         contact_angle_rad=d["contact_angle_rad"], normal_force_n=d["normal_force_N"],
-                         hertz_mm=(2e3 * d["hertz_a_m"], 2e3 * d["hertz_b_m"]),
-                         discrete_mm=(1e3 * d["discrete"]["length_m"], 1e3 * d["discrete"]["width_m"]),
-                         halfspace_mm=(1e3 * hs["length_m"], 1e3 * hs["width_m"])))
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, "patch_phases.png"), dpi=100)
-    plt.close(fig)
+                         contact_angle_rad=d.contact_angle_rad, normal_force_n=d.normal_force_N,
+                         hertz_mm=(2e3 * d.hertz_a_m, 2e3 * d.hertz_b_m),
+                         discrete_mm=(1e3 * d.discrete.length_m, 1e3 * d.discrete.width_m),
+                         halfspace_mm=(1e3 * d.halfspace.length_m, 1e3 * d.halfspace.width_m)))
+    plotting.patch_figure(os.path.join(out, "patch_phases.png"), panels, 2, 3)
     return rows
 
 
@@ -363,12 +317,13 @@ def write_report(out="report", quick=False, workers=None):
     # --- root locus
     t = time.time()
     locus = rl.root_locus(sc, np.linspace(100.0, 600.0, 26 if quick else 101))
-    rl.plot(locus, os.path.join(out, "root_locus.png"))
+    plotting.root_locus_figure(locus, os.path.join(out, "root_locus.png"))
     timing["root_locus_s"] = time.time() - t
     # --- limit cycle
     t = time.time()
     cyc = lc.limit_cycle(sc, np.arange(200.0, 601.0, 100.0 if quick else 50.0), 10.0 if quick else 1.0)
-    lc.plot(cyc, os.path.join(out, "limit_cycle.png"), locus.linear_critical_speed_kmh)
+    plotting.limit_cycle_figure(cyc, os.path.join(out, "limit_cycle.png"), lc.THRESHOLD_M,
+                                locus.linear_critical_speed_kmh)
     timing["limit_cycle_s"] = time.time() - t
     # --- progressive trial sweep
     t = time.time()
@@ -376,7 +331,7 @@ def write_report(out="report", quick=False, workers=None):
     stair = Staircase()
     results = sw.sweep(sw.cases(radii=radii), sc, stair, refine=True, tolerance_kmh=5.0 if quick else 1.0,
                        workers=workers, progress=False)
-    sw.plot(results, os.path.join(out, "critical_speed_vs_radius.png"))
+    plotting.critical_speed_figure(results, os.path.join(out, "critical_speed_vs_radius.png"))
     timing["sweep_s"] = time.time() - t
     # --- derailment process
     t = time.time()
@@ -492,15 +447,12 @@ def write_report(out="report", quick=False, workers=None):
     lines += _discussion(locus, cyc, results, numbers, phases, sens, sets, nadal_of(sc))
     lines += _parameter_table(sc)
     timing["total_s"] = time.time() - t0
-    lines += ["## Run", "", "```", json.dumps({k: round(v, 1) for k, v in timing.items()}), "```", ""]
+    lines += ["## Run", "", "```", jsonout.dumps({k: round(v, 1) for k, v in timing.items()}), "```", ""]
     data = dict(linear=locus.as_json(), limit_cycle=cyc.as_json(), trials=results, process=numbers, patches=patches,
                 patch_phases=phases,
                 sensitivity=sens, timing=timing)
-    with open(os.path.join(out, "report.json.tmp"), "w") as f:
-        json.dump(data, f, indent=1, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o))
-    os.replace(os.path.join(out, "report.json.tmp"), os.path.join(out, "report.json"))
+    jsonout.write(os.path.join(out, "report.json"), data)
     path = os.path.join(out, "report.md")
-    with open(path + ".tmp", "w") as f:
+    with atomic_write(path) as f:
         f.write("\n".join(lines))
-    os.replace(path + ".tmp", path)
     return path

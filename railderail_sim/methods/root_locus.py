@@ -96,32 +96,3 @@ def root_locus(sc: Scenario = None, speeds_kmh=None, tolerance_kmh=0.5):
                      critical_frequency_hz=fcrit,
                      notes=dict(states=len(idx), speed_unit=KMH))
 
-
-def plot(result: RootLocus, path):
-    """Root locus (real part vs frequency, coloured by speed) and least damping ratio vs speed."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 5))
-    for v, lam in zip(result.speeds_kmh, result.eigenvalues):
-        sel = lam.imag / (2 * np.pi) < 20.0
-        sc = a1.scatter(lam.real[sel], lam.imag[sel] / (2 * np.pi), c=np.full(sel.sum(), v), s=4,
-                        cmap="viridis", vmin=result.speeds_kmh.min(), vmax=result.speeds_kmh.max())
-    fig.colorbar(sc, ax=a1, label="speed (km/h)")
-    a1.axvline(0.0, color="k", lw=0.8)
-    a1.set_xlabel("real part (1/s)")
-    a1.set_ylabel("frequency (Hz)")
-    a1.set_xlim(left=max(a1.get_xlim()[0], -40.0))
-    a1.set_title("root locus, modes below 20 Hz")
-    a2.plot(result.speeds_kmh, 100 * result.least_damping, "-")
-    a2.axhline(0.0, color="k", lw=0.8)
-    if np.isfinite(result.linear_critical_speed_kmh):
-        a2.axvline(result.linear_critical_speed_kmh, color="r", ls="--",
-                   label=f"linear critical speed {result.linear_critical_speed_kmh:.0f} km/h")
-        a2.legend()
-    a2.set_xlabel("speed (km/h)")
-    a2.set_ylabel("least damping ratio (%)")
-    a2.set_title("least-damped oscillatory mode")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)

@@ -78,21 +78,3 @@ def sweep(case_list, base: Scenario = None, stair: Staircase = Staircase(), refi
         bar.close()
     return results
 
-
-def plot(results, path):
-    """Critical derailment speed against radius (Yu 2022, Fig. 5)."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    r = [x["radius_m"] for x in results]
-    ax.plot(r, [x["critical_derailment_speed_kmh"] for x in results], "o-", label="progressive trial (staircase)")
-    if any(x.get("refined_speed_kmh") == x.get("refined_speed_kmh") for x in results):
-        ax.plot(r, [x["refined_speed_kmh"] for x in results], "s--", label="bisection, constant speed on Table 2 line")
-    ax.set_xlabel("curve radius (m)")
-    ax.set_ylabel("critical derailment speed (km/h)")
-    ax.grid(alpha=0.3)
-    ax.legend()
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)

@@ -1,3 +1,4 @@
-"""CRH3 vehicle-track model: bodies, suspension, equations of motion, stepper and the simulate() API."""
-from .simulate import (Result, Scenario, Simulation, SimulationDiverged, constant_speed, scenario,  # noqa: F401
-                       simulate, staircase_speed)
+"""CRH3 vehicle-track model: state layout (`layout`), equations of motion (`dynamics`), stepper
+(`integrator`), linearisation (`linear`), model building (`assemble`) and the simulate() API
+(`simulate`). Import the modules themselves: this file imports nothing, so that e.g.
+`railderail_sim.vehicle.layout` loads without the model."""

@@ -1,20 +1,22 @@
 """`railderail bench`: the project's one benchmark; it prints figures, it is never a test.
 
-Each group is a function returning {key: value}; groups are run in the order of `groups()` (or those
-named with --only) and their figures printed as a table, or as one JSON object with --json. Timings are taken
-after compilation (numba's first call is timed separately as `compile_s`).
+Each group is a function returning {key: value} (this package's groups are in `railderail_sim.bench`);
+groups are run in the order of `groups()` (or those named with --only) and their figures printed as a
+table, or as one JSON object with --json. Timings are taken after compilation (numba's first call is
+timed separately as `compile_s`).
 """
 from __future__ import annotations
 
 import argparse
 import importlib
-import json
 import sys
 
+from .. import jsonout
+
 GROUPS = {
-    "contact": "railderail_sim.contact.benchmark:run",
-    "vehicle": "railderail_sim.vehicle.benchmark:run",
-    "methods": "railderail_sim.methods.benchmark:run",
+    "contact": "railderail_sim.bench.contact:run",
+    "vehicle": "railderail_sim.bench.vehicle:run",
+    "methods": "railderail_sim.bench.methods:run",
 }
 ENTRY_POINTS = "railderail.bench"    # groups of the packages built on this one (railderail_monitor: "ros")
 
@@ -54,5 +56,5 @@ def command(parser: argparse.ArgumentParser):
                 if not args.json:
                     print(f"  {key:32s} {value:.6g}" if isinstance(value, float) else f"  {key:32s} {value}")
         if args.json:
-            print(json.dumps(figures, indent=1))
+            print(jsonout.dumps(figures, indent=1))
     return run

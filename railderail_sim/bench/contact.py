@@ -3,7 +3,7 @@
 One *evaluation* is what the vehicle model does per right-hand side: `wheelset.wheel_forces` for all eight
 wheels of the car. The eight wheels sit at realistic poses of LM on UIC60 1:40 (gauge 1435 mm, back-to-back
 1353 mm, r0 0.46 m), each wheelset loaded to the CRH3 static axle load (112.1 kN) by
-`contact.cli.contact_case`:
+`methods.contact_case.contact_case`:
 
     wheelset 1: centred (tread contact on both wheels)
     wheelset 2: y = 3 mm, yaw 2 mrad (tread)
@@ -40,10 +40,13 @@ import numba
 import numpy as np
 
 from .. import jit
-from . import geometry as geo
-from . import halfspace as hs
-from . import table as tab
-from . import wheelset as ws
+from ..contact import geometry as geo
+from ..contact import halfspace as hs
+from ..contact import table as tab
+from ..contact import wheelset as ws
+from ..methods.contact_case import contact_case
+from ..methods.contact_patch import gap_run
+from ..methods.wheel_rail_pair import build_pair, static_wheelset_load
 
 REPEATS = 7
 TARGET_S = 0.1
@@ -106,29 +109,24 @@ def _median_us(fn, per_call):
     return float(np.median(times)) * 1e6
 
 
-def _case_setup(model):
-    from .cli import build_setup, contact_case
-    setup = build_setup(model=model)
+def _loaded_poses(model):
+    """The wheel/rail pair with `model` and the four wheelsets' poses (y, z, phi, psi) under load."""
+    pair = build_pair(model=model)
     rows = []
     for lateral, yaw in POSES:
-        result, _ = contact_case(setup, lateral_mm=lateral, yaw_mrad=yaw, model=model)
-        p = result["pose"]
-        rows.append((p["lateral_m"], p["vertical_m"], p["roll_rad"], p["yaw_rad"]))
-    return setup, np.array(rows)
+        p = contact_case(pair, lateral_mm=lateral, yaw_mrad=yaw).pose
+        rows.append((p.lateral_m, p.vertical_m, p.roll_rad, p.yaw_rad))
+    return pair, np.array(rows)
 
 
 def run() -> dict:
-    from ..vehicle.assemble import contact_array
-    from .cli import _discrete_arrays, static_wheelset_load
-
     figures = {}
     compile_s = 0.0
     for model in ("hertz", "fastsim", "discrete"):
-        setup, poses = _case_setup(model)
-        cg = setup.cg
-        cp = contact_array(setup.contact)
+        pair, poses = _loaded_poses(model)
+        cg, cp = pair.cg, pair.cp
         speed = 300.0 / 3.6
-        spin = speed / setup.radius
+        spin = speed / pair.radius
         scratch = ws.contact_scratch(cg)
         cands = ws.candidates(8)
         recs = np.zeros((8, ws.W_SIZE))
@@ -173,12 +171,13 @@ def run() -> dict:
     n_p, _ = geo.find_patches(cg, *pose, scratch.gap, scratch.ys, patches, ws.candidates()[0])
     k = int(np.argmin(patches[:n_p, geo.Patch.gap]))
     cd = 1.0 / math.sqrt(1.0 + patches[k, geo.Patch.slope] ** 2)
-    s, g, R, _, _ = _discrete_arrays(cg, pose, int(patches[k, geo.Patch.grid_index]), patches[k, geo.Patch.gap], cd, margin=3)
+    s, g, R, _, _ = gap_run(cg, pose, int(patches[k, geo.Patch.grid_index]), patches[k, geo.Patch.gap], cd,
+                            margin=3)
     su = np.linspace(s[0], s[-1], 64)
     x_half = 1.05 * math.sqrt(2.0 * R.max() * (-patches[k, geo.Patch.gap] * cd))
     h, x, dx, dy = hs.wheelrail_gap(su, np.interp(su, s, g), np.interp(su, s, R), x_half, 64)
     load = 0.5 * static_wheelset_load()
-    E, nu = setup.contact.youngs_modulus, setup.contact.poisson_ratio
+    E, nu = pair.contact.youngs_modulus, pair.contact.poisson_ratio
     times = []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)

@@ -1,13 +1,14 @@
-"""Subcommands simulate, root-locus, limit-cycle, trial, sweep and report (thin layers over the API).
+"""Subcommands simulate, root-locus, limit-cycle, trial, sweep and report: parse, call `methods`, print.
 
 Every command takes the vehicle parameter set, wheel profile, contact model and friction; --json prints
-one JSON object on stdout (speeds in km/h named *_kmh, SI elsewhere).
+one JSON object on stdout through the project's JSON encoder (speeds in km/h named *_kmh, SI elsewhere,
+a speed never reached as null); --plot checks its file name before any computation (`plotting`).
 """
 from dataclasses import replace
-import json
 import math
 import sys
 
+from .. import jsonout, plotting
 from ..parameters import VEHICLE_SETS, ContactParameters, TrackParameters, vehicle_parameters
 from ..ranges import check_range
 from ..vehicle.assemble import CONTACT_GEOMETRIES
@@ -38,20 +39,11 @@ def base_scenario(args, **track):
 
 
 def _emit(args, obj, human):
-    if args.json:
-        print(json.dumps(obj, indent=1, default=_json_default))
-    else:
-        print(human)
+    print(jsonout.dumps(obj, indent=1) if args.json else human)
 
 
-def _json_default(o):
-    if hasattr(o, "tolist"):
-        return o.tolist()
-    return str(o)
-
-
-def _finite(x):
-    return None if x is None or (isinstance(x, float) and math.isnan(x)) else x
+def _plot_path(args):
+    return plotting.checked_path(args.plot) if args.plot is not None else None
 
 
 def simulate_command(parser):
@@ -82,23 +74,22 @@ def root_locus_command(parser):
     parser.add_argument("--from-kmh", type=float, default=100.0)
     parser.add_argument("--to-kmh", type=float, default=600.0)
     parser.add_argument("--points", type=int, default=101)
-    parser.add_argument("--plot", help="root-locus and damping plot (PNG)")
+    parser.add_argument("--plot", metavar="FILE.png", help="root-locus and damping figure (.png, .pdf or .svg)")
 
     def run(args):
         import numpy as np
-        from . import root_locus as rl
+        from ..methods import root_locus as rl
         check_range("--points", args.points, 2, 2000)
         if args.from_kmh >= args.to_kmh:
             raise ValueError(f"speed range {args.from_kmh:g}-{args.to_kmh:g} km/h is empty")
+        plot = _plot_path(args)
         res = rl.root_locus(base_scenario(args), np.linspace(args.from_kmh, args.to_kmh, args.points))
-        if args.plot:
-            rl.plot(res, args.plot)
+        if plot:
+            plotting.root_locus_figure(res, plot)
         v = res.linear_critical_speed_kmh
         human = (f"linear critical speed: {v:.1f} km/h ({res.critical_mode} mode, {res.critical_frequency_hz:.2f} Hz)"
                  if math.isfinite(v) else f"stable up to {args.to_kmh:g} km/h")
-        obj = res.as_json()
-        obj["linear_critical_speed_kmh"] = _finite(v)
-        _emit(args, obj, human)
+        _emit(args, res.as_json(), human)
     return run
 
 
@@ -109,26 +100,25 @@ def limit_cycle_command(parser):
     parser.add_argument("--step-kmh", type=float, default=50.0, help="scan step before the bisection")
     parser.add_argument("--tolerance-kmh", type=float, default=1.0, help="bisection tolerance")
     parser.add_argument("--kink-mm", type=float, default=10.0, help="lateral excitation amplitude (mm)")
-    parser.add_argument("--plot", help="amplitude-speed diagram (PNG)")
+    parser.add_argument("--plot", metavar="FILE.png", help="amplitude-speed diagram (.png, .pdf or .svg)")
 
     def run(args):
         import numpy as np
-        from . import limit_cycle as lc
+        from ..methods import limit_cycle as lc
         check_range("excitation amplitude", args.kink_mm, 0.1, 30.0, "mm")
         if args.step_kmh <= 0 or args.from_kmh >= args.to_kmh:
             raise ValueError(f"scan {args.from_kmh:g}-{args.to_kmh:g} km/h by {args.step_kmh:g} is empty")
+        plot = _plot_path(args)
         res = lc.limit_cycle(base_scenario(args), np.arange(args.from_kmh, args.to_kmh + 1e-9, args.step_kmh),
                              args.tolerance_kmh, amplitude=args.kink_mm / 1000.0,
                              progress=None if args.json else
                              lambda v, a: print(f"  {v:7.2f} km/h: final amplitude {a * 1e3:.4f} mm", file=sys.stderr))
-        if args.plot:
-            lc.plot(res, args.plot)
+        if plot:
+            plotting.limit_cycle_figure(res, plot, lc.THRESHOLD_M)
         v = res.nonlinear_critical_speed_kmh
-        obj = res.as_json()
-        obj["nonlinear_critical_speed_kmh"] = _finite(v)
         human = (f"nonlinear critical speed: {v:.1f} km/h (+/- {args.tolerance_kmh:g})" if math.isfinite(v)
                  else f"stable up to {args.to_kmh:g} km/h")
-        _emit(args, obj, human)
+        _emit(args, res.as_json(), human)
     return run
 
 
@@ -143,17 +133,9 @@ def _staircase_args(parser):
 
 
 def _staircase(args):
-    from .progressive_trial import Staircase
+    from ..methods.progressive_trial import Staircase
     return Staircase(start_kmh=args.start_kmh, step_kmh=args.step_kmh, hold_m=args.hold_m,
                      acceleration=args.acceleration, top_kmh=args.top_kmh)
-
-
-TRIAL_KEYS = ("critical_derailment_speed_kmh", "derailed_wheelset", "derailed_side", "derailment_position_m",
-              "mechanism")
-
-
-def _trial_json(d):
-    return {k: _finite(v) for k, v in d.items()}
 
 
 def _trial_line(d):
@@ -176,11 +158,11 @@ def trial_command(parser):
     _staircase_args(parser)
 
     def run(args):
-        from .progressive_trial import progressive_trial
+        from ..methods.progressive_trial import progressive_trial
         r = progressive_trial(base_scenario(args), args.radius, _staircase(args), refine=not args.no_refine,
                               tolerance_kmh=args.tolerance_kmh)
         d = r.as_json()
-        _emit(args, _trial_json(d), _trial_line(d))
+        _emit(args, d, _trial_line(d))
     return run
 
 
@@ -203,11 +185,13 @@ def sweep_command(parser):
     parser.add_argument("--vehicle-sets", default=None, help="parameter sets, comma-separated")
     parser.add_argument("--workers", type=int, default=None, help="local processes (default: CPU count)")
     parser.add_argument("--scheduler", default=None, help="address of a Dask distributed scheduler")
-    parser.add_argument("--plot", help="critical derailment speed against radius (PNG)")
+    parser.add_argument("--plot", metavar="FILE.png",
+                        help="critical derailment speed against radius (.png, .pdf or .svg)")
     _staircase_args(parser)
 
     def run(args):
-        from . import sweep as sw
+        from ..methods import sweep as sw
+        plot = _plot_path(args)
         radii = _floats(args.radii, "--radii")
         for r in radii:
             from ..vehicle.simulate import RADIUS_RANGE
@@ -224,9 +208,9 @@ def sweep_command(parser):
         res = sw.sweep(cases, base_scenario(args), _staircase(args), refine=not args.no_refine,
                        tolerance_kmh=args.tolerance_kmh, workers=args.workers, scheduler=args.scheduler,
                        progress=not args.json)
-        if args.plot:
-            sw.plot(res, args.plot)
-        _emit(args, [_trial_json(d) for d in res], "\n".join(_trial_line(d) for d in res))
+        if plot:
+            plotting.critical_speed_figure(res, plot)
+        _emit(args, res, "\n".join(_trial_line(d) for d in res))
     return run
 
 
@@ -236,7 +220,7 @@ def report_command(parser):
     parser.add_argument("--workers", type=int, default=None)
 
     def run(args):
-        from .report import write_report
+        from ..methods.report import write_report
         path = write_report(args.out, quick=args.quick, workers=args.workers)
         print(f"report written to {path}")
     return run

@@ -14,10 +14,10 @@ import sys
 import tempfile
 import time
 
-from . import integrator as itg
-from .simulate import Simulation, scenario
+from ..vehicle import integrator as itg
+from ..vehicle.simulate import Simulation, scenario
 
-_COLD = "from railderail_sim.vehicle import scenario, Simulation; Simulation(scenario()).advance(0.01)"
+_COLD = "from railderail_sim.vehicle.simulate import scenario, Simulation; Simulation(scenario()).advance(0.01)"
 
 
 def _rtf(sc):

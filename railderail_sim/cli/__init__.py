@@ -1,4 +1,7 @@
-"""The `railderail` command.
+"""The `railderail` command (`python -m railderail_sim.cli` runs it too).
+
+The package holds the command-line layer only: each subcommand module (`contact`, `methods`, `bench`)
+parses its arguments, calls the library and prints; this file stays free of heavy imports.
 
 Subcommands come from command tables: this package's COMMANDS below, and any other package's table
 registered under the entry-point group `railderail.commands` (railderail_monitor registers the ROS
@@ -36,22 +39,22 @@ class Command(NamedTuple):
 COMMANDS: tuple[Command, ...] = (
     Command("version", "print the railderail version", "railderail_sim.cli:version_command"),
     Command("contact-geometry", "contact geometry, conicity, Nadal limit of a wheel/rail pair (--json, --plot)",
-            "railderail_sim.contact.cli:geometry_command"),
+            "railderail_sim.cli.contact:geometry_command"),
     Command("contact-case", "contact patches and forces of a loaded wheelset (--json, --plot)",
-            "railderail_sim.contact.cli:case_command"),
-    Command("bench", "print the performance figures (add --json)", "railderail_sim.bench:command"),
+            "railderail_sim.cli.contact:case_command"),
+    Command("bench", "print the performance figures (add --json)", "railderail_sim.cli.bench:command"),
     Command("simulate", "run the car over the line at a constant speed (--out FILE.npz)",
-            "railderail_sim.methods.cli:simulate_command"),
+            "railderail_sim.cli.methods:simulate_command"),
     Command("root-locus", "linear critical speed: eigenvalues against speed (--json, --plot)",
-            "railderail_sim.methods.cli:root_locus_command"),
+            "railderail_sim.cli.methods:root_locus_command"),
     Command("limit-cycle", "nonlinear critical speed after a lateral kink (--json, --plot)",
-            "railderail_sim.methods.cli:limit_cycle_command"),
+            "railderail_sim.cli.methods:limit_cycle_command"),
     Command("trial", "progressive trial: critical derailment speed on a curve (--json)",
-            "railderail_sim.methods.cli:trial_command"),
+            "railderail_sim.cli.methods:trial_command"),
     Command("sweep", "progressive trial over radii and other parameters, in parallel or on Dask (--json)",
-            "railderail_sim.methods.cli:sweep_command"),
+            "railderail_sim.cli.methods:sweep_command"),
     Command("report", "write the report: every method beside the paper's numbers (--out DIR)",
-            "railderail_sim.methods.cli:report_command"),
+            "railderail_sim.cli.methods:report_command"),
 )
 ENTRY_POINTS = "railderail.commands"
 
@@ -115,6 +118,3 @@ def main(argv: list[str] | None = None) -> int:
         return 130
     return 0 if status is None else status
 
-
-if __name__ == "__main__":
-    sys.exit(main())

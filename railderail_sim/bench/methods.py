@@ -10,9 +10,9 @@ import time
 
 import numpy as np
 
-from . import limit_cycle as lc
-from . import root_locus as rl
-from . import sweep as sw
+from ..methods import limit_cycle as lc
+from ..methods import root_locus as rl
+from ..methods import sweep as sw
 from ..vehicle.simulate import Scenario
 
 

@@ -1,0 +1,286 @@
+"""One loaded wheelset on its rails, in the spirit of CONTACT's wheelset mode (`railderail contact-case`).
+
+Prescribed lateral shift y, yaw psi, roll (default: the rigid-contact roll at that y and psi) and
+vertical load; the wheelset's vertical position is solved so that the summed vertical contact force of
+its two wheels equals the load (the elastic contact decides how the wheels share it). Creepages come
+from the kinematics of steady rolling: centre velocity (v, 0, 0), no angular velocity besides the spin
+about the axle, v / r0 or the free-rolling spin (`wheelset.wheel_forces` with vel = (v, 0, 0),
+omega = 0); no contact damping (quasi-static). Models (`wheel_rail_pair.MODELS`):
+    hertz      Hertz (equivalent ellipse from the patch curvatures) + Shen-Hedrick-Elkins
+    fastsim    Hertz + FASTSIM
+    discrete   Kik-Piotrowski normal + SHE on its equivalent ellipse
+    halfspace  as discrete (load sharing and creep forces); each patch is in addition solved by the exact
+               half-space solver at the discrete patch's normal force (`contact_patch`)
+Per-patch quantities come from `contact_patch.wheel_patch_details`.
+
+Sign conventions: totals in track axes (x forward, y left, z up), forces on the wheelset. Per wheel,
+everything is in that wheel's own frame (the right wheel mirrored into the left-wheel form of
+`geometry`): lateral positions, lateral creepage and lateral creep force + toward the field side of its
+rail, contact angle + toward the flange, spin likewise mirrored; so a centred wheelset gives identical
+left and right values. Q (+ toward the field side) and P (+ down) are the forces on the rail. Yaw
+psi > 0 turns the wheelset's heading to the left (toward the left rail).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+import math
+
+import numpy as np
+from scipy.optimize import brentq
+
+from ..contact import conicity
+from ..contact import geometry as geo
+from ..contact import wheelset as ws
+from ..jsonout import NOT_WRITTEN, plain
+from ..ranges import check_range
+from .contact_patch import GRID, ContactPatch, steady_rolling, wheel_patch_details
+from .wheel_rail_pair import SIDES, WheelRailPair, contact_range, gap_buffers, static_wheelset_load
+
+LOAD_KN = (0.0, 1000.0)               # (0, 1000]
+SPEED_KMH = (1.0, 600.0)
+YAW_MRAD = (-100.0, 100.0)
+ROLL_MRAD = (-50.0, 50.0)
+SPIN_MODES = {"nominal": "nominal, v / r0 (as the vehicle model)",
+              "free": "free rolling (total longitudinal force zero)"}
+
+
+@dataclass(frozen=True, kw_only=True)
+class WheelsetPose:
+    """The solved pose of the wheelset and its spin."""
+    lateral_m: float
+    yaw_rad: float
+    roll_rad: float
+    roll_source: str
+    vertical_m: float
+    touch_vertical_m: float           # vertical position at which the first wheel touches
+    rigid_vertical_m: float
+    rigid_roll_rad: float
+    lateral_range_m: float            # `wheel_rail_pair.contact_range` at this yaw
+    spin_rad_s: float
+    spin_mode: str
+    nominal_spin_rad_s: float
+    effective_rolling_radius_m: float
+
+
+@dataclass(frozen=True, kw_only=True)
+class WheelContact:
+    """One wheel's forces on its rail and its patches (the wheel's own frame)."""
+    side: str
+    Q_N: float
+    P_N: float
+    Q_over_P: float
+    longitudinal_force_on_rail_N: float
+    wheel_lift_m: float
+    min_gap_m: float
+    patch_count: int
+    patches: list[ContactPatch]
+
+
+@dataclass(frozen=True, kw_only=True)
+class WheelsetTotals:
+    """Contact force and moment on the wheelset, track axes."""
+    force_N: list
+    moment_Nm: list
+    vertical_load_N: float
+    load_error_rel: float
+
+
+@dataclass(frozen=True, kw_only=True)
+class ContactCase:
+    """The result of `contact_case` (SI)."""
+    pair: WheelRailPair = field(metadata=NOT_WRITTEN)
+    lateral_m: float
+    yaw_rad: float
+    roll_input_rad: float | None      # None: the rigid-contact roll
+    load_N: float
+    speed_m_s: float
+    grid: int
+    pose: WheelsetPose
+    wheels: list[WheelContact]
+    totals: WheelsetTotals
+
+    def as_dict(self) -> dict:
+        """The JSON object of `railderail contact-case --json`."""
+        c = self.pair.contact
+        return {
+            "command": "contact-case",
+            "inputs": plain({**self.pair.inputs(), "model": self.pair.model, "normal_model": c.normal_model,
+                             "creep_model": c.creep_model, "halfspace": self.pair.halfspace,
+                             "lateral_m": self.lateral_m, "yaw_rad": self.yaw_rad, "roll_rad": self.roll_input_rad,
+                             "load_N": self.load_N, "speed_m_s": self.speed_m_s,
+                             "youngs_modulus_Pa": c.youngs_modulus, "poisson_ratio": c.poisson_ratio,
+                             "halfspace_grid": [self.grid, self.grid] if self.pair.halfspace else None,
+                             "spin": self.pose.spin_rad_s}),   # the solved spin (rad/s), as written so far
+            "pose": plain(self.pose),
+            "wheels": plain(self.wheels),
+            "totals": plain(self.totals),
+        }
+
+    def text(self) -> str:
+        """Short human summary (mm, kN, deg, km/h)."""
+        pair, pose, c = self.pair, self.pose, self.pair.contact
+        lines = [
+            f"contact case: wheel {pair.wheel.name} on rail {pair.rail.name}, inclination {pair.inclination_text}, "
+            f"gauge {pair.track.gauge * 1e3:.1f} mm, back-to-back {c.back_to_back * 1e3:.1f} mm, r0 "
+            f"{pair.radius * 1e3:.1f} mm; model {pair.model} (normal {c.normal_model}, creep {c.creep_model}"
+            f"{', + exact half-space patches' if pair.halfspace else ''}), mu {c.friction_coefficient:g}",
+            f"  wheelset: lateral {pose.lateral_m * 1e3:.2f} mm, yaw {pose.yaw_rad * 1e3:.2f} mrad, roll "
+            f"{pose.roll_rad * 1e3:.3f} mrad ({pose.roll_source}), vertical {pose.vertical_m * 1e3:.4f} mm "
+            f"(touch {pose.touch_vertical_m * 1e3:.4f} mm), speed {self.speed_m_s * 3.6:g} km/h, load "
+            f"{self.load_N / 1e3:.2f} kN",
+            f"  spin {pose.spin_rad_s:.4f} rad/s, {pose.spin_mode}; effective rolling radius "
+            f"{pose.effective_rolling_radius_m * 1e3:.3f} mm",
+        ]
+        for w in self.wheels:
+            lines.append(f"  {w.side} wheel: Q {w.Q_N / 1e3:.2f} kN, P {w.P_N / 1e3:.2f} kN, Q/P "
+                         f"{w.Q_over_P:.3f}, {w.patch_count} patch(es)")
+            for k, p in enumerate(w.patches):
+                cr, cf = p.creepage, p.creep_force
+                lines.append(
+                    f"    patch {k + 1}: rail y {p.rail_y_m * 1e3:7.2f} mm, wheel y {p.wheel_y_m * 1e3:7.2f} mm, "
+                    f"angle {math.degrees(p.contact_angle_rad):6.2f} deg, N {p.normal_force_N / 1e3:7.2f} kN, "
+                    f"Hertz a x b {p.hertz_a_m * 1e3:.2f} x {p.hertz_b_m * 1e3:.2f} mm, "
+                    f"patch {p.length_m * 1e3:.2f} x {p.width_m * 1e3:.2f} mm (length x width)")
+                lines.append(
+                    f"             creepage x {cr.longitudinal:+.3e}, y {cr.lateral:+.3e}, spin "
+                    f"{cr.spin_1_m:+.3f} 1/m; creep force x {cf.longitudinal_N / 1e3:+.3f} kN, y "
+                    f"{cf.lateral_N / 1e3:+.3f} kN")
+                for q, label in ((p.discrete, "discrete (KP)"), (p.halfspace, "half-space")):
+                    if q is not None:
+                        lines.append(f"             {label:14s} {q.length_m * 1e3:.2f} x {q.width_m * 1e3:.2f} mm, "
+                                     f"area {q.area_m2 * 1e6:.1f} mm^2, p_max {q.p_max_Pa / 1e6:.0f} MPa"
+                                     + _separate_patches(q))
+        f, t = self.totals.force_N, self.totals
+        lines.append(f"  totals on the wheelset (track axes, y left, z up): Fx {f[0] / 1e3:+.3f} kN, Fy "
+                     f"{f[1] / 1e3:+.3f} kN, Fz {f[2] / 1e3:+.3f} kN (load error {t.load_error_rel:+.1e})")
+        return "\n".join(lines)
+
+
+def _separate_patches(q):
+    """'; 2 separate patches: 45.8 kN at +11.2 mm, ...' when the half-space finds more than one."""
+    parts = getattr(q, "patches", ())
+    if len(parts) < 2:
+        return ""
+    return f"; {len(parts)} separate patches: " + ", ".join(
+        f"{r.normal_force_N / 1e3:.1f} kN at {r.centroid_offset_m * 1e3:+.1f} mm" for r in parts)
+
+
+def _mirror(pose, side):
+    y, z, phi, psi = pose
+    return (y, z, phi, psi) if side == 0 else (-y, z, -phi, -psi)
+
+
+def steady_wheel_forces(cg, cp, side, pose, speed, spin):
+    """`wheelset.wheel_forces` in steady rolling: (force, moment, wheel record W_*), track axes."""
+    rec = np.zeros(ws.W_SIZE)
+    fm = ws.wheel_forces(cg, cp, side, pose, steady_rolling(speed, spin), ws.contact_scratch(cg), ws.candidates()[0],
+                         False, rec)
+    return np.array(fm[:3]), np.array(fm[3:]), rec
+
+
+def _vertical_force(cg, cp, pose, speed, spin):
+    return sum(steady_wheel_forces(cg, cp, side, pose, speed, spin)[0][2] for side in (0, 1))
+
+
+def _free_spin(cg, cp, pose, speed, spin0):
+    """Spin (rad/s) at which the wheelset's total longitudinal contact force vanishes (free rolling)."""
+    def fx(spin):
+        return sum(steady_wheel_forces(cg, cp, side, pose, speed, spin)[0][0] for side in (0, 1))
+
+    lo, hi = spin0 * 0.995, spin0 * 1.005
+    f_lo, f_hi = fx(lo), fx(hi)
+    while f_lo * f_hi > 0.0 and hi - lo < 0.2 * spin0:
+        lo, hi = lo - 0.005 * spin0, hi + 0.005 * spin0
+        f_lo, f_hi = fx(lo), fx(hi)
+    if f_lo * f_hi > 0.0:
+        return spin0 if abs(fx(spin0)) < 1e-6 else float("nan")
+    return brentq(fx, lo, hi, xtol=1e-12 * spin0, rtol=1e-14)
+
+
+def _touch_height(cg, y, phi, psi):
+    """Vertical position (m) at which the first wheel touches its rail, or inf if a wheel has no rail."""
+    gap, ys = gap_buffers(cg)
+    gl0, _ = geo.min_gap(cg, y, 0.0, phi, psi, gap, ys)
+    gr0, _ = geo.min_gap(cg, -y, 0.0, -phi, -psi, gap, ys)
+    return -min(gl0, gr0) if max(gl0, gr0) < geo.NO_RAIL_GAP else math.inf
+
+
+def contact_case(pair: WheelRailPair, *, lateral_mm=0.0, yaw_mrad=0.0, roll_mrad=None, load_kn=None,
+                 speed_kmh=300.0, grid=64, spin="nominal") -> ContactCase:
+    """Solve one wheelset contact case with the pair's contact model (user units in, SI out).
+
+    spin: "nominal" = v / r0 (as the vehicle model), "free" = the spin at which the total longitudinal
+    contact force of the wheelset vanishes (solved together with the vertical position)."""
+    if spin not in SPIN_MODES:
+        raise ValueError(f"spin {spin!r} is unknown; choose nominal or free")
+    cg, cp = pair.cg, pair.cp
+    psi = check_range("yaw --yaw-mrad", yaw_mrad, *YAW_MRAD, "mrad") * 1e-3
+    speed = check_range("speed --speed-kmh", speed_kmh, *SPEED_KMH, "km/h") / 3.6
+    if load_kn is None:
+        load_kn = static_wheelset_load() / 1e3
+    load = check_range("vertical wheelset load --load-kn", load_kn, *LOAD_KN, "kN", lo_open=True) * 1e3
+    grid = int(check_range("half-space grid --grid", grid, *GRID, "elements"))
+    y = float(lateral_mm) * 1e-3
+    if not math.isfinite(y):
+        raise ValueError(f"lateral shift {lateral_mm!r} mm is not a number")
+    y_lim = contact_range(cg, psi)
+    if abs(y) > y_lim:
+        raise ValueError(f"lateral shift {lateral_mm:g} mm (--lateral-mm) is beyond what {pair.wheel.name} "
+                         f"on {pair.rail.name} can contact at yaw {yaw_mrad:g} mrad; accepted range "
+                         f"{-y_lim * 1e3:.1f}..{y_lim * 1e3:.1f} mm (beyond it a contact passes the flange "
+                         "tip or the end of the wheel profile)")
+    z_rigid, phi_rigid, _ = conicity.rigid_pose(cg, y, psi)
+    if roll_mrad is None:
+        phi, roll_input, roll_source = phi_rigid, None, "rigid contact"
+    else:
+        phi = roll_input = check_range("roll --roll-mrad", roll_mrad, *ROLL_MRAD, "mrad") * 1e-3
+        roll_source = "input"
+    z_touch = _touch_height(cg, y, phi, psi)
+    if not math.isfinite(z_touch):
+        raise ValueError(f"roll {phi * 1e3:g} mrad at lateral shift {lateral_mm:g} mm leaves a wheel without "
+                         "rail under it; use a roll nearer the rigid-contact roll "
+                         f"{phi_rigid * 1e3:.2f} mrad")
+    spin_nominal = speed / pair.radius
+    free = spin == "free"
+
+    def spin_at(zz):
+        return _free_spin(cg, cp, (y, zz, phi, psi), speed, spin_nominal) if free else spin_nominal
+
+    def excess(zz):
+        return _vertical_force(cg, cp, (y, zz, phi, psi), speed, spin_at(zz)) - load
+
+    step = 1e-4
+    z_lo = z_touch - step
+    while excess(z_lo) <= 0.0:
+        step *= 2.0
+        z_lo = z_touch - step
+        if step > 0.02:
+            raise ValueError(f"vertical wheelset load {load_kn:g} kN is not reached within 20 mm of "
+                             f"interpenetration; accepted range (0, {LOAD_KN[1]:g}] kN")
+    z = brentq(excess, z_lo, z_touch, xtol=1e-14, rtol=1e-13, maxiter=200)
+    pose = (y, z, phi, psi)
+    spin_rate = spin_at(z)
+    if not math.isfinite(spin_rate):
+        raise ValueError("spin free: no spin within +-10 % of v / r0 balances the longitudinal forces; "
+                         "use --spin nominal")
+    wheels = []
+    total_f, total_m = np.zeros(3), np.zeros(3)
+    for side in (0, 1):
+        f, m, rec = steady_wheel_forces(cg, cp, side, pose, speed, spin_rate)
+        total_f += f
+        total_m += m
+        patches = wheel_patch_details(pair, _mirror(pose, side), speed, spin_rate, grid)
+        r = ws.Wheel.split(rec)
+        wheels.append(WheelContact(side=SIDES[side], Q_N=r["lateral_force"], P_N=r["vertical_force"],
+                                   Q_over_P=r["derailment_coefficient"],
+                                   longitudinal_force_on_rail_N=r["longitudinal_force"], wheel_lift_m=r["wheel_lift"],
+                                   min_gap_m=r["min_gap"], patch_count=len(patches),
+                                   patches=patches))
+    pose_out = WheelsetPose(lateral_m=y, yaw_rad=psi, roll_rad=phi, roll_source=roll_source, vertical_m=z,
+                            touch_vertical_m=z_touch, rigid_vertical_m=z_rigid, rigid_roll_rad=phi_rigid,
+                            lateral_range_m=y_lim, spin_rad_s=spin_rate, spin_mode=SPIN_MODES[spin],
+                            nominal_spin_rad_s=spin_nominal, effective_rolling_radius_m=speed / spin_rate)
+    totals = WheelsetTotals(force_N=total_f.tolist(), moment_Nm=total_m.tolist(),
+                            vertical_load_N=float(total_f[2]), load_error_rel=float(total_f[2] / load - 1.0))
+    return ContactCase(pair=pair, lateral_m=y, yaw_rad=psi, roll_input_rad=roll_input, load_N=load,
+                       speed_m_s=speed, grid=grid, pose=pose_out, wheels=wheels, totals=totals)

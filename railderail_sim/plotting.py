@@ -1,0 +1,291 @@
+"""The project's one plotting module: every figure of railderail is drawn and written here.
+
+One style (STYLE: fonts, sizes, dpi, grid, line widths), a colour per wheel (WHEEL_COLOURS, the left
+and right wheel of a wheelset, in every figure that shows wheels) and per critical speed (linear,
+nonlinear) wherever it is marked, figures made as
+`matplotlib.figure.Figure` without pyplot (no global figure manager, no backend choice), and atomic
+writes: the file appears complete or not at all (a temporary file in the same folder, then a rename).
+`checked_path` rejects a bad extension or a missing folder with a one-line ValueError; commands call
+it before any computation. Inputs are in SI (km/h for speeds, as the methods give them); the figures
+label mm, kN, MPa, deg where those read better.
+
+matplotlib is imported only when a figure is drawn, so the commands that import this module for
+`checked_path` stay light.
+"""
+from __future__ import annotations
+
+from contextlib import contextmanager
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .atomic import atomic_write
+
+FORMATS = (".png", ".pdf", ".svg")
+STYLE = {
+    "font.size": 9.0,
+    "axes.titlesize": 9.0,
+    "axes.labelsize": 9.0,
+    "xtick.labelsize": 8.0,
+    "ytick.labelsize": 8.0,
+    "legend.fontsize": 8.0,
+    "figure.titlesize": 10.0,
+    "lines.linewidth": 1.2,
+    "lines.markersize": 4.0,
+    "axes.grid": True,
+    "grid.alpha": 0.3,
+    "grid.linewidth": 0.6,
+    "image.cmap": "viridis",
+    "figure.dpi": 120,
+    "savefig.dpi": 120,
+}
+WHEEL_COLOURS = {"left": "tab:blue", "right": "tab:red"}
+CRITICAL_SPEED_COLOURS = {"linear": "tab:purple", "nonlinear": "tab:brown"}
+REFERENCE_COLOUR = "k"                # zero lines, thresholds, Hertz ellipses
+MARKER_COLOUR = "0.7"                 # section boundaries and other guides
+
+
+def checked_path(path) -> Path:
+    """The figure file `path` as a Path if its extension is one of FORMATS and its folder exists."""
+    p = Path(path).expanduser()
+    if p.suffix.lower() not in FORMATS:
+        raise ValueError(f"plot file {str(path)!r} must end in {', '.join(FORMATS[:-1])} or {FORMATS[-1]}")
+    parent = p.parent if str(p.parent) else Path(".")
+    if not parent.is_dir():
+        raise ValueError(f"plot file {str(path)!r}: its folder {str(parent)!r} does not exist")
+    return p
+
+
+def write_figure(fig, path):
+    """Save `fig` to `path` atomically (`atomic.atomic_write`); a file-system error as a ValueError."""
+    path = Path(path)
+    try:
+        with atomic_write(path, "wb") as handle:
+            fig.savefig(handle, format=path.suffix.lstrip(".").lower())
+    except OSError as error:
+        raise ValueError(f"plot file {str(path)!r} cannot be written ({error.strerror or error})") from None
+
+
+@contextmanager
+def figure(path, size):
+    """A new Figure of `size` (inches) drawn in STYLE, written atomically to `path` when the block ends."""
+    import matplotlib
+    from matplotlib.figure import Figure
+
+    path = checked_path(path)
+    with matplotlib.rc_context(STYLE):
+        fig = Figure(figsize=size, layout="constrained")
+        yield fig
+        write_figure(fig, path)
+
+
+# ------------------------------------------------------------------------------------------------
+# contact
+# ------------------------------------------------------------------------------------------------
+WHEEL_DRAWN_ABOVE = 8e-3              # m: the wheel is drawn this far above its contact position
+
+
+def contact_geometry_figure(result, path):
+    """2 x 2 figure of a `methods.contact_geometry.ContactGeometry`: contact points on wheel and rail,
+    Delta r(y), contact angles(y) of both wheels, equivalent conicity against amplitude."""
+    import matplotlib
+
+    t, pair = result.table, result.pair
+    section = result.profile_section()
+    y_mm = t.y * 1e3
+    lift = WHEEL_DRAWN_ABOVE
+    with figure(path, (11.0, 8.0)) as fig:
+        ax = fig.subplots(2, 2)
+        a = ax[0, 0]
+        a.plot(section.rail_y * 1e3, section.rail_z * 1e3, "-", color=REFERENCE_COLOUR, lw=1.5,
+               label=f"rail {pair.rail.name}")
+        a.plot(section.wheel_y * 1e3, (section.wheel_z + lift) * 1e3, "-", color=WHEEL_COLOURS["left"], lw=1.5,
+               label=f"wheel {pair.wheel.name} (+{lift * 1e3:g} mm)")
+        cmap = matplotlib.colormaps[STYLE["image.cmap"]]
+        y_span = max(abs(t.y[0]), abs(t.y[-1]))
+        for shift, (wy, wz), (ry, rz) in zip(section.shift, section.wheel_points, section.rail_points):
+            a.plot([wy * 1e3, ry * 1e3], [(wz + lift) * 1e3, rz * 1e3], "-", color=cmap(0.5 + 0.5 * shift / y_span),
+                   lw=0.6)
+        a.set_xlim(section.wheel_y[0] * 1e3 - 3.0, section.rail_y[-1] * 1e3 + 5.0)
+        a.set_ylim(min(-40.0, 1e3 * float((section.wheel_z + lift).min()) - 3.0), 25.0)
+        a.set_aspect("equal")
+        a.grid(False)
+        a.set_xlabel("lateral position from the rail head axis [mm] (left rail, + field side)")
+        a.set_ylabel("height [mm]")
+        a.set_title(f"contact points, y = {t.y[0] * 1e3:g} ... {t.y[-1] * 1e3:g} mm (colour: y, every 0.5 mm)")
+        a.legend(loc="upper right")
+        b = ax[0, 1]
+        b.plot(y_mm, t.delta_r * 1e3, "-", color=REFERENCE_COLOUR)
+        b.set_xlabel("wheelset lateral shift y [mm] (+ left)")
+        b.set_ylabel("rolling radius difference r_L - r_R [mm]")
+        b.set_title("Delta r(y)")
+        c = ax[1, 0]
+        c.plot(y_mm, np.degrees(t.contact_angle_left), "-", color=WHEEL_COLOURS["left"], label="left wheel")
+        c.plot(y_mm, np.degrees(t.contact_angle_right), "--", color=WHEEL_COLOURS["right"], label="right wheel")
+        c.set_xlabel("wheelset lateral shift y [mm] (+ left)")
+        c.set_ylabel("contact angle [deg] (+ toward the flange)")
+        c.set_title(f"contact angle; max {math.degrees(result.max_contact_angle_rad):.2f} deg, "
+                    f"Nadal limit {result.nadal_limit:.3f} at mu {result.friction:g}")
+        c.legend()
+        d = ax[1, 1]
+        rows = result.equivalent_conicity_by_amplitude
+        amps = [r.amplitude_m * 1e3 for r in rows]
+        d.plot(amps, [r.equivalent_conicity for r in rows], "o-", color=REFERENCE_COLOUR, label="EN 15302 Annex B")
+        d.plot(amps, [r.harmonic_conicity for r in rows], "s--", color="0.5", label="harmonic")
+        d.axvline(result.equivalent_conicity_amplitude_m * 1e3, color=MARKER_COLOUR, lw=0.8)
+        d.set_xlabel("amplitude [mm]")
+        d.set_ylabel("equivalent conicity tan(gamma_e) [-]")
+        d.set_title(f"equivalent conicity; {result.equivalent_conicity:.4f} at "
+                    f"{result.equivalent_conicity_amplitude_m * 1e3:g} mm")
+        d.legend()
+        fig.suptitle(f"{pair.wheel.name} on {pair.rail.name}, inclination {pair.inclination_text}, gauge "
+                     f"{pair.track.gauge * 1e3:g} mm, back-to-back {pair.contact.back_to_back * 1e3:g} mm")
+
+
+def draw_patch(ax, patch, colour):
+    """One `methods.contact_patch.ContactPatch` in its contact plane: the half-space pressure (if solved),
+    the discrete (Kik-Piotrowski) outline in the wheel's colour (if computed) and the Hertz ellipse
+    (solid when Hertz is the patch's normal model, dashed beside a discrete one)."""
+    from matplotlib.patches import Ellipse
+
+    lim = 0.0
+    h = patch.halfspace
+    if h is not None:
+        p = np.where(h.pressure > 0, h.pressure, np.nan) / 1e6
+        mesh = ax.pcolormesh(h.s * 1e3, h.x * 1e3, p.T, shading="nearest")
+        ax.figure.colorbar(mesh, ax=ax, label="half-space pressure [MPa]", shrink=0.8)
+        lim = max(np.max(np.abs(h.x)), np.max(np.abs(h.s))) * 1e3
+    q = patch.discrete
+    if q is not None:
+        inside = q.half_length > 0
+        s_mm = np.concatenate(([q.s_edges[0]], q.s[inside], [q.s_edges[1]])) * 1e3
+        xl_mm = np.concatenate(([0.0], q.half_length[inside], [0.0])) * 1e3
+        ax.plot(np.concatenate((s_mm, s_mm[::-1])), np.concatenate((xl_mm, -xl_mm[::-1])), "-", color=colour,
+                label="discrete (Kik-Piotrowski) outline")
+        lim = max(lim, np.max(np.abs(s_mm)), np.max(q.half_length) * 1e3)
+    a, b = patch.hertz_a_m, patch.hertz_b_m
+    ax.add_patch(Ellipse((0.0, 0.0), 2e3 * b, 2e3 * a, fill=False, ls="-" if q is None else "--",
+                         color=REFERENCE_COLOUR, lw=1.0, label="Hertz ellipse"))
+    lim = 1.15 * max(lim, a * 1e3, b * 1e3)
+    ax.set_xlim(-lim, lim)
+    ax.set_ylim(-lim, lim)
+    ax.set_aspect("equal")
+    ax.set_xlabel("lateral, contact plane [mm] (+ field side)")
+    ax.set_ylabel("rolling direction x [mm]")
+    ax.legend(loc="upper right")
+
+
+def patch_figure(path, panels, rows, columns, title=None):
+    """A rows x columns grid of patches, filled row by row from `panels`: (patch, wheel side, title), or
+    (None, None, text) for a panel without a patch."""
+    with figure(path, (max(4.6 * columns, 5.0), 4.0 * rows)) as fig:
+        axes = fig.subplots(rows, columns, squeeze=False).ravel()
+        for ax in axes[len(panels):]:
+            ax.axis("off")
+        for ax, (patch, side, text) in zip(axes, panels):
+            if patch is None:
+                ax.axis("off")
+                ax.text(0.5, 0.5, text, ha="center", transform=ax.transAxes)
+                continue
+            draw_patch(ax, patch, WHEEL_COLOURS[side])
+            ax.set_title(text)
+        if title:
+            fig.suptitle(title)
+
+
+def contact_case_figure(case, path):
+    """The patches of a `methods.contact_case.ContactCase`, one row per wheel, one panel per patch."""
+    columns = max(1, max(len(w.patches) for w in case.wheels))
+    panels = []
+    for w in case.wheels:
+        for k in range(columns):
+            if k >= len(w.patches):
+                panels.append((None, None, f"{w.side} wheel: no patch" if not w.patches else ""))
+                continue
+            p = w.patches[k]
+            panels.append((p, w.side, f"{w.side} wheel, patch {k + 1}: rail y {p.rail_y_m * 1e3:.1f} mm, "
+                                      f"{math.degrees(p.contact_angle_rad):.1f} deg\n"
+                                      f"N {p.normal_force_N / 1e3:.1f} kN, "
+                                      f"{p.length_m * 1e3:.1f} x {p.width_m * 1e3:.1f} mm"))
+    pair = case.pair
+    patch_figure(path, panels, 2, columns,
+                 f"contact-case {pair.wheel.name} / {pair.rail.name}, model {pair.model}\nlateral "
+                 f"{case.lateral_m * 1e3:g} mm, yaw {case.yaw_rad * 1e3:g} mrad, load {case.load_N / 1e3:.1f} kN")
+
+
+# ------------------------------------------------------------------------------------------------
+# methods
+# ------------------------------------------------------------------------------------------------
+def root_locus_figure(result, path):
+    """Root locus (real part against frequency, coloured by speed) and least damping ratio against speed
+    of a `methods.root_locus.RootLocus`."""
+    with figure(path, (12.0, 5.0)) as fig:
+        a1, a2 = fig.subplots(1, 2)
+        for v, lam in zip(result.speeds_kmh, result.eigenvalues):
+            sel = lam.imag / (2 * np.pi) < 20.0
+            points = a1.scatter(lam.real[sel], lam.imag[sel] / (2 * np.pi), c=np.full(sel.sum(), v), s=4,
+                                vmin=result.speeds_kmh.min(), vmax=result.speeds_kmh.max())
+        fig.colorbar(points, ax=a1, label="speed (km/h)")
+        a1.axvline(0.0, color=REFERENCE_COLOUR, lw=0.8)
+        a1.set_xlabel("real part (1/s)")
+        a1.set_ylabel("frequency (Hz)")
+        a1.set_xlim(left=max(a1.get_xlim()[0], -40.0))
+        a1.set_title("root locus, modes below 20 Hz")
+        a2.plot(result.speeds_kmh, 100 * result.least_damping, "-")
+        a2.axhline(0.0, color=REFERENCE_COLOUR, lw=0.8)
+        if np.isfinite(result.linear_critical_speed_kmh):
+            a2.axvline(result.linear_critical_speed_kmh, color=CRITICAL_SPEED_COLOURS["linear"], ls="--",
+                       label=f"linear critical speed {result.linear_critical_speed_kmh:.0f} km/h")
+            a2.legend()
+        a2.set_xlabel("speed (km/h)")
+        a2.set_ylabel("least damping ratio (%)")
+        a2.set_title("least-damped oscillatory mode")
+
+
+def limit_cycle_figure(result, path, threshold_m, linear_critical_speed_kmh=None):
+    """Final oscillation amplitude against speed of a `methods.limit_cycle.LimitCycle` (Yu 2022, Fig. 2)."""
+    with figure(path, (7.0, 4.5)) as fig:
+        ax = fig.subplots()
+        a = np.where(np.isfinite(result.amplitudes_m), result.amplitudes_m, np.nan) * 1e3
+        ax.plot(result.speeds_kmh, a, "o-", label="final amplitude after the excitation")
+        ax.axhline(threshold_m * 1e3, color=REFERENCE_COLOUR, lw=0.8, ls=":",
+                   label=f"{threshold_m * 1e3:g} mm criterion")
+        if np.isfinite(result.nonlinear_critical_speed_kmh):
+            ax.axvline(result.nonlinear_critical_speed_kmh, color=CRITICAL_SPEED_COLOURS["nonlinear"], ls="--",
+                       label=f"nonlinear critical speed {result.nonlinear_critical_speed_kmh:.0f} km/h")
+        if linear_critical_speed_kmh is not None and np.isfinite(linear_critical_speed_kmh):
+            ax.axvline(linear_critical_speed_kmh, color=CRITICAL_SPEED_COLOURS["linear"], ls="--",
+                       label=f"linear critical speed {linear_critical_speed_kmh:.0f} km/h")
+        ax.set_yscale("symlog", linthresh=0.01)
+        ax.set_xlabel("speed (km/h)")
+        ax.set_ylabel("wheelset lateral amplitude (mm)")
+        ax.legend()
+        ax.set_title(f"limit cycle after a {result.excitation_amplitude_m * 1e3:.0f} mm lateral kink")
+
+
+def critical_speed_figure(results, path):
+    """Critical derailment speed against curve radius (Yu 2022, Fig. 5) from the sweep's result dicts."""
+    with figure(path, (7.0, 4.5)) as fig:
+        ax = fig.subplots()
+        r = [x["radius_m"] for x in results]
+        ax.plot(r, [x["critical_derailment_speed_kmh"] for x in results], "o-", label="progressive trial (staircase)")
+        if any(x.get("refined_speed_kmh") == x.get("refined_speed_kmh") for x in results):
+            ax.plot(r, [x["refined_speed_kmh"] for x in results], "s--",
+                    label="bisection, constant speed on Table 2 line")
+        ax.set_xlabel("curve radius (m)")
+        ax.set_ylabel("critical derailment speed (km/h)")
+        ax.legend()
+
+
+def position_figure(path, series, ylabel, markers=(), xlabel="position of the car-body centre (m)"):
+    """Quantities against track position: `series` of (position, values, label), guides at `markers`."""
+    with figure(path, (8.0, 4.5)) as fig:
+        ax = fig.subplots()
+        for position, values, label in series:
+            ax.plot(position, values, lw=0.8, label=label)
+        for s in markers:
+            ax.axvline(s, color=MARKER_COLOUR, lw=0.6, ls=":")
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(ylabel)
+        ax.legend()
