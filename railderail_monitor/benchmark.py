@@ -35,7 +35,7 @@ def _ros_figures():
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.signals import SignalHandlerOptions
 
-    from . import messages as m
+    from railderail_sim import ros_interface as m
 
     env = dict(os.environ, ROS_DOMAIN_ID=str(150 + os.getpid() % 80), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST")
     os.environ.update({k: env[k] for k in ("ROS_DOMAIN_ID", "ROS_AUTOMATIC_DISCOVERY_RANGE")})
@@ -112,7 +112,7 @@ def _mcap_figures(seconds=2.0):
 
     from railderail_sim.vehicle.simulate import Result, Simulation, scenario
 
-    from . import messages as m
+    from railderail_sim import ros_interface as m
     from .recording import McapRecording
     from .replay import read_recording
 

@@ -104,7 +104,7 @@ class Listener:
         from rclpy.executors import SingleThreadedExecutor
         from rclpy.signals import SignalHandlerOptions
 
-        from . import messages as m
+        from railderail_sim import ros_interface as m
 
         self.rclpy, self.m = rclpy, m
         rclpy.init(signal_handler_options=SignalHandlerOptions.NO)   # Ctrl-C stays a KeyboardInterrupt here

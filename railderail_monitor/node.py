@@ -8,14 +8,13 @@ parameter (PARAMETERS below, `-p name:=value`; NaN disables a level). On exit it
 samples it processed and how many the sample counters say it missed.
 """
 import sys
+from dataclasses import fields
 
-import rclpy
-from rclpy.exceptions import InvalidParameterTypeException
-from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 
-from . import messages as m
-from .criteria import Monitor, default_limits
+from railderail_sim import ros_interface as m
+
+from .criteria import AlertRecord, Monitor, default_limits
 
 DESCRIPTIONS = {
     "attack_angle": "rad, front-wheelset attack angle, WARNING level (Yu 2022: 0.06)",
@@ -31,6 +30,17 @@ DESCRIPTIONS = {
     "rearm_fraction": "a channel re-arms below this fraction of its level ...",
     "rearm_m": "... held over this many m of track",
 }
+
+
+def alert_message(record: AlertRecord, frame_id="track"):
+    """The Alert message of an alert the monitor raised (stamped with the sample's time)."""
+    message = m.Alert()
+    m.stamp(message, record.time_s)
+    message.header.frame_id = frame_id
+    for f in fields(AlertRecord):
+        if f.name != "time_s":
+            setattr(message, f.name, getattr(record, f.name))
+    return message
 
 
 class MonitorNode(Node):
@@ -59,7 +69,7 @@ class MonitorNode(Node):
 
     def _publish(self, alerts):
         for alert in alerts:                       # publish first, log after: logging takes time
-            self.publisher.publish(m.alert_message(alert))
+            self.publisher.publish(alert_message(alert))
         for alert in alerts:
             self.alerts += 1
             self.get_logger().warning(f"t = {alert.time_s:.3f} s, s = {alert.track_position:.1f} m: {alert.message}")
@@ -83,29 +93,13 @@ class MonitorNode(Node):
                 f"{self.alerts} alerts")
 
 
+    def destroy_node(self):
+        print(f"[railderail_monitor] {self.summary()}", file=sys.stderr, flush=True)
+        super().destroy_node()
+
+
 def main(argv=None) -> int:
-    rclpy.init(args=argv)
-    # an executor of our own, shut down before the node and the context: rclpy's global one would be
-    # torn down at interpreter exit, after them
-    executor = SingleThreadedExecutor()
-    node = None
-    try:  # from here on, Ctrl-C (KeyboardInterrupt) or SIGTERM ends the node cleanly
-        try:
-            node = MonitorNode()
-        except (ValueError, InvalidParameterTypeException) as error:
-            print(f"railderail-monitor: error: {error}", file=sys.stderr)
-            return 2
-        executor.add_node(node)
-        executor.spin()
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        executor.shutdown()
-        if node is not None:
-            print(f"[railderail_monitor] {node.summary()}", file=sys.stderr, flush=True)
-            node.destroy_node()
-        rclpy.try_shutdown()
-    return 0
+    return m.run_node("railderail-monitor", MonitorNode, argv)
 
 
 if __name__ == "__main__":

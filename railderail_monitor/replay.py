@@ -1,6 +1,6 @@
 """`railderail replay FILE.mcap`: a recording back on the ROS topics, in Rerun, or as alerts.
 
-- Publishes every recorded topic again (raw CDR, the QoS of messages.TOPICS) at the recorded
+- Publishes every recorded topic again (raw CDR, the QoS of ros_interface.TOPICS) at the recorded
   timing — the messages' log times, which are simulation time — divided by `--rate` (2 = twice as
   fast; 0 = as fast as possible), so that a monitor (or any node) can run offline against it. The
   recorded alerts are left out unless `--include-alerts`, so that a live monitor's alerts are not
@@ -28,13 +28,14 @@ from mcap.exceptions import McapError
 from mcap.reader import NonSeekingReader, make_reader
 from mcap_ros2.decoder import DecoderFactory
 
+from railderail_sim import ros_interface as m
+from railderail_sim.ros_interface import ALERTS, DERAILMENT, FINAL_STATUS, FORCES, STATES, STATUS
+
 from .criteria import Limits, default_limits, Monitor, lead_times
 
 MAGIC = b"\x89MCAP0\r\n"
 # what the mcap readers raise on a cut or damaged file (besides McapError)
 READ_ERRORS = (McapError, struct.error, EOFError, ValueError, KeyError)
-STATES, FORCES, STATUS = "/railderail/wheelset_states", "/railderail/contact_forces", "/railderail/vehicle_status"
-FINAL_STATUS, DERAILMENT, ALERTS = "/railderail/final_status", "/railderail/derailment", "/railderail/alerts"
 
 
 class RecordingError(ValueError):
@@ -150,16 +151,6 @@ def limits_of(recording):
     return Limits(**{**default_limits().as_dict(), **values}).validated()
 
 
-def _alert_dict(msg):
-    from .messages import alert_dict
-    return alert_dict(msg)
-
-
-def _derailment_dict(msg):
-    from .messages import derailment_dict
-    return derailment_dict(msg)
-
-
 @dataclass
 class Review:
     """What a replay found."""
@@ -194,17 +185,17 @@ def review(recording, limits=None, on_message=None, on_alert=None):
         found = []
         if topic == STATES:
             out.samples += 1
-            found = monitor.on_states(msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec, msg.sample,
+            found = monitor.on_states(m.seconds(msg.header.stamp), msg.sample,
                                       msg.track_position, msg.speed, msg.attack_angle, msg.wheel_lift)
         elif topic == FORCES:
-            found = monitor.on_forces(msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec, msg.sample,
+            found = monitor.on_forces(m.seconds(msg.header.stamp), msg.sample,
                                       msg.track_position, msg.speed, msg.derailment_coefficient, msg.vertical_force)
         elif topic == STATUS:
             monitor.set_curvature(msg.sample, msg.curvature)
         elif topic == ALERTS:
-            out.recorded_alerts.append(_alert_dict(msg))
+            out.recorded_alerts.append(m.alert_dict(msg))
         elif topic == DERAILMENT:
-            out.derailment = _derailment_dict(msg)
+            out.derailment = m.derailment_dict(msg)
         elif topic == FINAL_STATUS:
             out.final_status = msg.message
         for alert in found:
@@ -222,8 +213,6 @@ class Publisher:
     def __init__(self, recording, rate, include_alerts, wait_for_subscribers, log):
         import rclpy
         from rclpy.qos import QoSProfile
-
-        from . import messages as m
 
         self.rclpy = rclpy
         rclpy.init()
@@ -348,7 +337,7 @@ def command(parser: argparse.ArgumentParser):
             viewer = RunViewer(limits, flush_every=20 if args.rerun else 5000)
             viewer.spawn() if args.rerun else viewer.save(args.rrd)
             callbacks.append(feed_viewer(viewer))
-        derailment = next((_derailment_dict(msg) for topic, _, _, _, msg in recording.messages
+        derailment = next((m.derailment_dict(msg) for topic, _, _, _, msg in recording.messages
                            if topic == DERAILMENT and msg is not None), None)
         on_alert = None if args.json else (lambda a: print(format_alert(a, derailment), flush=True))
         try:

@@ -7,19 +7,17 @@ publication period (`Simulation.advance`) and publishes the new sample on the st
 final VehicleStatus on /railderail/final_status and, after a derailment, the ground-truth
 DerailmentEvent on /railderail/derailment (both reliable, transient local), then exits (0; 1 if the
 model diverged, with the reason in the log and in the final status). Topics and QoS:
-railderail_monitor/messages.py; parameters (ros-args `-p name:=value`): PARAMETERS below.
+railderail_sim/ros_interface.py; parameters (ros-args `-p name:=value`): PARAMETERS below.
 """
 import sys
 import time
 from dataclasses import replace
 
 import rclpy
-from rclpy.exceptions import InvalidParameterTypeException
-from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.task import Future
 
-from railderail_monitor import messages as m
+from railderail_sim import ros_interface as m
 
 MAX_CATCH_UP = 20   # samples one late tick may publish in a row
 
@@ -87,8 +85,8 @@ class SimulatorNode(Node):
         rtf = self.p["real_time_factor"]
         self.clock_pub = None
         if rtf != 1.0:
-            topic, (_, clock_cls, qos, _) = m.clock_topic()
-            self.clock_pub, self.Clock = self.create_publisher(clock_cls, topic, qos), clock_cls
+            _, clock_cls, qos, _ = m.CLOCK_TOPIC
+            self.clock_pub, self.Clock = self.create_publisher(clock_cls, m.CLOCK, qos), clock_cls
         self.sample = 0
         self.done = Future()
         self.exit_code = 0
@@ -159,7 +157,7 @@ class SimulatorNode(Node):
     def publish_sample(self, a, i):
         if self.clock_pub is not None:
             clock = self.Clock()
-            clock.clock.sec, clock.clock.nanosec = divmod(int(round(a["time"][i] * 1e9)), 1_000_000_000)
+            m.set_time(clock.clock, a["time"][i])
             self.clock_pub.publish(clock)
         self.pubs[m.STATES].publish(self.convert.states(a, i, self.sample))
         self.pubs[m.FORCES].publish(self.convert.forces(a, i, self.sample))
@@ -204,41 +202,29 @@ class SimulatorNode(Node):
         self.done.set_result(code)
 
 
-def main(argv=None) -> int:
-    rclpy.init(args=argv)
-    # an executor of our own, shut down before the node and the context: rclpy's global one would be
-    # torn down at interpreter exit, after them
-    executor = SingleThreadedExecutor()
-    node = None
-    try:  # from here on, Ctrl-C (KeyboardInterrupt) or SIGTERM ends the node cleanly
-        try:
-            node = SimulatorNode()
-        except (ValueError, InvalidParameterTypeException) as error:
-            print(f"railderail-simulator: error: {error}", file=sys.stderr)
-            return 2
-        except RuntimeError as error:      # SimulationDiverged on the very first period
-            print(f"railderail-simulator: error: {error}", file=sys.stderr)
-            return 1
-        executor.add_node(node)
-        if node.p["exit_when_done"]:
-            executor.spin_until_future_complete(node.done)
-            end = time.monotonic() + node.p["linger_s"]
-            while time.monotonic() < end:
-                executor.spin_once(timeout_sec=0.05)
-            for topic in (m.FINAL_STATUS, m.DERAILMENT):
-                node.pubs[topic].wait_for_all_acked(rclpy.duration.Duration(seconds=2.0))
-        else:
-            executor.spin()
+    def destroy_node(self):
+        if not self.done.done():
+            self.get_logger().info(f"stopped (Ctrl-C/SIGTERM) after {self.sample} samples")
+        super().destroy_node()
+
+
+def run_until_done(node, executor):
+    """Spin until the run stops, stay up `linger_s` for late subscribers and until the reliable
+    readers of the latched topics acknowledged; or, with exit_when_done false, until Ctrl-C."""
+    if not node.p["exit_when_done"]:
+        executor.spin()
         return node.exit_code
-    except (KeyboardInterrupt, ExternalShutdownException):
-        if node is not None:
-            node.get_logger().info(f"stopped (Ctrl-C/SIGTERM) after {node.sample} samples")
-        return 0
-    finally:
-        executor.shutdown()
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
+    executor.spin_until_future_complete(node.done)
+    end = time.monotonic() + node.p["linger_s"]
+    while time.monotonic() < end:
+        executor.spin_once(timeout_sec=0.05)
+    for topic in (m.FINAL_STATUS, m.DERAILMENT):
+        node.pubs[topic].wait_for_all_acked(rclpy.duration.Duration(seconds=2.0))
+    return node.exit_code
+
+
+def main(argv=None) -> int:
+    return m.run_node("railderail-simulator", SimulatorNode, argv, spin=run_until_done)
 
 
 if __name__ == "__main__":

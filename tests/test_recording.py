@@ -11,7 +11,7 @@ from mcap_ros2.decoder import DecoderFactory
 from rclpy.serialization import serialize_message
 
 import railderail_msgs.msg as msgs
-from railderail_monitor import messages as m
+from railderail_sim import ros_interface as m
 from railderail_monitor.cdr import Decoder
 from railderail_monitor.recording import cdr_stamp_ns, record_run, schema_text, starts_with_stamp
 from railderail_monitor.replay import RecordingError, read_recording
@@ -117,7 +117,7 @@ def test_record_run_is_a_ros2_mcap(short_run, tmp_path):
 PUBLISHER = """
 import rclpy, numpy as np
 from rclpy.executors import ExternalShutdownException
-from railderail_monitor import messages as m
+from railderail_sim import ros_interface as m
 rclpy.init()
 try:
     node = rclpy.create_node("railderail_test_states")

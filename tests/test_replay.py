@@ -5,7 +5,7 @@ from dataclasses import replace
 import pytest
 
 from railderail_monitor.criteria import alerts_of_run, default_limits
-from railderail_monitor.messages import sample_arrays
+from railderail_sim.ros_interface import sample_arrays
 from railderail_monitor.recording import McapRecording, record_run
 from railderail_monitor.replay import RecordingError, read_recording, review
 from railderail_sim.cli import main

@@ -16,7 +16,7 @@ import rclpy
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.signals import SignalHandlerOptions
 
-from railderail_monitor import messages as m
+from railderail_sim import ros_interface as m
 from railderail_monitor.replay import read_recording, review
 
 PY = sys.executable

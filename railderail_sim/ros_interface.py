@@ -1,6 +1,9 @@
-"""Topics, QoS and conversions between the core's output rows and railderail_msgs.
+"""The ROS 2 interface of railderail: topics, QoS, core rows -> messages, messages -> dicts, time
+stamps, and the one way every railderail node is run (`run_node`).
 
-Topics (all under /railderail/ except the clock):
+The simulator node (railderail_sim/node.py) publishes on these topics; the monitor, recorder,
+replay, viewer, demo and benchmark of railderail_monitor subscribe to them through this module, so
+that railderail_sim never imports railderail_monitor. Topics (all under /railderail/ except the clock):
 
 | topic                            | type                             | QoS                                    |
 | -------------------------------- | -------------------------------- | -------------------------------------- |
@@ -18,13 +21,18 @@ that a burst does not overwrite samples before the callback runs.
 """
 from __future__ import annotations
 
+import importlib
+import sys
+
 import numpy as np
+import rclpy
+from rclpy.exceptions import ParameterException
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
+from rosgraph_msgs.msg import Clock
 
 import railderail_msgs.msg as msgs
 from railderail_msgs.msg import Alert, ContactForces, DerailmentEvent, VehicleStatus, WheelsetStates
-
-from .criteria import AlertRecord
 
 NS = "/railderail"
 STATES = f"{NS}/wheelset_states"
@@ -53,44 +61,26 @@ TOPICS = {
     DERAILMENT: ("railderail_msgs/msg/DerailmentEvent", DerailmentEvent, LATCHED, LATCHED),
     ALERTS: ("railderail_msgs/msg/Alert", Alert, ALERT_QOS, ALERT_QOS),
 }
-
-
-def clock_topic():
-    from rosgraph_msgs.msg import Clock
-    return CLOCK, ("rosgraph_msgs/msg/Clock", Clock, CLOCK_QOS, CLOCK_QOS)
-
-
-def declare_parameters(node, spec):
-    """Declare node parameters from {name: (default, description)} and return their values.
-
-    A float parameter also takes an integer (`-p radius:=1000`); a value of the wrong kind is a
-    ValueError naming the parameter (the nodes print it as one line)."""
-    from rcl_interfaces.msg import ParameterDescriptor
-
-    values = {}
-    for name, (default, text) in spec.items():
-        is_float = isinstance(default, float)
-        value = node.declare_parameter(name, default, ParameterDescriptor(description=text,
-                                                                          dynamic_typing=is_float)).value
-        if is_float:
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                raise ValueError(f"parameter {name} = {value!r} is not a number ({text})")
-            value = float(value)
-        values[name] = value
-    return values
+CLOCK_TOPIC = ("rosgraph_msgs/msg/Clock", Clock, CLOCK_QOS, CLOCK_QOS)
 
 
 def message_class(type_name):
     """The Python class of a ROS type name such as 'railderail_msgs/msg/Alert'."""
-    import importlib
     package, kind, name = type_name.split("/")
     return getattr(importlib.import_module(f"{package}.{kind}"), name)
 
 
+# --- time stamps: simulation time in seconds <-> builtin_interfaces/Time ----------------------
+
+def set_time(time_msg, seconds):
+    """Set a builtin_interfaces/Time to a simulation time in seconds (exact to the nanosecond)."""
+    time_msg.sec, time_msg.nanosec = divmod(int(round(seconds * 1e9)), 1_000_000_000)
+    return time_msg
+
+
 def stamp(message, seconds):
-    """Set header.stamp to a simulation time in seconds (exact to the nanosecond)."""
-    ns = int(round(seconds * 1e9))
-    message.header.stamp.sec, message.header.stamp.nanosec = divmod(ns, 1_000_000_000)
+    """Set header.stamp of a message to a simulation time in seconds."""
+    set_time(message.header.stamp, seconds)
     return message
 
 
@@ -103,7 +93,8 @@ def seconds(time_msg):
 
 def sample_arrays(result):
     """The named arrays of `Result.arrays()` that the messages carry, as cheap views of the rows
-    (no per-patch table): what the simulator node converts at every tick."""
+    (no per-patch table): what the simulator node converts at every tick. The one place in the ROS
+    product that reads the core's output-row layout."""
     from railderail_sim.vehicle import layout as L
     from railderail_sim.vehicle.simulate import WHEEL_FIELDS
     from railderail_sim.contact.wheelset import W_SIZE
@@ -200,18 +191,11 @@ def derailment_message(event, car_body_position, frame_id="track"):
     return m
 
 
-def alert_message(record: AlertRecord, frame_id="track"):
-    m = Alert()
-    stamp(m, record.time_s)
-    m.header.frame_id = frame_id
-    for name in ("sample", "criterion", "severity", "value", "threshold", "wheelset", "wheel_side", "rail_side",
-                 "track_position", "speed", "message"):
-        setattr(m, name, getattr(record, name))
-    return m
-
+# --- messages -> dicts ------------------------------------------------------------------------
 
 def alert_dict(message):
-    """An Alert message (rclpy or decoded from MCAP) as the plain dict of AlertRecord."""
+    """An Alert message (rclpy's, or mcap_ros2's from a recording) as the plain dict of the
+    monitor's AlertRecord."""
     return dict(time_s=seconds(message.header.stamp), sample=int(message.sample), criterion=message.criterion,
                 severity=int(message.severity), value=float(message.value), threshold=float(message.threshold),
                 wheelset=int(message.wheelset), wheel_side=message.wheel_side, rail_side=message.rail_side,
@@ -226,4 +210,64 @@ def derailment_dict(message):
                 wheel_lift_m=float(message.wheel_lift), lateral_displacement_m=float(message.lateral_displacement))
 
 
-__all__ = ["msgs", "TOPICS", "RowConverter", "derailment_message", "alert_message", "alert_dict", "derailment_dict"]
+# --- parameters ---------------------------------------------------------------------------------
+
+def declare_parameters(node, spec):
+    """Declare node parameters from {name: (default, description)} and return their values.
+
+    A float parameter also takes an integer (`-p radius:=1000`); a value of the wrong kind is a
+    ValueError naming the parameter (the nodes print it as one line)."""
+    from rcl_interfaces.msg import ParameterDescriptor
+
+    values = {}
+    for name, (default, text) in spec.items():
+        is_float = isinstance(default, float)
+        value = node.declare_parameter(name, default, ParameterDescriptor(description=text,
+                                                                          dynamic_typing=is_float)).value
+        if is_float:
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise ValueError(f"parameter {name} = {value!r} is not a number ({text})")
+            value = float(value)
+        values[name] = value
+    return values
+
+
+# --- running a node -------------------------------------------------------------------------------
+
+def run_node(prog, make_node, args=None, spin=None):
+    """Run one node as every railderail node runs, and return the process's exit status.
+
+    rclpy.init(args); `make_node()` builds the node (a ValueError or a refused parameter: one line
+    `prog: error: ...` on stderr, status 2; a RuntimeError, e.g. the model diverging on its first
+    period: the same line, status 1); then `spin(node, executor)` (default: spin until shut down;
+    its return value is the status). Ctrl-C or SIGTERM ends it cleanly with status 0. The node runs
+    on an executor of its own, shut down before the node and the context (rclpy's global one would
+    be torn down at interpreter exit, after them); the node's `destroy_node` is where it finishes
+    its work (closes its file, prints its summary)."""
+    rclpy.init(args=args)
+    executor = SingleThreadedExecutor()
+    node = None
+    try:  # from here on, Ctrl-C (KeyboardInterrupt) or SIGTERM ends the node cleanly
+        try:
+            node = make_node()
+        except (ValueError, ParameterException) as error:
+            print(f"{prog}: error: {error}", file=sys.stderr)
+            return 2
+        except RuntimeError as error:
+            print(f"{prog}: error: {error}", file=sys.stderr)
+            return 1
+        executor.add_node(node)
+        if spin is None:
+            executor.spin()
+            return 0
+        return spin(node, executor)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        return 0
+    finally:
+        executor.shutdown()
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()
+
+
+__all__ = ["msgs", "TOPICS", "RowConverter", "derailment_message", "alert_dict", "derailment_dict", "run_node"]
