@@ -14,23 +14,7 @@ from rclpy.node import Node
 
 from railderail_sim import ros_interface as m
 
-from .criteria import AlertRecord, Monitor, default_limits
-
-DESCRIPTIONS = {
-    "attack_angle": "rad, front-wheelset attack angle, WARNING level (Yu 2022: 0.06)",
-    "attack_angle_critical": "rad, CRITICAL level (NaN = none)",
-    "wheel_lift": "m, wheel lift, WARNING level (default 1/3 of the LM flange height)",
-    "wheel_lift_critical": "m, CRITICAL level (default 2/3 of the flange height)",
-    "derailment_coefficient": "Q/P, WARNING level (EN 14363: 0.8)",
-    "derailment_coefficient_critical": "Q/P, CRITICAL level (Nadal's limit of the profile pair, mu 0.3)",
-    "wheel_unloading": "dP/P0, WARNING level (GB 5599-85: 0.60)",
-    "wheel_unloading_critical": "dP/P0, CRITICAL level (GB 5599-85: 0.65)",
-    "static_wheel_load": "N, static wheel load P0 of the unloading ratio",
-    "debounce_m": "m of track the value must stay at or above a level before the alert",
-    "rearm_fraction": "a channel re-arms below this fraction of its level ...",
-    "rearm_m": "... held over this many m of track",
-}
-
+from .criteria import AlertRecord, Limits, Monitor, default_limits
 
 def alert_message(record: AlertRecord, frame_id="track"):
     """The Alert message of an alert the monitor raised (stamped with the sample's time)."""
@@ -46,10 +30,10 @@ def alert_message(record: AlertRecord, frame_id="track"):
 class MonitorNode(Node):
     def __init__(self):
         super().__init__("railderail_monitor")
-        defaults = default_limits()             # the model's flange height, wheel load, Nadal limit
-        values = m.declare_parameters(self, {name: (float(value), DESCRIPTIONS[name])
-                                             for name, value in defaults.as_dict().items()})
-        self.monitor = Monitor(type(defaults)(**values))
+        defaults = default_limits()             # the shipped parameter file's
+        values = m.declare_parameters(self, {f.name: (getattr(defaults, f.name), f.metadata["meaning"])
+                                             for f in fields(Limits)})
+        self.monitor = Monitor(Limits(**values))
         self.publisher = self.create_publisher(m.Alert, m.ALERTS, m.ALERT_QOS)
         self.create_subscription(m.WheelsetStates, m.STATES, self.on_states, m.SENSOR_SUBSCRIBER)
         self.create_subscription(m.ContactForces, m.FORCES, self.on_forces, m.SENSOR_SUBSCRIBER)
