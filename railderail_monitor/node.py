@@ -3,8 +3,11 @@
 Subscribes to /railderail/wheelset_states, /railderail/contact_forces (best effort, deep queue)
 and /railderail/vehicle_status (for the curve's side), runs `criteria.Monitor` on every sample and
 publishes each alert on /railderail/alerts (reliable, transient local). The criteria, their
-thresholds and the debounce/hysteresis are in railderail_monitor/criteria.py; every threshold is a
-parameter (PARAMETERS below, `-p name:=value`; NaN disables a level). On exit it logs how many
+thresholds and the debounce/hysteresis are in railderail_monitor/criteria.py. Every threshold is a
+ROS parameter (the fields of `criteria.Limits`, `-p name:=value` or `--params-file FILE.yaml`; NaN
+disables a level) whose default is the shipped parameter file's (railderail_monitor/config/
+monitor.yaml, `railderail monitor-params`); all may change while running (`ros2 param set`): the
+node checks them (`Limits.validated`) and starts a new Monitor with them. On exit it logs how many
 samples it processed and how many the sample counters say it missed.
 """
 import sys
@@ -15,6 +18,15 @@ from rclpy.node import Node
 from railderail_sim import ros_interface as m
 
 from .criteria import AlertRecord, Limits, Monitor, default_limits
+
+def parameter_table(defaults: Limits):
+    """The node's parameters: the fields of criteria.Limits with their metadata, defaults from `defaults`.
+    All may change while running."""
+    return [m.ParameterSpec(f.name, getattr(defaults, f.name), f.metadata["meaning"] + "; " + f.metadata["source"],
+                            f.metadata["unit"], f.metadata["accepted"], f.metadata["lo_open"],
+                            f.metadata["nan_disables"])
+            for f in fields(Limits)]
+
 
 def alert_message(record: AlertRecord, frame_id="track"):
     """The Alert message of an alert the monitor raised (stamped with the sample's time)."""
@@ -30,19 +42,31 @@ def alert_message(record: AlertRecord, frame_id="track"):
 class MonitorNode(Node):
     def __init__(self):
         super().__init__("railderail_monitor")
-        defaults = default_limits()             # the shipped parameter file's
-        values = m.declare_parameters(self, {f.name: (getattr(defaults, f.name), f.metadata["meaning"])
-                                             for f in fields(Limits)})
-        self.monitor = Monitor(Limits(**values))
+        self.limits = m.declare_parameters(self, parameter_table(default_limits()),
+                                           check=lambda values: Limits(**values).validated(),
+                                           apply=self.on_limits)
+        self.monitor = Monitor(Limits(**self.limits))
         self.publisher = self.create_publisher(m.Alert, m.ALERTS, m.ALERT_QOS)
         self.create_subscription(m.WheelsetStates, m.STATES, self.on_states, m.SENSOR_SUBSCRIBER)
         self.create_subscription(m.ContactForces, m.FORCES, self.on_forces, m.SENSOR_SUBSCRIBER)
         self.create_subscription(m.VehicleStatus, m.STATUS, self.on_status, m.SENSOR_SUBSCRIBER)
         self.counts = {"states": [0, 0, None], "forces": [0, 0, None]}   # received, missed, last sample
         self.alerts = 0
+        self.get_logger().info(f"railderail monitor: {self.monitoring()}")
+
+    def monitoring(self):
         levels = ", ".join(f"{c} {'/'.join(f'{t:.4g}' for _, t in self.monitor.limits.levels(c))}"
                            for c in self.monitor.channels)
-        self.get_logger().info(f"railderail monitor: monitoring {levels}; debounce {self.monitor.limits.debounce_m:g} m")
+        return f"monitoring {levels}; debounce {self.monitor.limits.debounce_m:g} m"
+
+    def on_limits(self, changed):
+        """New thresholds while running: a new Monitor (every channel armed again), the curvature
+        history kept."""
+        curvatures = self.monitor.curvatures
+        self.monitor = Monitor(Limits(**self.limits))
+        self.monitor.curvatures = curvatures
+        self.get_logger().info("thresholds changed (" + ", ".join(f"{k} {v:g}" for k, v in changed.items())
+                               + f"): {self.monitoring()}")
 
     def _count(self, kind, sample):
         c = self.counts[kind]

@@ -22,17 +22,23 @@ that a burst does not overwrite samples before the callback runs.
 from __future__ import annotations
 
 import importlib
+import math
 import sys
+from dataclasses import dataclass
 
 import numpy as np
 import rclpy
+from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor, SetParametersResult
 from rclpy.exceptions import ParameterException
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from rosgraph_msgs.msg import Clock
 
 import railderail_msgs.msg as msgs
 from railderail_msgs.msg import Alert, ContactForces, DerailmentEvent, VehicleStatus, WheelsetStates
+
+from .ranges import check_range
 
 NS = "/railderail"
 STATES = f"{NS}/wheelset_states"
@@ -212,23 +218,101 @@ def derailment_dict(message):
 
 # --- parameters ---------------------------------------------------------------------------------
 
-def declare_parameters(node, spec):
-    """Declare node parameters from {name: (default, description)} and return their values.
+REAL_TIME_FACTOR_RANGE = (0.0, 1000.0)      # simulated (or recorded) seconds per wall second; 0 = as fast as possible
 
-    A float parameter also takes an integer (`-p radius:=1000`); a value of the wrong kind is a
-    ValueError naming the parameter (the nodes print it as one line)."""
-    from rcl_interfaces.msg import ParameterDescriptor
 
-    values = {}
-    for name, (default, text) in spec.items():
-        is_float = isinstance(default, float)
-        value = node.declare_parameter(name, default, ParameterDescriptor(description=text,
-                                                                          dynamic_typing=is_float)).value
-        if is_float:
+@dataclass(frozen=True)
+class ParameterSpec:
+    """One node parameter: its default, description, unit and accepted values (a row of a node's
+    parameter table; `declare_parameters` declares a table)."""
+    name: str
+    default: bool | int | float | str
+    description: str
+    unit: str = ""
+    accepted: tuple | None = None       # (lo, hi) of a number, both ends included unless lo_open
+    lo_open: bool = False
+    nan_disables: bool = False          # NaN is accepted: it disables what the parameter sets
+    choices: tuple = ()                 # the accepted strings
+    read_only: bool = False             # fixed once the node runs
+
+    def checked(self, value):
+        """The value if accepted (a float parameter takes an integer: `-p radius:=1000`), else a
+        ValueError naming it and what is accepted."""
+        if isinstance(self.default, float):
             if isinstance(value, bool) or not isinstance(value, (int, float)):
-                raise ValueError(f"parameter {name} = {value!r} is not a number ({text})")
+                raise ValueError(f"{self.name} {value!r} is not a number")
             value = float(value)
-        values[name] = value
+            if self.nan_disables and math.isnan(value):
+                return value
+        if self.accepted is not None:
+            lo, hi = self.accepted
+            check_range(self.name, value, lo, hi, self.unit, lo_open=self.lo_open, hi_open=math.isinf(hi))
+        if self.choices and value not in self.choices:
+            raise ValueError(f"{self.name} {value!r} is not one of {', '.join(self.choices)}")
+        return value
+
+    def descriptor(self):
+        """Its ParameterDescriptor: what `ros2 param describe` shows and rclpy enforces (the type,
+        read-only, a FloatingPointRange for a double, an IntegerRange for an integer)."""
+        text = self.description + (f" [{self.unit}]" if self.unit else "")
+        if self.nan_disables:
+            text += "; NaN disables it"
+        d = ParameterDescriptor(description=text, read_only=self.read_only,
+                                dynamic_typing=isinstance(self.default, float))
+        if not d.dynamic_typing:
+            d.type = Parameter.Type.from_parameter_value(self.default).value
+        if self.accepted is not None and all(map(math.isfinite, self.accepted)) and not self.nan_disables:
+            lo, hi = self.accepted
+            if isinstance(self.default, float):     # applies to doubles only: an integer value is checked by `checked`
+                d.floating_point_range = [FloatingPointRange(from_value=float(lo), to_value=float(hi))]
+            else:
+                d.integer_range = [IntegerRange(from_value=int(lo), to_value=int(hi), step=1)]
+        if self.choices:
+            d.additional_constraints = "one of: " + ", ".join(self.choices)
+        return d
+
+
+def declare_parameters(node, specs, check=None, apply=None):
+    """Declare a table of ParameterSpecs on `node`; return {name: value}, kept up to date.
+
+    At start each value (default, `-p`, `--params-file`) goes through `spec.checked` and then all
+    through `check(values)` (rules between parameters): a ValueError names the value and the
+    accepted range (the node's main prints it as one line, exit status 2). The parameters are
+    declared without their ranges first so that this message, not rclpy's, answers a bad value;
+    the full descriptors follow. While running, rclpy refuses a read-only parameter and a double
+    outside its FloatingPointRange; an on-set callback refuses what `checked` or `check` refuses
+    (an integer given for a float parameter passes rclpy's range test); once a change is set,
+    `apply(changed)` gets the changed values."""
+    table = {spec.name: spec for spec in specs}
+    values = {}
+    for spec in specs:
+        first = ParameterDescriptor(dynamic_typing=isinstance(spec.default, float))
+        values[spec.name] = spec.checked(node.declare_parameter(spec.name, spec.default, first).value)
+    if check is not None:
+        check(values)
+    for spec in specs:
+        node.set_descriptor(spec.name, spec.descriptor())
+
+    def ours(parameters):               # rclpy's own parameters (use_sim_time) pass through
+        return {p.name: table[p.name].checked(p.value) for p in parameters if p.name in table}
+
+    def on_set(parameters):
+        try:
+            changed = ours(parameters)
+            if changed and check is not None:
+                check({**values, **changed})
+        except ValueError as error:
+            return SetParametersResult(successful=False, reason=str(error))
+        return SetParametersResult(successful=True)
+
+    def after_set(parameters):
+        changed = ours(parameters)
+        values.update(changed)
+        if changed and apply is not None:
+            apply(changed)
+
+    node.add_on_set_parameters_callback(on_set)
+    node.add_post_set_parameters_callback(after_set)
     return values
 
 
@@ -270,4 +354,5 @@ def run_node(prog, make_node, args=None, spin=None):
         rclpy.try_shutdown()
 
 
-__all__ = ["msgs", "TOPICS", "RowConverter", "derailment_message", "alert_dict", "derailment_dict", "run_node"]
+__all__ = ["msgs", "TOPICS", "RowConverter", "derailment_message", "alert_dict", "derailment_dict", "ParameterSpec",
+           "declare_parameters", "run_node"]
