@@ -34,12 +34,12 @@ import mcap.writer
 from mcap.writer import CompressionType
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from rosidl_adapter.parser import parse_message_string
 
 from railderail_sim import ros_interface as m
 
-PRIMITIVES = {"bool", "byte", "char", "float32", "float64", "int8", "uint8", "int16", "uint16", "int32",
-              "uint32", "int64", "uint64", "string", "wstring"}
 SEPARATOR = "=" * 80
+STAMP_TYPES = ("std_msgs/Header", "builtin_interfaces/Time")     # a leading stamp: the message's time
 
 
 # --- schemas ------------------------------------------------------------------------------------
@@ -54,7 +54,8 @@ def msg_file(package, name):
     raise FileNotFoundError(f"no {package}/msg/{name}.msg under {', '.join(prefixes)} (is {package} installed?)")
 
 
-def _split(type_name):
+def split_type(type_name):
+    """(package, name) of 'package/msg/Name' or 'package/Name'."""
     parts = type_name.split("/")
     if len(parts) == 3:
         return parts[0], parts[2]
@@ -63,51 +64,51 @@ def _split(type_name):
     raise ValueError(f"type name {type_name!r} is not package/msg/Name")
 
 
-def _field_types(text, package):
-    """Complex types used by the fields of a .msg text, as (package, name)."""
-    found = []
-    for line in text.splitlines():
-        line = line.split("#", 1)[0].strip()
-        if not line:
-            continue
-        base = re.sub(r"\[.*\]$", "", line.split()[0])     # arrays: T[], T[8], T[<=8]
-        base = re.sub(r"<=\d+$", "", base)                  # bounded strings: string<=10
-        if base in PRIMITIVES:                               # constants are always primitive
-            continue
-        if base == "Header":
-            found.append(("std_msgs", "Header"))
-        elif "/" in base:
-            found.append(_split(base))
-        else:
-            found.append((package, base))
-    return found
+def _installed(package, name):
+    """(text, rosidl_adapter MessageSpecification) of an installed .msg."""
+    text = msg_file(package, name).read_text()
+    return text, parse_message_string(package, name, text)
+
+
+def _used_types(spec):
+    return [(f.type.pkg_name, f.type.type) for f in spec.fields if not f.type.is_primitive_type()]
 
 
 def schema_text(type_name):
     """The ros2msg schema text of a type such as 'railderail_msgs/msg/Alert'."""
-    package, name = _split(type_name)
-    main = msg_file(package, name).read_text()
-    parts = [main]
-    seen = {(package, name)}
-    queue = _field_types(main, package)
+    package, name = split_type(type_name)
+    main, spec = _installed(package, name)
+    parts, seen, queue = [main], {(package, name)}, _used_types(spec)
     while queue:
         dep = queue.pop(0)
         if dep in seen:
             continue
         seen.add(dep)
-        text = msg_file(*dep).read_text()
+        text, dep_spec = _installed(*dep)
         parts.append(f"{SEPARATOR}\nMSG: {dep[0]}/{dep[1]}\n{text}")
-        queue.extend(_field_types(text, dep[0]))
+        queue.extend(_used_types(dep_spec))
     return "\n".join(parts)
 
 
-def starts_with_stamp(schema):
-    """True if the first field of the schema is a std_msgs/Header or a builtin_interfaces/Time."""
-    for line in schema.split(SEPARATOR, 1)[0].splitlines():
-        line = line.split("#", 1)[0].strip()
-        if line and "=" not in line:              # the first field that is not a constant
-            return line.split()[0] in ("std_msgs/Header", "Header", "builtin_interfaces/Time")
-    return False
+def schema_definitions(type_name, text):
+    """{(package, name): MessageSpecification} of a ros2msg schema text: the type and every type it
+    uses, parsed by rosidl_adapter (whose errors pass through)."""
+    blocks = re.split(rf"^{SEPARATOR}$\n?", text, flags=re.MULTILINE)
+    package, name = split_type(type_name)
+    found = {(package, name): parse_message_string(package, name, blocks[0])}
+    for block in blocks[1:]:
+        header, _, body = block.partition("\n")
+        if not header.startswith("MSG: "):
+            raise ValueError(f"schema block of {type_name} without a 'MSG:' line: {header!r}")
+        dep = split_type(header[5:].strip())
+        found[dep] = parse_message_string(*dep, body)
+    return found
+
+
+def stamped(type_name):
+    """True if the installed type's first field is a std_msgs/Header or a builtin_interfaces/Time."""
+    fields = _installed(*split_type(type_name))[1].fields
+    return bool(fields) and str(fields[0].type) in STAMP_TYPES
 
 
 def cdr_stamp_ns(data):
@@ -148,19 +149,19 @@ class McapRecording:
         if topic in self.channels:
             return self.channels[topic][0]
         if type_name not in self.schemas:
-            text = schema_text(type_name)
-            self.schemas[type_name] = (self.writer.register_schema(type_name, "ros2msg", text.encode()),
-                                       starts_with_stamp(text))
-        schema_id, stamped = self.schemas[type_name]
+            self.schemas[type_name] = (self.writer.register_schema(type_name, "ros2msg",
+                                                                   schema_text(type_name).encode()),
+                                       stamped(type_name))
+        schema_id, has_stamp = self.schemas[type_name]
         channel = self.writer.register_channel(topic, "cdr", schema_id)
-        self.channels[topic] = (channel, stamped)
+        self.channels[topic] = (channel, has_stamp)
         self.sequence[topic] = 0
         return channel
 
     def write(self, topic, data):
         """Write one CDR message (bytes as published) on a topic added before."""
-        channel, stamped = self.channels[topic]
-        if stamped and len(data) >= 12:
+        channel, has_stamp = self.channels[topic]
+        if has_stamp and len(data) >= 12:
             self.last_stamp = max(cdr_stamp_ns(data), 0)
             stamp = self.last_stamp
         else:

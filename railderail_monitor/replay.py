@@ -27,11 +27,14 @@ from pathlib import Path
 from mcap.exceptions import McapError
 from mcap.reader import NonSeekingReader, make_reader
 from mcap_ros2.decoder import DecoderFactory
+from rclpy.serialization import deserialize_message
+from rosidl_adapter.parser import InvalidSpecification, InvalidValue
 
 from railderail_sim import ros_interface as m
 from railderail_sim.ros_interface import ALERTS, DERAILMENT, FINAL_STATUS, FORCES, STATES, STATUS
 
 from .criteria import Limits, default_limits, Monitor, lead_times
+from .recording import schema_definitions, schema_text, split_type
 
 MAGIC = b"\x89MCAP0\r\n"
 # what the mcap readers raise on a cut or damaged file (besides McapError)
@@ -77,19 +80,35 @@ def _check_head(path):
         return f.read(8) == MAGIC
 
 
-def _decoders():
-    """schema -> callable(bytes) -> message: the fast decoder of cdr.py, mcap_ros2's if it cannot."""
-    from .cdr import Decoder, UnsupportedSchema
+def installed_class(schema):
+    """The rclpy class of a recorded ros2msg schema if this type is installed here with the
+    recorded definition (compared as rosidl_adapter parses them, so comments and layout do not
+    matter), else None."""
+    try:
+        recorded = schema_definitions(schema.name, schema.data.decode())
+        if recorded != schema_definitions(schema.name, schema_text(schema.name)):
+            return None
+        package, name = split_type(schema.name)
+        return m.message_class(f"{package}/msg/{name}")
+    except (InvalidSpecification, InvalidValue, ValueError, TypeError, NameError, FileNotFoundError, ImportError,
+            AttributeError):
+        return None
 
+
+def message_decoders():
+    """schema -> decode(CDR bytes) -> message: rclpy's deserialize_message into the installed
+    class where the recording's definition is the installed one (every railderail recording);
+    mcap_ros2's generic decoder for any other (foreign or older) definition."""
     cache = {}
     fallback = DecoderFactory()
 
     def decoder(schema):
         d = cache.get(schema.id)
         if d is None:
-            try:
-                d = Decoder(schema.name, schema.data.decode())
-            except (UnsupportedSchema, UnicodeDecodeError):
+            cls = installed_class(schema)
+            if cls is not None:
+                d = lambda data, cls=cls: deserialize_message(data, cls)  # noqa: E731
+            else:
                 d = fallback.decoder_for("cdr", schema) or (lambda data: None)
             cache[schema.id] = d
         return d
@@ -100,7 +119,7 @@ def read_recording(path, allow_truncated=False, decode=True):
     """All messages of a railderail MCAP in log-time order (RecordingError if it cannot be used)."""
     path = Path(path)
     complete = _check_head(path)
-    decoder = _decoders()
+    decoder = message_decoders()
     messages, problem = [], ""
     metadata = {}
 

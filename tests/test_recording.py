@@ -1,4 +1,5 @@
-"""MCAP recording: ros2msg schemas, CDR decoding, the recorder node under Ctrl-C and SIGKILL."""
+"""MCAP recording: ros2msg schemas, decoding (rclpy, mcap_ros2 for foreign schemas), the recorder node
+under Ctrl-C and SIGKILL."""
 import signal
 import sys
 import time
@@ -12,9 +13,8 @@ from rclpy.serialization import serialize_message
 
 import railderail_msgs.msg as msgs
 from railderail_sim import ros_interface as m
-from railderail_monitor.cdr import Decoder
-from railderail_monitor.recording import cdr_stamp_ns, record_run, schema_text, starts_with_stamp
-from railderail_monitor.replay import RecordingError, read_recording
+from railderail_monitor.recording import cdr_stamp_ns, record_run, schema_definitions, schema_text, stamped
+from railderail_monitor.replay import RecordingError, message_decoders, read_recording
 
 SEPARATOR = "=" * 80
 
@@ -25,8 +25,11 @@ def test_schema_text_has_the_ros2_dependencies():
     assert "string criterion" in main and "uint8 SEVERITY_CRITICAL=2" in main
     assert header.startswith("\nMSG: std_msgs/Header\n") and "builtin_interfaces/Time stamp" in header
     assert time_.startswith("\nMSG: builtin_interfaces/Time\n") and "uint32 nanosec" in time_
-    assert starts_with_stamp(text)
-    assert starts_with_stamp(schema_text("rosgraph_msgs/msg/Clock"))
+    assert stamped("railderail_msgs/msg/Alert") and stamped("rosgraph_msgs/msg/Clock")
+    assert not stamped("std_msgs/msg/String")
+    definitions = schema_definitions("railderail_msgs/msg/Alert", text)
+    assert list(definitions) == [("railderail_msgs", "Alert"), ("std_msgs", "Header"), ("builtin_interfaces", "Time")]
+    assert [f.name for f in definitions["builtin_interfaces", "Time"].fields] == ["sec", "nanosec"]
     with pytest.raises(FileNotFoundError, match="no_such_msgs/msg/Nothing.msg"):
         schema_text("no_such_msgs/msg/Nothing")
 
@@ -69,17 +72,27 @@ def same(a, b, path=""):
             assert np.array_equal(np.asarray(x), np.asarray(y)), path + name
 
 
-def test_fast_decoder_equals_rclpy_and_mcap_ros2():
+def test_recorded_messages_decode_with_rclpy_and_foreign_schemas_with_mcap_ros2():
     from mcap.records import Schema
-    factory = DecoderFactory()
+
+    decoder = message_decoders()
     for schema_id, (type_name, message) in enumerate(sample_messages().items(), start=1):
         data = serialize_message(message)
         text = schema_text(type_name)
-        fast = Decoder(type_name, text)(data)
-        same(message, fast)
-        reference = factory.decoder_for("cdr", Schema(id=schema_id, name=type_name, encoding="ros2msg",
-                                                      data=text.encode()))(data)
-        same(message, reference)
+        decoded = decoder(Schema(id=schema_id, name=type_name, encoding="ros2msg", data=text.encode()))(data)
+        assert type(decoded) is type(message)                  # rclpy's deserialize_message
+        same(message, decoded)
+        # the same definition written otherwise (a comment added): still the installed type
+        commented = decoder(Schema(id=100 + schema_id, name=type_name, encoding="ros2msg",
+                                   data=("# recorded elsewhere\n" + text).encode()))(data)
+        assert type(commented) is type(message)
+    # a definition that is not the installed one (a field renamed): mcap_ros2's decoder
+    message = sample_messages()["railderail_msgs/msg/WheelsetStates"]
+    foreign = schema_text("railderail_msgs/msg/WheelsetStates").replace(" track_position", " position", 1)
+    decoded = decoder(Schema(id=200, name="railderail_msgs/msg/WheelsetStates", encoding="ros2msg",
+                             data=foreign.encode()))(serialize_message(message))
+    assert type(decoded) is not type(message) and decoded.position == message.track_position
+    assert np.array_equal(decoded.wheel_lift, message.wheel_lift)
     assert cdr_stamp_ns(serialize_message(sample_messages()["railderail_msgs/msg/Alert"])) == 1_250_000_000
 
 
