@@ -150,5 +150,5 @@ def run():
 
 
 if __name__ == "__main__":
-    import json
-    print(json.dumps(run(), indent=1))
+    from railderail_sim import jsonout
+    print(jsonout.dumps(run(), indent=1))

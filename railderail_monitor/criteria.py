@@ -224,17 +224,6 @@ class Detector:
         return False
 
 
-def detect(values, positions, threshold, debounce_m=2.0, rearm_fraction=0.9, rearm_m=50.0):
-    """Indices of the samples that raise an alert on one channel (the `Detector` over arrays)."""
-    values = np.asarray(values, dtype=float)
-    positions = np.asarray(positions, dtype=float)
-    above = np.flatnonzero(values >= threshold)
-    if above.size == 0:
-        return []
-    detector = Detector(threshold, debounce_m, rearm_fraction, rearm_m)
-    return [i for i in range(int(above[0]), len(values)) if detector.update(values[i], positions[i])]
-
-
 # --- the monitor --------------------------------------------------------------------------------
 
 @dataclass
@@ -296,6 +285,7 @@ class Monitor:
         return 0.0
 
     def _check(self, criterion, values, t, sample, position, speed, wheelsets):
+        t, sample, position, speed = float(t), int(sample), float(position), float(speed)
         alerts = []
         for sev, thr, detectors in self.channels[criterion]:
             for k, detector in enumerate(detectors):
@@ -312,7 +302,7 @@ class Monitor:
 
     def on_states(self, t, sample, position, speed, attack_angle, wheel_lift):
         """Attack angle (4 wheelsets, rad) and wheel lift (8 wheels, m) of one sample."""
-        return (self._check("attack_angle", [abs(float(attack_angle[0]))], t, sample, position, speed, (0,))
+        return (self._check("attack_angle", [front_attack_angle(attack_angle)], t, sample, position, speed, (0,))
                 + self._check("wheel_lift", wheel_lift, t, sample, position, speed, None))
 
     def on_forces(self, t, sample, position, speed, derailment_coefficient, vertical_force):
@@ -323,36 +313,22 @@ class Monitor:
 
 
 def alerts_of_run(arrays, limits: Limits = None):
-    """Alerts of a whole run, from the named arrays of `vehicle.simulate.Result.arrays()` (or the
-    same names from a recording); the same result as feeding a `Monitor` sample by sample, states
-    before forces. Sorted by sample, then in the monitor's order."""
-    limits = (limits or default_limits()).validated()
+    """Alerts of a whole run, from the named arrays of `vehicle.simulate.Result.arrays()` or
+    `ros_interface.sample_arrays` (or the same names from a recording): a Monitor fed sample by
+    sample as the monitor node is fed, the states, then the forces, then the status (curvature) of
+    each sample, so that batch and stream give the same alerts by construction."""
+    monitor = Monitor(limits)
     t, s, v = arrays["time"], arrays["position"], arrays["speed"]
-    curvature = np.asarray(arrays.get("curvature", np.zeros_like(t)), dtype=float)
-    curvature = np.concatenate(([0.0], curvature[:-1]))       # the status before each sample
-    samples = arrays.get("sample", np.arange(len(t)))
-    values = {"attack_angle": front_attack_angle(arrays["attack_angle"])[:, None],
-              "wheel_lift": np.asarray(arrays["wheel_lift"]),
-              "derailment_coefficient": np.asarray(arrays["derailment_coefficient"]),
-              "wheel_unloading": unloading_ratio(arrays["vertical_force"], limits.static_wheel_load)}
+    attack, lift = arrays["attack_angle"], arrays["wheel_lift"]
+    qp, load = arrays["derailment_coefficient"], arrays["vertical_force"]
+    curvature = arrays.get("curvature")
     found = []
-    for order, criterion in enumerate(CRITERIA):
-        for level, (sev, thr) in enumerate(limits.levels(criterion)):
-            x = values[criterion]
-            for k in range(x.shape[1]):
-                for i in detect(x[:, k], s, thr, limits.debounce_m, limits.rearm_fraction, limits.rearm_m):
-                    if criterion == "attack_angle":
-                        ws, side, rail = 0, "", ""
-                    else:
-                        ws, side = k // 2, SIDES[k % 2]
-                        rail = rail_side(side, float(curvature[i]))
-                    value = float(x[i, k])
-                    record = AlertRecord(float(t[i]), int(samples[i]), criterion, sev, value, thr, ws, side, rail,
-                                         float(s[i]), float(v[i]),
-                                         describe(criterion, sev, value, thr, ws, side, rail))
-                    found.append(((i, order, level, k), record))
-    found.sort(key=lambda item: item[0])
-    return [record for _, record in found]
+    for i, sample in enumerate(arrays.get("sample", range(len(t)))):
+        found += monitor.on_states(t[i], sample, s[i], v[i], attack[i], lift[i])
+        found += monitor.on_forces(t[i], sample, s[i], v[i], qp[i], load[i])
+        if curvature is not None:
+            monitor.set_curvature(sample, curvature[i])
+    return found
 
 
 def lead_times(alerts, derailment):

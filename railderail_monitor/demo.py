@@ -21,13 +21,15 @@ from __future__ import annotations
 import argparse
 import ctypes
 import datetime
-import json
 import signal
 import subprocess
 import sys
 import threading
 import time
 from pathlib import Path
+
+from railderail_sim import jsonout
+from railderail_sim.ros_interface import REAL_TIME_FACTOR_RANGE
 
 from .criteria import SEVERITY_NAMES, default_limits, lead_times
 
@@ -256,7 +258,7 @@ def run_demo(args, say=print):
                    alerts=listener.alerts, lead_times=leads, simulator_log=rate_line.split("]: ", 1)[-1],
                    monitor_log=mon_line.split("] ", 1)[-1], wall_time_s=time.monotonic() - started,
                    wall_time_run_s=wall_run)
-    summary_path.write_text(json.dumps(summary, indent=1))
+    jsonout.write(summary_path, summary)
     say(f"run folder: {out}  (demo.mcap, {'' if args.no_rrd else 'demo.rrd, '}summary.json, logs/); "
         f"wall time {summary['wall_time_s']:.0f} s")
     say(f"review it: railderail replay {mcap_path} --no-publish   |   rerun {rrd_path}")
@@ -269,7 +271,8 @@ def add_arguments(parser):
     parser.add_argument("--start-kmh", type=float, default=200.0, help="staircase start speed, km/h (default 200)")
     parser.add_argument("--rate", type=float, default=200.0, help="publish rate, Hz of simulated time (default 200)")
     parser.add_argument("--real-time-factor", type=float, default=3.0,
-                        help="simulated seconds per second (default 3; 0 = as fast as possible)")
+                        help="simulated seconds per second (default 3; 0 = as fast as possible; at most "
+                        f"{REAL_TIME_FACTOR_RANGE[1]:g})")
     parser.add_argument("--contact-model", default="hertz", choices=("hertz", "discrete"))
     parser.add_argument("--no-rrd", action="store_true", help="do not write the Rerun file")
     parser.add_argument("--rerun", action="store_true", help="also show the run live in a Rerun viewer (spawned)")
@@ -281,11 +284,10 @@ def command(parser: argparse.ArgumentParser):
     add_arguments(parser)
 
     def run(args):
-        if not 300.0 <= args.radius <= 20000.0:
-            raise ValueError(f"--radius {args.radius:g} m is outside 300-20000 m")
-        if not 1.0 <= args.rate <= 2000.0:
-            raise ValueError(f"--rate {args.rate:g} Hz is outside 1-2000 Hz")
-        if not 0.0 <= args.real_time_factor <= 100.0:
-            raise ValueError(f"--real-time-factor {args.real_time_factor:g} is outside 0-100")
+        from railderail_sim.node import PARAMETERS
+
+        table = {spec.name: spec for spec in PARAMETERS}     # the simulator node's own checks, before it starts
+        for name, value in simulator_parameters(args).items():
+            table[name].checked(value)
         return run_demo(args, say=lambda text: print(text, flush=True))
     return run

@@ -17,7 +17,6 @@ killed recorder left (the messages up to its last flushed chunk).
 from __future__ import annotations
 
 import argparse
-import json
 import struct
 import sys
 import time
@@ -30,8 +29,9 @@ from mcap_ros2.decoder import DecoderFactory
 from rclpy.serialization import deserialize_message
 from rosidl_adapter.parser import InvalidSpecification, InvalidValue
 
-from railderail_sim import ros_interface as m
-from railderail_sim.ros_interface import ALERTS, DERAILMENT, FINAL_STATUS, FORCES, STATES, STATUS
+from railderail_sim import jsonout, ros_interface as m
+from railderail_sim.ranges import check_range
+from railderail_sim.ros_interface import ALERTS, DERAILMENT, FINAL_STATUS, FORCES, REAL_TIME_FACTOR_RANGE, STATES, STATUS
 
 from .criteria import Limits, default_limits, Monitor, lead_times
 from .recording import schema_definitions, schema_text, split_type
@@ -333,8 +333,7 @@ def command(parser: argparse.ArgumentParser):
                         help="replay the readable part of a truncated recording instead of refusing it")
 
     def run(args):
-        if not 0.0 <= args.rate <= 1000.0:
-            raise ValueError(f"--rate {args.rate:g} is outside 0-1000 (0 = as fast as possible)")
+        check_range("--rate", args.rate, *REAL_TIME_FACTOR_RANGE)
         if args.rrd and not args.rrd.endswith(".rrd"):
             raise ValueError(f"--rrd {args.rrd}: the file name must end in .rrd")
         recording = read_recording(args.file, allow_truncated=args.allow_truncated)
@@ -368,7 +367,7 @@ def command(parser: argparse.ArgumentParser):
             if publisher is not None:
                 publisher.close()
         if args.json:
-            print(json.dumps(result.as_json(recording), indent=1, allow_nan=True))
+            print(jsonout.dumps(result.as_json(recording), indent=1))
         else:
             if derailment is not None:
                 print(f"derailment: t = {derailment['time_s']:.3f} s, s = {derailment['track_position_m']:.1f} m, "

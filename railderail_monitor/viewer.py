@@ -30,18 +30,19 @@ import rerun.blueprint as rrb
 from rclpy.node import Node
 
 from railderail_sim import ros_interface as m
+from railderail_sim.parameters import TrackParameters, VehicleParameters
 from railderail_sim.ros_interface import seconds
 
 from .criteria import Limits, default_limits, SEVERITY_CRITICAL, unloading_ratio
 
 WHEELS = [f"ws{w}_{side}" for w in range(4) for side in ("left", "right")]
 TIMELINE = "sim_time"
-# schematic geometry (m): stations from the hs19 parameter set (bogie semi-distance 8.75 m,
-# wheelbase semi 1.25 m, rolling radius 0.46 m); body sizes only for the picture
-STATIONS = (10.0, 7.5, -7.5, -10.0)
-BOGIES = (8.75, -8.75)
-RAIL_Y = 0.75                 # m, rail centre from the track centre line
-WHEEL_RADIUS = 0.46
+# schematic geometry (m) of the built-in car and track; body sizes only for the picture
+_CAR, _TRACK = VehicleParameters(), TrackParameters()
+BOGIES = (_CAR.bogie_semi_distance, -_CAR.bogie_semi_distance)              # bogie centres from the car's
+STATIONS = tuple(b + w for b in BOGIES for w in (_CAR.wheelbase_semi, -_CAR.wheelbase_semi))   # wheelsets 0..3
+RAIL_Y = _TRACK.rail_spacing / 2.0                                          # rail centre from the track centre line
+WHEEL_RADIUS = _CAR.rolling_radius
 GREEN, ORANGE, RED, GREY = (60, 180, 75), (245, 130, 48), (230, 25, 75), (128, 128, 128)
 LEVEL_COLORS = (ORANGE, RED)
 
