@@ -1,10 +1,12 @@
 """Derailment criteria as plain functions: the early-warning criteria of Yu et al. (2022) and the
 classic ones, with the debounce and hysteresis that turn a crossing into one alert.
 
-No ROS here: the monitor node (`railderail_monitor.node`), the replay and the warning-quality
-command all run the same `Monitor` over their samples, so their alerts agree by construction.
+No ROS here: the monitor node (`railderail_monitor.node`), the replay, `alerts_of_run` (recordings
+written without ROS, the warning-quality command) all run the same `Monitor` over their samples, so
+their alerts agree by construction.
 
-Criteria (values, units, default levels; `Limits` holds them, the monitor's parameters override):
+Criteria (values, units, default levels; `Limits` holds them and its field metadata is the table of
+the monitor's parameters; the defaults are the shipped parameter file's, `default_limits`):
 
 | criterion                | value (unit)                                   | WARNING level         | CRITICAL level         |
 | ------------------------ | ---------------------------------------------- | --------------------- | ---------------------- |
@@ -23,7 +25,7 @@ Sources and confidence:
 - derailment coefficient: EN 14363:2016 / UIC 518 acceptance limit (Y/Q)lim = 0.8 (high confidence
   for the value; the standard applies it to the 2 m sliding mean, here a 2 m persistence); Nadal's
   limit (tan d - mu)/(1 + mu tan d) at the profile pair's maximum contact angle and the scenario's
-  friction (1.318 for LM on UIC60, mu = 0.3) is the physical flange-climbing limit.
+  friction (1.319 for LM on UIC60, mu = 0.3) is the physical flange-climbing limit.
 - wheel unloading ratio dP/P0 = (P0 - P)/P0: GB 5599-85 gives 0.60 (allowable) and 0.65 (danger
   limit) (medium confidence: later Chinese codes, GB/T 5599-2019 and TB 10761, keep 0.6-0.65 for
   the dynamic ratio but with different evaluation windows and speed classes).

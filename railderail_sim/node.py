@@ -3,11 +3,16 @@
 A timer fires at the publish rate (times the real-time factor); each tick integrates exactly one
 publication period (`Simulation.advance`) and publishes the new sample on the state topics
 (sensor-data QoS): wheelset states and contact forces at every sample, the vehicle status at
-`status_rate` (every 4th sample by default), plus /clock when not running at real time. When the run stops it publishes the
-final VehicleStatus on /railderail/final_status and, after a derailment, the ground-truth
-DerailmentEvent on /railderail/derailment (both reliable, transient local), then exits (0; 1 if the
-model diverged, with the reason in the log and in the final status). Topics and QoS:
-railderail_sim/ros_interface.py; parameters (ros-args `-p name:=value`): PARAMETERS below.
+`status_rate` (every 4th sample by default), plus /clock when not running at real time. When the
+run stops it publishes the final VehicleStatus on /railderail/final_status and, after a derailment,
+the ground-truth DerailmentEvent on /railderail/derailment (both reliable, transient local), then
+exits (0; 1 if the model diverged, with the reason in the log and in the final status). Topics and
+QoS: railderail_sim/ros_interface.py.
+
+Parameters (`-p name:=value`, `--params-file`): PARAMETERS below, each with its descriptor (range,
+read-only). A bad value at start is one line `railderail-simulator: error: ...` and exit status 2.
+The scenario's parameters are read-only (the model is built from them); real_time_factor,
+status_rate, linger_s and frame_id may change while running (`ros2 param set`), checked as at start.
 """
 import sys
 import time
@@ -21,7 +26,7 @@ from railderail_sim import ros_interface as m
 from railderail_sim.contact.cli import FRICTION
 from railderail_sim.ros_interface import REAL_TIME_FACTOR_RANGE, ParameterSpec as P
 from railderail_sim.vehicle.assemble import NORMAL_MODELS
-from railderail_sim.vehicle.simulate import RADIUS_RANGE, SPEED_RANGE_KMH
+from railderail_sim.vehicle.simulate import RADIUS_RANGE, SPEED_RANGE_KMH, Result, Simulation, SimulationDiverged
 
 MAX_CATCH_UP = 20   # samples one late tick may publish in a row
 PUBLISH_RATE_RANGE = (1.0, 2000.0)        # Hz of simulated time
@@ -76,15 +81,12 @@ class SimulatorNode(Node):
     def __init__(self):
         super().__init__("railderail_simulator")
         self.p = m.declare_parameters(self, PARAMETERS, check=check_rates, apply=self.on_parameters)
-        sc = build_scenario(self.p)
-        from railderail_sim.vehicle.simulate import Result, Simulation
-
-        self.Result = Result
-        self.scenario = sc
-        self.get_logger().info(f"railderail simulator: building the model (R = {self.p['radius']:g} m, {self.p['speed_mode']} speed from "
-                               f"{self.p['speed_kmh']:g} km/h, {self.p['contact_model']} contact); the first run "
-                               "in a fresh checkout also compiles the core (about a minute)")
-        self.sim = Simulation(sc)
+        self.scenario = build_scenario(self.p)
+        self.get_logger().info(f"railderail simulator: building the model (R = {self.p['radius']:g} m, "
+                               f"{self.p['speed_mode']} speed from {self.p['speed_kmh']:g} km/h, "
+                               f"{self.p['contact_model']} contact); the first run in a fresh checkout also "
+                               "compiles the core (about a minute)")
+        self.sim = Simulation(self.scenario)
         self.period = 1.0 / self.p["publish_rate"]
         self.status_every = max(1, round(self.p["publish_rate"] / self.p["status_rate"]))
         self.pending = self.sim.advance(self.period)      # compiles; the start sample and the first period
@@ -169,8 +171,6 @@ class SimulatorNode(Node):
 
     def step(self):
         """Integrate one publication period and publish it; False once the run has stopped."""
-        from railderail_sim.vehicle.simulate import SimulationDiverged
-
         try:
             rows, self.pending = (self.pending, None) if self.pending is not None else (self.sim.advance(self.period), None)
         except SimulationDiverged as error:
@@ -178,7 +178,7 @@ class SimulatorNode(Node):
             self.finish(m.msgs.VehicleStatus.STATE_DIVERGED, str(error), self.last_arrays, self.last_index, code=1)
             return False
         if len(rows):
-            a = m.sample_arrays(self.Result(rows=rows, scenario=self.scenario, status=""))
+            a = m.sample_arrays(Result(rows=rows, scenario=self.scenario, status=""))
             for i in range(len(rows)):
                 self.publish_sample(a, i)
             self.last_arrays, self.last_index = a, len(rows) - 1

@@ -1,9 +1,10 @@
 """The ROS 2 interface of railderail: topics, QoS, core rows -> messages, messages -> dicts, time
-stamps, and the one way every railderail node is run (`run_node`).
+stamps, node parameter tables (`ParameterSpec`, `declare_parameters`) and the one way every
+railderail node is run (`run_node`).
 
 The simulator node (railderail_sim/node.py) publishes on these topics; the monitor, recorder,
-replay, viewer, demo and benchmark of railderail_monitor subscribe to them through this module, so
-that railderail_sim never imports railderail_monitor. Topics (all under /railderail/ except the clock):
+replay, viewer, demo and benchmark of railderail_monitor use them through this module, so that
+railderail_sim never imports railderail_monitor. Topics (all under /railderail/ except the clock):
 
 | topic                            | type                             | QoS                                    |
 | -------------------------------- | -------------------------------- | -------------------------------------- |

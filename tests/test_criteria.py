@@ -45,7 +45,7 @@ def test_default_levels_are_the_documented_ones():
     assert lim.levels("attack_angle") == [(C.SEVERITY_WARNING, 0.06)]                 # no critical level
     assert lim.levels("wheel_lift") == [(1, pytest.approx(0.027793 / 3, rel=1e-4)),
                                         (2, pytest.approx(2 * 0.027793 / 3, rel=1e-4))]
-    assert lim.levels("derailment_coefficient") == [(1, 0.8), (2, pytest.approx(1.318, abs=2e-3))]
+    assert lim.levels("derailment_coefficient") == [(1, 0.8), (2, pytest.approx(1.3193, abs=1e-4))]
     assert lim.levels("wheel_unloading") == [(1, 0.60), (2, 0.65)]
     assert lim.debounce_m == 2.0 and lim.rearm_fraction == 0.9 and lim.rearm_m == 50.0
 
