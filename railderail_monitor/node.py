@@ -19,6 +19,7 @@ from railderail_sim import ros_interface as m
 
 from .criteria import AlertRecord, Limits, Monitor, default_limits
 
+
 def parameter_table(defaults: Limits):
     """The node's parameters: the fields of criteria.Limits with their metadata, defaults from `defaults`.
     All may change while running."""
@@ -42,10 +43,10 @@ def alert_message(record: AlertRecord, frame_id="track"):
 class MonitorNode(Node):
     def __init__(self):
         super().__init__("railderail_monitor")
-        self.limits = m.declare_parameters(self, parameter_table(default_limits()),
-                                           check=lambda values: Limits(**values).validated(),
-                                           apply=self.on_limits)
-        self.monitor = Monitor(Limits(**self.limits))
+        self.limit_values = m.declare_parameters(self, parameter_table(default_limits()),
+                                                 check=lambda values: Limits(**values).validated(),
+                                                 apply=self.on_limits)
+        self.monitor = Monitor(Limits(**self.limit_values))
         self.publisher = self.create_publisher(m.Alert, m.ALERTS, m.ALERT_QOS)
         self.create_subscription(m.WheelsetStates, m.STATES, self.on_states, m.SENSOR_SUBSCRIBER)
         self.create_subscription(m.ContactForces, m.FORCES, self.on_forces, m.SENSOR_SUBSCRIBER)
@@ -63,7 +64,7 @@ class MonitorNode(Node):
         """New thresholds while running: a new Monitor (every channel armed again), the curvature
         history kept."""
         curvatures = self.monitor.curvatures
-        self.monitor = Monitor(Limits(**self.limits))
+        self.monitor = Monitor(Limits(**self.limit_values))
         self.monitor.curvatures = curvatures
         self.get_logger().info("thresholds changed (" + ", ".join(f"{k} {v:g}" for k, v in changed.items())
                                + f"): {self.monitoring()}")
