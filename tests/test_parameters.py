@@ -51,6 +51,7 @@ class Client:
 
     def call(self, future):
         self.executor.spin_until_future_complete(future, timeout_sec=10.0)
+        assert future.done(), "the node's parameter service gave no answer within 10 s"
         return future.result()
 
     def set(self, name, value):
