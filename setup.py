@@ -25,10 +25,12 @@ setup(
     python_requires=">=3.11",
     packages=find_packages(include=["railderail_sim", "railderail_sim.*",
                                     "railderail_monitor", "railderail_monitor.*"]),
-    package_data={"railderail_sim": ["profiles/data/*"]},
+    package_data={"railderail_sim": ["profiles/data/*"], "railderail_monitor": ["config/*.yaml"]},
     data_files=[
         ("share/ament_index/resource_index/packages", [f"resource/{PACKAGE}"]),
         (f"share/{PACKAGE}", ["package.xml"]),
+        # the monitor's parameter file where ROS users look for it (the node reads the package's copy)
+        (f"share/{PACKAGE}/config", ["railderail_monitor/config/monitor.yaml"]),
         (f"lib/{PACKAGE}", ["ros2_run/simulator", "ros2_run/monitor"]),
     ],
     # Python libraries only: the ROS 2 packages (rclpy, messages) come from the ROS installation,

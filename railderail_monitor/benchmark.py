@@ -35,7 +35,7 @@ def _ros_figures():
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.signals import SignalHandlerOptions
 
-    from . import messages as m
+    from railderail_sim import ros_interface as m
 
     env = dict(os.environ, ROS_DOMAIN_ID=str(150 + os.getpid() % 80), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST")
     os.environ.update({k: env[k] for k in ("ROS_DOMAIN_ID", "ROS_AUTOMATIC_DISCOVERY_RANGE")})
@@ -110,15 +110,15 @@ def _ros_figures():
 def _mcap_figures(seconds=2.0):
     from rclpy.serialization import serialize_message
 
-    from railderail_sim.vehicle.simulate import Result, Simulation, scenario
+    from railderail_sim.vehicle.simulate import Simulation, output_arrays, scenario
 
-    from . import messages as m
+    from railderail_sim import ros_interface as m
     from .recording import McapRecording
     from .replay import read_recording
 
     sim = Simulation(replace(scenario(radius=1000.0, speed_kmh=300.0), output_rate=RATE))
     rows = sim.advance(1.0)
-    a = m.sample_arrays(Result(rows=rows, scenario=sim.scenario, status=""))
+    a = output_arrays(rows)
     c = m.RowConverter()
     payloads = [(topic, serialize_message(make(a, i, i))) for i in range(len(rows))
                 for topic, make in ((m.STATES, c.states), (m.FORCES, c.forces), (m.STATUS, c.status))]
@@ -150,5 +150,5 @@ def run():
 
 
 if __name__ == "__main__":
-    import json
-    print(json.dumps(run(), indent=1))
+    from railderail_sim import jsonout
+    print(jsonout.dumps(run(), indent=1))

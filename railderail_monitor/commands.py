@@ -9,6 +9,8 @@ COMMANDS = (
     ("record", "record every /railderail topic to an MCAP file", "railderail_monitor.recording:command"),
     ("view", "show the live /railderail topics in Rerun (--rrd FILE for a file)",
      "railderail_monitor.viewer:command"),
+    ("monitor-params", "the monitor's parameter file (thresholds) of a wheel, rail, friction and vehicle set",
+     "railderail_monitor.monitor_params:command"),
     ("warnings", "warning quality: lead time and false alarms of each criterion over the six radii",
      "railderail_monitor.warning_quality:command"),
 )

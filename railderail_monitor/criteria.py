@@ -1,10 +1,12 @@
 """Derailment criteria as plain functions: the early-warning criteria of Yu et al. (2022) and the
 classic ones, with the debounce and hysteresis that turn a crossing into one alert.
 
-No ROS here: the monitor node (`railderail_monitor.node`), the replay and the warning-quality
-command all run the same `Monitor` over their samples, so their alerts agree by construction.
+No ROS here: the monitor node (`railderail_monitor.node`), the replay, `alerts_of_run` (recordings
+written without ROS, the warning-quality command) all run the same `Monitor` over their samples, so
+their alerts agree by construction.
 
-Criteria (values, units, default levels; `Limits` holds them, the monitor's parameters override):
+Criteria (values, units, default levels; `Limits` holds them and its field metadata is the table of
+the monitor's parameters; the defaults are the shipped parameter file's, `default_limits`):
 
 | criterion                | value (unit)                                   | WARNING level         | CRITICAL level         |
 | ------------------------ | ---------------------------------------------- | --------------------- | ---------------------- |
@@ -23,7 +25,7 @@ Sources and confidence:
 - derailment coefficient: EN 14363:2016 / UIC 518 acceptance limit (Y/Q)lim = 0.8 (high confidence
   for the value; the standard applies it to the 2 m sliding mean, here a 2 m persistence); Nadal's
   limit (tan d - mu)/(1 + mu tan d) at the profile pair's maximum contact angle and the scenario's
-  friction (1.318 for LM on UIC60, mu = 0.3) is the physical flange-climbing limit.
+  friction (1.319 for LM on UIC60, mu = 0.3) is the physical flange-climbing limit.
 - wheel unloading ratio dP/P0 = (P0 - P)/P0: GB 5599-85 gives 0.60 (allowable) and 0.65 (danger
   limit) (medium confidence: later Chinese codes, GB/T 5599-2019 and TB 10761, keep 0.6-0.65 for
   the dynamic ratio but with different evaluation windows and speed classes).
@@ -39,36 +41,66 @@ from __future__ import annotations
 import collections
 import functools
 import math
-from dataclasses import asdict, dataclass, fields
+from dataclasses import MISSING, asdict, dataclass, field, fields
 
 import numpy as np
 
 from railderail_sim.ranges import check_range
 
 CRITERIA = ("attack_angle", "wheel_lift", "derailment_coefficient", "wheel_unloading")
-UNITS = {"attack_angle": "rad", "wheel_lift": "m", "derailment_coefficient": "-", "wheel_unloading": "-"}
 SEVERITY_WARNING, SEVERITY_CRITICAL = 1, 2          # the Alert message's constants
 SEVERITY_NAMES = {SEVERITY_WARNING: "warning", SEVERITY_CRITICAL: "critical"}
 SIDES = ("left", "right")
 
+
+def _value(unit, meaning, source, default=MISSING, accepted=(0.0, math.inf), lo_open=True, nan_disables=False):
+    """A field of Limits with what the monitor's parameters and its parameter file say about it:
+    unit ('' = dimensionless), meaning, source, the accepted range (lo open where flagged) and
+    whether NaN is accepted (it disables a level)."""
+    return field(default=default, metadata=dict(unit=unit, meaning=meaning, source=source, accepted=accepted,
+                                                lo_open=lo_open, nan_disables=nan_disables))
+
+
+def _level(unit, meaning, source, default=MISSING):
+    return _value(unit, meaning, source, default, nan_disables=True)
+
+
 @dataclass(frozen=True)
 class Limits:
-    """Thresholds of every criterion (NaN disables a level) and the alerting behaviour.
+    """Thresholds of every criterion (NaN disables a level) and the alerting behaviour; the field
+    metadata is the one table of the monitor's parameters (names, units, meanings, sources, ranges).
 
     The first four depend on the car and the profiles: take them from the model with
-    `limits_for_model` (or `default_limits` for the built-in scenario), never by hand."""
-    wheel_lift: float                                         # m, WARNING: 1/3 of the flange height
-    wheel_lift_critical: float                                # m: 2/3 of the flange height
-    derailment_coefficient_critical: float                    # -, Nadal's limit of the profile pair
-    static_wheel_load: float                                  # N, P0 of the unloading ratio
-    attack_angle: float = 0.06                                # rad, WARNING (Yu 2022)
-    attack_angle_critical: float = math.nan                   # rad
-    derailment_coefficient: float = 0.8                       # -, WARNING (EN 14363)
-    wheel_unloading: float = 0.60                             # -, WARNING (GB 5599-85 allowable)
-    wheel_unloading_critical: float = 0.65                    # -, GB 5599-85 danger limit
-    debounce_m: float = 2.0                                   # m of track at or above the level
-    rearm_fraction: float = 0.9                               # re-arm below this fraction of the level ...
-    rearm_m: float = 50.0                                     # ... held over this many m of track
+    `limits_for_model` (`railderail monitor-params` writes them to a parameter file; the monitor's
+    defaults are the shipped file's, `default_limits`), never by hand."""
+    wheel_lift: float = _level("m", "wheel lift hp of each wheel, WARNING level",
+                               "1/3 of the wheel's flange height (no standard value: a modelling choice)")
+    wheel_lift_critical: float = _level("m", "wheel lift, CRITICAL level",
+                                        "2/3 of the flange height (the core declares a derailment near the "
+                                        "full height)")
+    derailment_coefficient_critical: float = _level(
+        "", "derailment coefficient Q/P of each wheel, CRITICAL level",
+        "Nadal's limit (tan d - mu)/(1 + mu tan d) at the profile pair's largest contact angle d, friction mu")
+    static_wheel_load: float = _value("N", "static wheel load P0 of the unloading ratio (P0 - P)/P0",
+                                      "the car's load per wheel at rest on level track "
+                                      "(VehicleParameters.static_wheel_load)")
+    attack_angle: float = _level("rad", "magnitude of the front wheelset's attack angle, WARNING level",
+                                 "Yu et al., Appl. Sci. 2022, 12, 11199", 0.06)
+    attack_angle_critical: float = _level("rad", "attack angle, CRITICAL level",
+                                          "none in the sources, so disabled", math.nan)
+    derailment_coefficient: float = _level("", "derailment coefficient Q/P of each wheel, WARNING level",
+                                           "EN 14363:2016 / UIC 518 limit (Y/Q)lim", 0.8)
+    wheel_unloading: float = _level("", "wheel unloading ratio dP/P0 of each wheel, WARNING level",
+                                    "GB 5599-85 allowable value", 0.60)
+    wheel_unloading_critical: float = _level("", "wheel unloading ratio, CRITICAL level",
+                                             "GB 5599-85 danger limit", 0.65)
+    debounce_m: float = _value("m", "track a value must stay at or above a level before its alert",
+                               "the 2 m window of EN 14363's Q/P sliding mean", 2.0, (0.0, 100.0), False)
+    rearm_fraction: float = _value("", "re-arm level of a channel after its alert, as a fraction of the threshold",
+                                   "a modelling choice (10 % hysteresis)", 0.9, (0.0, 1.0))
+    rearm_m: float = _value("m", "track the value must stay below the re-arm level before the channel re-arms",
+                            "two car lengths: the dynamic unloading in a transition oscillates around its "
+                            "level a few metres apart", 50.0, (0.0, 10000.0), False)
 
     def levels(self, criterion):
         """[(severity, threshold)] of a criterion, enabled levels only."""
@@ -77,47 +109,56 @@ class Limits:
         return [(sev, float(thr)) for sev, thr in out if math.isfinite(thr)]
 
     def validated(self):
+        """self if every value is within its accepted range and each warning level is below its
+        critical level, else ValueError naming the value and the range."""
         for f in fields(self):
-            value = getattr(self, f.name)
-            if not (math.isnan(value) or value > 0.0) and f.name not in ("debounce_m", "rearm_m"):
-                raise ValueError(f"{f.name} {value:g} must be positive (or NaN to disable a level)")
+            value, meta = getattr(self, f.name), f.metadata
+            if not (meta["nan_disables"] and math.isnan(value)):
+                lo, hi = meta["accepted"]
+                check_range(f.name, value, lo, hi, meta["unit"], lo_open=meta["lo_open"], hi_open=math.isinf(hi))
         for criterion in CRITERIA:
             warn, crit = getattr(self, criterion), getattr(self, criterion + "_critical")
             if math.isfinite(warn) and math.isfinite(crit) and not warn < crit:
                 raise ValueError(f"{criterion} {warn:g} must be below {criterion}_critical {crit:g}")
-        check_range("debounce_m", self.debounce_m, 0.0, 100.0, "m")
-        check_range("rearm_m", self.rearm_m, 0.0, 10000.0, "m")
-        check_range("rearm_fraction", self.rearm_fraction, 0.0, 1.0, lo_open=True)
         return self
 
     def as_dict(self):
         return asdict(self)
 
 
-def limits_for_model(model, friction, **changes):
-    """Limits whose model-dependent values (flange height, static wheel load, Nadal's limit at the
-    profile pair's maximum contact angle) come from a built `vehicle.assemble.Model`."""
+def model_basis(model):
+    """What the limits take from a built `vehicle.assemble.Model`: flange height (m), the profile
+    pair's largest contact angle in rigid contact (rad) and the static wheel load (N). The one
+    function that reads the model's internals for the monitor."""
     from railderail_sim.contact.conicity import max_contact_angle
-    from railderail_sim.contact.nadal import nadal_limit
-    from railderail_sim.vehicle import layout
 
-    hf = float(model.vp[layout.VehicleConstants.flange_height])
     delta, _ = max_contact_angle(model.cg)
+    return dict(flange_height=model.flange_height, max_contact_angle=float(delta),
+                static_wheel_load=float(model.vehicle.static_wheel_load))
+
+
+def limits_for_model(model, friction, **changes):
+    """Limits whose model-dependent values come from a built model (`model_basis`): wheel lift 1/3
+    and 2/3 of the flange height, Nadal's limit at the largest contact angle and `friction`, the
+    static wheel load; the others their defaults unless `changes` says otherwise."""
+    from railderail_sim.contact.nadal import nadal_limit
+
+    basis = model_basis(model)
+    hf = basis["flange_height"]
     values = dict(wheel_lift=hf / 3.0, wheel_lift_critical=2.0 * hf / 3.0,
-                  derailment_coefficient_critical=nadal_limit(delta, friction),
-                  static_wheel_load=float(model.static_wheel_load))
+                  derailment_coefficient_critical=float(nadal_limit(basis["max_contact_angle"], friction)),
+                  static_wheel_load=basis["static_wheel_load"])
     values.update(changes)
     return Limits(**values).validated()
 
 
 @functools.lru_cache(maxsize=None)
 def default_limits():
-    """Limits of the built-in scenario (vehicle set hs19, LM on UIC60 at 1:40, its friction)."""
-    from railderail_sim.parameters import ContactParameters, TrackParameters, vehicle_parameters
-    from railderail_sim.vehicle.assemble import build_model
-    contact = ContactParameters(contact_geometry="online")     # the limits need no contact table
-    return limits_for_model(build_model(vehicle_parameters(), TrackParameters(), contact),
-                            contact.friction_coefficient)
+    """The monitor's default limits: those of the parameter file shipped with the package
+    (railderail_monitor/config/monitor.yaml, made by `railderail monitor-params` for the built-in
+    car: vehicle set hs19, LM on UIC60 at 1:40, friction 0.3). Reads no model, imports no numba."""
+    from .monitor_params import SHIPPED, read_limits
+    return read_limits(SHIPPED)
 
 
 # --- values of the criteria -------------------------------------------------------------------
@@ -184,17 +225,6 @@ class Detector:
         return False
 
 
-def detect(values, positions, threshold, debounce_m=2.0, rearm_fraction=0.9, rearm_m=50.0):
-    """Indices of the samples that raise an alert on one channel (the `Detector` over arrays)."""
-    values = np.asarray(values, dtype=float)
-    positions = np.asarray(positions, dtype=float)
-    above = np.flatnonzero(values >= threshold)
-    if above.size == 0:
-        return []
-    detector = Detector(threshold, debounce_m, rearm_fraction, rearm_m)
-    return [i for i in range(int(above[0]), len(values)) if detector.update(values[i], positions[i])]
-
-
 # --- the monitor --------------------------------------------------------------------------------
 
 @dataclass
@@ -256,6 +286,7 @@ class Monitor:
         return 0.0
 
     def _check(self, criterion, values, t, sample, position, speed, wheelsets):
+        t, sample, position, speed = float(t), int(sample), float(position), float(speed)
         alerts = []
         for sev, thr, detectors in self.channels[criterion]:
             for k, detector in enumerate(detectors):
@@ -272,7 +303,7 @@ class Monitor:
 
     def on_states(self, t, sample, position, speed, attack_angle, wheel_lift):
         """Attack angle (4 wheelsets, rad) and wheel lift (8 wheels, m) of one sample."""
-        return (self._check("attack_angle", [abs(float(attack_angle[0]))], t, sample, position, speed, (0,))
+        return (self._check("attack_angle", [front_attack_angle(attack_angle)], t, sample, position, speed, (0,))
                 + self._check("wheel_lift", wheel_lift, t, sample, position, speed, None))
 
     def on_forces(self, t, sample, position, speed, derailment_coefficient, vertical_force):
@@ -283,36 +314,22 @@ class Monitor:
 
 
 def alerts_of_run(arrays, limits: Limits = None):
-    """Alerts of a whole run, from the named arrays of `vehicle.simulate.Result.arrays()` (or the
-    same names from a recording); the same result as feeding a `Monitor` sample by sample, states
-    before forces. Sorted by sample, then in the monitor's order."""
-    limits = (limits or default_limits()).validated()
+    """Alerts of a whole run, from the named arrays of `vehicle.simulate.Result.arrays()` or
+    `vehicle.simulate.output_arrays` (or the same names from a recording): a Monitor fed sample by
+    sample as the monitor node is fed, the states, then the forces, then the status (curvature) of
+    each sample, so that batch and stream give the same alerts by construction."""
+    monitor = Monitor(limits)
     t, s, v = arrays["time"], arrays["position"], arrays["speed"]
-    curvature = np.asarray(arrays.get("curvature", np.zeros_like(t)), dtype=float)
-    curvature = np.concatenate(([0.0], curvature[:-1]))       # the status before each sample
-    samples = arrays.get("sample", np.arange(len(t)))
-    values = {"attack_angle": front_attack_angle(arrays["attack_angle"])[:, None],
-              "wheel_lift": np.asarray(arrays["wheel_lift"]),
-              "derailment_coefficient": np.asarray(arrays["derailment_coefficient"]),
-              "wheel_unloading": unloading_ratio(arrays["vertical_force"], limits.static_wheel_load)}
+    attack, lift = arrays["attack_angle"], arrays["wheel_lift"]
+    qp, load = arrays["derailment_coefficient"], arrays["vertical_force"]
+    curvature = arrays.get("curvature")
     found = []
-    for order, criterion in enumerate(CRITERIA):
-        for level, (sev, thr) in enumerate(limits.levels(criterion)):
-            x = values[criterion]
-            for k in range(x.shape[1]):
-                for i in detect(x[:, k], s, thr, limits.debounce_m, limits.rearm_fraction, limits.rearm_m):
-                    if criterion == "attack_angle":
-                        ws, side, rail = 0, "", ""
-                    else:
-                        ws, side = k // 2, SIDES[k % 2]
-                        rail = rail_side(side, float(curvature[i]))
-                    value = float(x[i, k])
-                    record = AlertRecord(float(t[i]), int(samples[i]), criterion, sev, value, thr, ws, side, rail,
-                                         float(s[i]), float(v[i]),
-                                         describe(criterion, sev, value, thr, ws, side, rail))
-                    found.append(((i, order, level, k), record))
-    found.sort(key=lambda item: item[0])
-    return [record for _, record in found]
+    for i, sample in enumerate(arrays.get("sample", range(len(t)))):
+        found += monitor.on_states(t[i], sample, s[i], v[i], attack[i], lift[i])
+        found += monitor.on_forces(t[i], sample, s[i], v[i], qp[i], load[i])
+        if curvature is not None:
+            monitor.set_curvature(sample, curvature[i])
+    return found
 
 
 def lead_times(alerts, derailment):

@@ -21,13 +21,15 @@ from __future__ import annotations
 import argparse
 import ctypes
 import datetime
-import json
 import signal
 import subprocess
 import sys
 import threading
 import time
 from pathlib import Path
+
+from railderail_sim import jsonout
+from railderail_sim.ros_interface import REAL_TIME_FACTOR_RANGE
 
 from .criteria import SEVERITY_NAMES, default_limits, lead_times
 
@@ -86,7 +88,7 @@ class Node:
 def simulator_parameters(args):
     return {"radius": float(args.radius), "speed_mode": "progressive", "speed_kmh": float(args.start_kmh),
             "publish_rate": float(args.rate), "real_time_factor": float(args.real_time_factor),
-            "contact_model": args.contact_model, "wait_for_subscribers": 2}
+            "contact_model": args.contact_model, "wait_for_subscribers": SUBSCRIBERS}
 
 
 def ros_args(parameters):
@@ -96,15 +98,19 @@ def ros_args(parameters):
     return out
 
 
+SUBSCRIBERS = 3          # the simulator starts once the monitor, the recorder and the demo's listener subscribe
+
+
 class Listener:
-    """The demo's own rclpy node: alerts, the derailment event and the final status."""
+    """The demo's own rclpy node: alerts, the derailment event and the final status; the simulator counts
+    it among the subscribers it waits for (`ros_interface.count_as_subscriber`)."""
 
     def __init__(self, say):
         import rclpy
         from rclpy.executors import SingleThreadedExecutor
         from rclpy.signals import SignalHandlerOptions
 
-        from . import messages as m
+        from railderail_sim import ros_interface as m
 
         self.rclpy, self.m = rclpy, m
         rclpy.init(signal_handler_options=SignalHandlerOptions.NO)   # Ctrl-C stays a KeyboardInterrupt here
@@ -117,6 +123,7 @@ class Listener:
         self.node.create_subscription(m.Alert, m.ALERTS, self.on_alert, m.ALERT_QOS)
         self.node.create_subscription(m.DerailmentEvent, m.DERAILMENT, self.on_derailment, m.LATCHED)
         self.node.create_subscription(m.VehicleStatus, m.FINAL_STATUS, self.on_final, m.LATCHED)
+        m.count_as_subscriber(self.node)
 
     def on_alert(self, msg):
         a = self.m.alert_dict(msg)
@@ -256,7 +263,7 @@ def run_demo(args, say=print):
                    alerts=listener.alerts, lead_times=leads, simulator_log=rate_line.split("]: ", 1)[-1],
                    monitor_log=mon_line.split("] ", 1)[-1], wall_time_s=time.monotonic() - started,
                    wall_time_run_s=wall_run)
-    summary_path.write_text(json.dumps(summary, indent=1))
+    jsonout.write(summary_path, summary)
     say(f"run folder: {out}  (demo.mcap, {'' if args.no_rrd else 'demo.rrd, '}summary.json, logs/); "
         f"wall time {summary['wall_time_s']:.0f} s")
     say(f"review it: railderail replay {mcap_path} --no-publish   |   rerun {rrd_path}")
@@ -269,7 +276,8 @@ def add_arguments(parser):
     parser.add_argument("--start-kmh", type=float, default=200.0, help="staircase start speed, km/h (default 200)")
     parser.add_argument("--rate", type=float, default=200.0, help="publish rate, Hz of simulated time (default 200)")
     parser.add_argument("--real-time-factor", type=float, default=3.0,
-                        help="simulated seconds per second (default 3; 0 = as fast as possible)")
+                        help="simulated seconds per second (default 3; 0 = as fast as possible; at most "
+                        f"{REAL_TIME_FACTOR_RANGE[1]:g})")
     parser.add_argument("--contact-model", default="hertz", choices=("hertz", "discrete"))
     parser.add_argument("--no-rrd", action="store_true", help="do not write the Rerun file")
     parser.add_argument("--rerun", action="store_true", help="also show the run live in a Rerun viewer (spawned)")
@@ -281,11 +289,10 @@ def command(parser: argparse.ArgumentParser):
     add_arguments(parser)
 
     def run(args):
-        if not 300.0 <= args.radius <= 20000.0:
-            raise ValueError(f"--radius {args.radius:g} m is outside 300-20000 m")
-        if not 1.0 <= args.rate <= 2000.0:
-            raise ValueError(f"--rate {args.rate:g} Hz is outside 1-2000 Hz")
-        if not 0.0 <= args.real_time_factor <= 100.0:
-            raise ValueError(f"--real-time-factor {args.real_time_factor:g} is outside 0-100")
+        from railderail_sim.node import PARAMETERS
+
+        table = {spec.name: spec for spec in PARAMETERS}     # the simulator node's own checks, before it starts
+        for name, value in simulator_parameters(args).items():
+            table[name].checked(value)
         return run_demo(args, say=lambda text: print(text, flush=True))
     return run

@@ -3,52 +3,71 @@
 Subscribes to /railderail/wheelset_states, /railderail/contact_forces (best effort, deep queue)
 and /railderail/vehicle_status (for the curve's side), runs `criteria.Monitor` on every sample and
 publishes each alert on /railderail/alerts (reliable, transient local). The criteria, their
-thresholds and the debounce/hysteresis are in railderail_monitor/criteria.py; every threshold is a
-parameter (PARAMETERS below, `-p name:=value`; NaN disables a level). On exit it logs how many
+thresholds and the debounce/hysteresis are in railderail_monitor/criteria.py. Every threshold is a
+ROS parameter (the fields of `criteria.Limits`, `-p name:=value` or `--params-file FILE.yaml`; NaN
+disables a level) whose default is the shipped parameter file's (railderail_monitor/config/
+monitor.yaml, `railderail monitor-params`); all may change while running (`ros2 param set`): the
+node checks them (`Limits.validated`) and starts a new Monitor with them. On exit it logs how many
 samples it processed and how many the sample counters say it missed.
 """
 import sys
+from dataclasses import fields
 
-import rclpy
-from rclpy.exceptions import InvalidParameterTypeException
-from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 
-from . import messages as m
-from .criteria import Monitor, default_limits
+from railderail_sim import ros_interface as m
 
-DESCRIPTIONS = {
-    "attack_angle": "rad, front-wheelset attack angle, WARNING level (Yu 2022: 0.06)",
-    "attack_angle_critical": "rad, CRITICAL level (NaN = none)",
-    "wheel_lift": "m, wheel lift, WARNING level (default 1/3 of the LM flange height)",
-    "wheel_lift_critical": "m, CRITICAL level (default 2/3 of the flange height)",
-    "derailment_coefficient": "Q/P, WARNING level (EN 14363: 0.8)",
-    "derailment_coefficient_critical": "Q/P, CRITICAL level (Nadal's limit of the profile pair, mu 0.3)",
-    "wheel_unloading": "dP/P0, WARNING level (GB 5599-85: 0.60)",
-    "wheel_unloading_critical": "dP/P0, CRITICAL level (GB 5599-85: 0.65)",
-    "static_wheel_load": "N, static wheel load P0 of the unloading ratio",
-    "debounce_m": "m of track the value must stay at or above a level before the alert",
-    "rearm_fraction": "a channel re-arms below this fraction of its level ...",
-    "rearm_m": "... held over this many m of track",
-}
+from .criteria import AlertRecord, Limits, Monitor, default_limits
+
+
+def parameter_table(defaults: Limits):
+    """The node's parameters: the fields of criteria.Limits with their metadata, defaults from `defaults`.
+    All may change while running."""
+    return [m.ParameterSpec(f.name, getattr(defaults, f.name), f.metadata["meaning"] + "; " + f.metadata["source"],
+                            f.metadata["unit"], f.metadata["accepted"], f.metadata["lo_open"],
+                            f.metadata["nan_disables"])
+            for f in fields(Limits)]
+
+
+def alert_message(record: AlertRecord, frame_id="track"):
+    """The Alert message of an alert the monitor raised (stamped with the sample's time)."""
+    message = m.Alert()
+    m.stamp(message, record.time_s)
+    message.header.frame_id = frame_id
+    for f in fields(AlertRecord):
+        if f.name != "time_s":
+            setattr(message, f.name, getattr(record, f.name))
+    return message
 
 
 class MonitorNode(Node):
     def __init__(self):
         super().__init__("railderail_monitor")
-        defaults = default_limits()             # the model's flange height, wheel load, Nadal limit
-        values = m.declare_parameters(self, {name: (float(value), DESCRIPTIONS[name])
-                                             for name, value in defaults.as_dict().items()})
-        self.monitor = Monitor(type(defaults)(**values))
+        self.limit_values = m.declare_parameters(self, parameter_table(default_limits()),
+                                                 check=lambda values: Limits(**values).validated(),
+                                                 apply=self.on_limits)
+        self.monitor = Monitor(Limits(**self.limit_values))
         self.publisher = self.create_publisher(m.Alert, m.ALERTS, m.ALERT_QOS)
         self.create_subscription(m.WheelsetStates, m.STATES, self.on_states, m.SENSOR_SUBSCRIBER)
         self.create_subscription(m.ContactForces, m.FORCES, self.on_forces, m.SENSOR_SUBSCRIBER)
         self.create_subscription(m.VehicleStatus, m.STATUS, self.on_status, m.SENSOR_SUBSCRIBER)
         self.counts = {"states": [0, 0, None], "forces": [0, 0, None]}   # received, missed, last sample
         self.alerts = 0
+        self.get_logger().info(f"railderail monitor: {self.monitoring()}")
+
+    def monitoring(self):
         levels = ", ".join(f"{c} {'/'.join(f'{t:.4g}' for _, t in self.monitor.limits.levels(c))}"
                            for c in self.monitor.channels)
-        self.get_logger().info(f"railderail monitor: monitoring {levels}; debounce {self.monitor.limits.debounce_m:g} m")
+        return f"monitoring {levels}; debounce {self.monitor.limits.debounce_m:g} m"
+
+    def on_limits(self, changed):
+        """New thresholds while running: a new Monitor (every channel armed again), the curvature
+        history kept."""
+        curvatures = self.monitor.curvatures
+        self.monitor = Monitor(Limits(**self.limit_values))
+        self.monitor.curvatures = curvatures
+        self.get_logger().info("thresholds changed (" + ", ".join(f"{k} {v:g}" for k, v in changed.items())
+                               + f"): {self.monitoring()}")
 
     def _count(self, kind, sample):
         c = self.counts[kind]
@@ -59,7 +78,7 @@ class MonitorNode(Node):
 
     def _publish(self, alerts):
         for alert in alerts:                       # publish first, log after: logging takes time
-            self.publisher.publish(m.alert_message(alert))
+            self.publisher.publish(alert_message(alert))
         for alert in alerts:
             self.alerts += 1
             self.get_logger().warning(f"t = {alert.time_s:.3f} s, s = {alert.track_position:.1f} m: {alert.message}")
@@ -83,29 +102,13 @@ class MonitorNode(Node):
                 f"{self.alerts} alerts")
 
 
+    def destroy_node(self):
+        print(f"[railderail_monitor] {self.summary()}", file=sys.stderr, flush=True)
+        super().destroy_node()
+
+
 def main(argv=None) -> int:
-    rclpy.init(args=argv)
-    # an executor of our own, shut down before the node and the context: rclpy's global one would be
-    # torn down at interpreter exit, after them
-    executor = SingleThreadedExecutor()
-    node = None
-    try:  # from here on, Ctrl-C (KeyboardInterrupt) or SIGTERM ends the node cleanly
-        try:
-            node = MonitorNode()
-        except (ValueError, InvalidParameterTypeException) as error:
-            print(f"railderail-monitor: error: {error}", file=sys.stderr)
-            return 2
-        executor.add_node(node)
-        executor.spin()
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        executor.shutdown()
-        if node is not None:
-            print(f"[railderail_monitor] {node.summary()}", file=sys.stderr, flush=True)
-            node.destroy_node()
-        rclpy.try_shutdown()
-    return 0
+    return m.run_node("railderail-monitor", MonitorNode, argv)
 
 
 if __name__ == "__main__":

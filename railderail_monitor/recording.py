@@ -1,7 +1,7 @@
 """Recorder `railderail_recorder`: every railderail topic to an MCAP file.
 
 `railderail record OUT.mcap` (or `python -m railderail_monitor.recording OUT.mcap`) subscribes to
-the topics of railderail_monitor/messages.py and /clock from the start, and to any other topic
+the topics of railderail_sim/ros_interface.py and /clock from the start, and to any other topic
 under /railderail/ that appears later, all *raw*: the CDR bytes are written as published, with no
 decoding. The file is a standard MCAP with ROS 2 conventions, so the mcap CLI, Foxglove and
 `ros2 bag` (rosbag2_storage_mcap) read it:
@@ -32,10 +32,14 @@ from pathlib import Path
 
 import mcap.writer
 from mcap.writer import CompressionType
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from rosidl_adapter.parser import parse_message_string
 
-PRIMITIVES = {"bool", "byte", "char", "float32", "float64", "int8", "uint8", "int16", "uint16", "int32",
-              "uint32", "int64", "uint64", "string", "wstring"}
+from railderail_sim import ros_interface as m
+
 SEPARATOR = "=" * 80
+STAMP_TYPES = ("std_msgs/Header", "builtin_interfaces/Time")     # a leading stamp: the message's time
 
 
 # --- schemas ------------------------------------------------------------------------------------
@@ -50,7 +54,8 @@ def msg_file(package, name):
     raise FileNotFoundError(f"no {package}/msg/{name}.msg under {', '.join(prefixes)} (is {package} installed?)")
 
 
-def _split(type_name):
+def split_type(type_name):
+    """(package, name) of 'package/msg/Name' or 'package/Name'."""
     parts = type_name.split("/")
     if len(parts) == 3:
         return parts[0], parts[2]
@@ -59,51 +64,51 @@ def _split(type_name):
     raise ValueError(f"type name {type_name!r} is not package/msg/Name")
 
 
-def _field_types(text, package):
-    """Complex types used by the fields of a .msg text, as (package, name)."""
-    found = []
-    for line in text.splitlines():
-        line = line.split("#", 1)[0].strip()
-        if not line:
-            continue
-        base = re.sub(r"\[.*\]$", "", line.split()[0])     # arrays: T[], T[8], T[<=8]
-        base = re.sub(r"<=\d+$", "", base)                  # bounded strings: string<=10
-        if base in PRIMITIVES:                               # constants are always primitive
-            continue
-        if base == "Header":
-            found.append(("std_msgs", "Header"))
-        elif "/" in base:
-            found.append(_split(base))
-        else:
-            found.append((package, base))
-    return found
+def _installed(package, name):
+    """(text, rosidl_adapter MessageSpecification) of an installed .msg."""
+    text = msg_file(package, name).read_text()
+    return text, parse_message_string(package, name, text)
+
+
+def _used_types(spec):
+    return [(f.type.pkg_name, f.type.type) for f in spec.fields if not f.type.is_primitive_type()]
 
 
 def schema_text(type_name):
     """The ros2msg schema text of a type such as 'railderail_msgs/msg/Alert'."""
-    package, name = _split(type_name)
-    main = msg_file(package, name).read_text()
-    parts = [main]
-    seen = {(package, name)}
-    queue = _field_types(main, package)
+    package, name = split_type(type_name)
+    main, spec = _installed(package, name)
+    parts, seen, queue = [main], {(package, name)}, _used_types(spec)
     while queue:
         dep = queue.pop(0)
         if dep in seen:
             continue
         seen.add(dep)
-        text = msg_file(*dep).read_text()
+        text, dep_spec = _installed(*dep)
         parts.append(f"{SEPARATOR}\nMSG: {dep[0]}/{dep[1]}\n{text}")
-        queue.extend(_field_types(text, dep[0]))
+        queue.extend(_used_types(dep_spec))
     return "\n".join(parts)
 
 
-def starts_with_stamp(schema):
-    """True if the first field of the schema is a std_msgs/Header or a builtin_interfaces/Time."""
-    for line in schema.split(SEPARATOR, 1)[0].splitlines():
-        line = line.split("#", 1)[0].strip()
-        if line and "=" not in line:              # the first field that is not a constant
-            return line.split()[0] in ("std_msgs/Header", "Header", "builtin_interfaces/Time")
-    return False
+def schema_definitions(type_name, text):
+    """{(package, name): MessageSpecification} of a ros2msg schema text: the type and every type it
+    uses, parsed by rosidl_adapter (whose errors pass through)."""
+    blocks = re.split(rf"^{SEPARATOR}$\n?", text, flags=re.MULTILINE)
+    package, name = split_type(type_name)
+    found = {(package, name): parse_message_string(package, name, blocks[0])}
+    for block in blocks[1:]:
+        header, _, body = block.partition("\n")
+        if not header.startswith("MSG: "):
+            raise ValueError(f"schema block of {type_name} without a 'MSG:' line: {header!r}")
+        dep = split_type(header[5:].strip())
+        found[dep] = parse_message_string(*dep, body)
+    return found
+
+
+def stamped(type_name):
+    """True if the installed type's first field is a std_msgs/Header or a builtin_interfaces/Time."""
+    fields = _installed(*split_type(type_name))[1].fields
+    return bool(fields) and str(fields[0].type) in STAMP_TYPES
 
 
 def cdr_stamp_ns(data):
@@ -144,19 +149,19 @@ class McapRecording:
         if topic in self.channels:
             return self.channels[topic][0]
         if type_name not in self.schemas:
-            text = schema_text(type_name)
-            self.schemas[type_name] = (self.writer.register_schema(type_name, "ros2msg", text.encode()),
-                                       starts_with_stamp(text))
-        schema_id, stamped = self.schemas[type_name]
+            self.schemas[type_name] = (self.writer.register_schema(type_name, "ros2msg",
+                                                                   schema_text(type_name).encode()),
+                                       stamped(type_name))
+        schema_id, has_stamp = self.schemas[type_name]
         channel = self.writer.register_channel(topic, "cdr", schema_id)
-        self.channels[topic] = (channel, stamped)
+        self.channels[topic] = (channel, has_stamp)
         self.sequence[topic] = 0
         return channel
 
     def write(self, topic, data):
         """Write one CDR message (bytes as published) on a topic added before."""
-        channel, stamped = self.channels[topic]
-        if stamped and len(data) >= 12:
+        channel, has_stamp = self.channels[topic]
+        if has_stamp and len(data) >= 12:
             self.last_stamp = max(cdr_stamp_ns(data), 0)
             stamp = self.last_stamp
         else:
@@ -194,11 +199,11 @@ def record_run(path, result, limits=None, metadata=None):
     Returns the alerts (criteria.AlertRecord)."""
     from rclpy.serialization import serialize_message
 
-    from . import messages as m
     from .criteria import alerts_of_run, default_limits
+    from .node import alert_message
 
     limits = limits or default_limits()
-    a = m.sample_arrays(result)
+    a = result.arrays()
     alerts = alerts_of_run(a, limits)
     by_sample = {}
     for alert in alerts:
@@ -215,7 +220,7 @@ def record_run(path, result, limits=None, metadata=None):
             rec.write(m.FORCES, serialize_message(convert.forces(a, i, i)))
             rec.write(m.STATUS, serialize_message(convert.status(a, i, i)))
             for alert in by_sample.get(i, ()):
-                rec.write(m.ALERTS, serialize_message(m.alert_message(alert)))
+                rec.write(m.ALERTS, serialize_message(alert_message(alert)))
         S = m.msgs.VehicleStatus
         if result.derailment is not None:
             d = result.derailment
@@ -229,70 +234,54 @@ def record_run(path, result, limits=None, metadata=None):
 
 # --- the recorder node --------------------------------------------------------------------------
 
-def recorder_main(path, metadata=None, flush_period_s=0.5, log=print):
-    """Run the recorder node until Ctrl-C/SIGTERM; the file is complete when this returns."""
-    import rclpy
-    from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
-    from rclpy.node import Node
-    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+class RecorderNode(Node):
+    """The recorder node `railderail_recorder`: subscribes raw to every railderail topic and
+    /clock, and to any new topic under /railderail/; its file is complete once `destroy_node`
+    returns (`log` gets the line that says what it wrote)."""
 
-    from . import messages as m
+    def __init__(self, path, metadata=None, flush_period_s=0.5, log=print):
+        super().__init__("railderail_recorder")
+        self.log = log
+        self.recording = McapRecording(path, metadata=metadata, flush_period_s=flush_period_s)
+        self.subscriptions_by_topic = {}
+        for topic, (type_name, _, _, sub_qos) in {**m.TOPICS, m.CLOCK: m.CLOCK_TOPIC}.items():
+            self.subscribe(topic, type_name, sub_qos)
+        self.create_timer(1.0, self.discover)
+        self.create_timer(flush_period_s, self.recording.flush)
+        self.get_logger().info(f"recording {len(self.subscriptions_by_topic)} topics to {self.recording.path}")
 
-    rclpy.init()
-    executor = SingleThreadedExecutor()      # shut down before the node and the context (see node.main)
-    recording = None
-    node = None
-    try:
-        recording = McapRecording(path, metadata=metadata, flush_period_s=flush_period_s)
-        node = Node("railderail_recorder")
-        subscriptions = {}
+    def subscribe(self, topic, type_name, qos):
+        if topic in self.subscriptions_by_topic:
+            return
+        self.recording.add_topic(topic, type_name)
+        self.subscriptions_by_topic[topic] = self.create_subscription(
+            m.message_class(type_name), topic, lambda data: self.recording.write(topic, data), qos, raw=True)
 
-        def subscribe(topic, type_name, qos):
-            if topic in subscriptions:
-                return
-            recording.add_topic(topic, type_name)
-            cls = m.message_class(type_name)
-            subscriptions[topic] = node.create_subscription(
-                cls, topic, lambda data, topic=topic: recording.write(topic, data), qos, raw=True)
+    def discover(self):
+        """Subscribe to a new /railderail/ topic with the reliability and durability its publishers offer."""
+        for topic, types in self.get_topic_names_and_types():
+            if topic in self.subscriptions_by_topic or not topic.startswith(m.NS + "/") or len(types) != 1:
+                continue
+            infos = self.get_publishers_info_by_topic(topic)
+            if not infos:
+                continue
+            reliable = all(i.qos_profile.reliability == ReliabilityPolicy.RELIABLE for i in infos)
+            latched = all(i.qos_profile.durability == DurabilityPolicy.TRANSIENT_LOCAL for i in infos)
+            qos = QoSProfile(depth=500,
+                             reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
+                             durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE)
+            try:
+                self.subscribe(topic, types[0], qos)
+                self.get_logger().info(f"recording {topic} ({types[0]}) too")
+            except (FileNotFoundError, ImportError, AttributeError, ValueError) as error:
+                self.get_logger().warning(f"cannot record {topic}: {error}")
 
-        for topic, (type_name, _, _, sub_qos) in {**m.TOPICS, **dict([m.clock_topic()])}.items():
-            subscribe(topic, type_name, sub_qos)
-
-        def discover():
-            for topic, types in node.get_topic_names_and_types():
-                if topic in subscriptions or not topic.startswith(m.NS + "/") or len(types) != 1:
-                    continue
-                infos = node.get_publishers_info_by_topic(topic)
-                if not infos:
-                    continue
-                reliable = all(i.qos_profile.reliability == ReliabilityPolicy.RELIABLE for i in infos)
-                latched = all(i.qos_profile.durability == DurabilityPolicy.TRANSIENT_LOCAL for i in infos)
-                qos = QoSProfile(depth=500,
-                                 reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
-                                 durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE)
-                try:
-                    subscribe(topic, types[0], qos)
-                    node.get_logger().info(f"recording {topic} ({types[0]}) too")
-                except (FileNotFoundError, ImportError, AttributeError, ValueError) as error:
-                    node.get_logger().warning(f"cannot record {topic}: {error}")
-
-        node.create_timer(1.0, discover)
-        node.create_timer(flush_period_s, recording.flush)
-        node.get_logger().info(f"recording {len(subscriptions)} topics to {recording.path}")
-        executor.add_node(node)
-        executor.spin()
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        executor.shutdown()
-        if recording is not None:
-            recording.close()
-            log(f"[railderail_recorder] wrote {recording.messages} messages ({recording.bytes / 1e6:.2f} MB of CDR) "
-                f"on {len(recording.channels)} topics to {recording.path}")
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
-    return 0
+    def destroy_node(self):
+        r = self.recording
+        r.close()
+        self.log(f"[railderail_recorder] wrote {r.messages} messages ({r.bytes / 1e6:.2f} MB of CDR) "
+                 f"on {len(r.channels)} topics to {r.path}")
+        super().destroy_node()
 
 
 def _metadata(pairs):
@@ -322,8 +311,9 @@ def command(parser: argparse.ArgumentParser):
             raise ValueError(f"--flush-period {args.flush_period:g} s is outside 0.01-60 s")
         if not args.out.endswith(".mcap"):
             raise ValueError(f"{args.out}: the recording's name must end in .mcap")
-        return recorder_main(args.out, _metadata(args.metadata), args.flush_period,
-                             log=lambda text: print(text, file=sys.stderr, flush=True))
+        metadata = _metadata(args.metadata)
+        log = lambda text: print(text, file=sys.stderr, flush=True)  # noqa: E731
+        return m.run_node("railderail record", lambda: RecorderNode(args.out, metadata, args.flush_period, log))
     return run
 
 

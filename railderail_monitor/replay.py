@@ -1,6 +1,6 @@
 """`railderail replay FILE.mcap`: a recording back on the ROS topics, in Rerun, or as alerts.
 
-- Publishes every recorded topic again (raw CDR, the QoS of messages.TOPICS) at the recorded
+- Publishes every recorded topic again (raw CDR, the QoS of ros_interface.TOPICS) at the recorded
   timing — the messages' log times, which are simulation time — divided by `--rate` (2 = twice as
   fast; 0 = as fast as possible), so that a monitor (or any node) can run offline against it. The
   recorded alerts are left out unless `--include-alerts`, so that a live monitor's alerts are not
@@ -17,7 +17,6 @@ killed recorder left (the messages up to its last flushed chunk).
 from __future__ import annotations
 
 import argparse
-import json
 import struct
 import sys
 import time
@@ -27,14 +26,19 @@ from pathlib import Path
 from mcap.exceptions import McapError
 from mcap.reader import NonSeekingReader, make_reader
 from mcap_ros2.decoder import DecoderFactory
+from rclpy.serialization import deserialize_message
+from rosidl_adapter.parser import InvalidSpecification, InvalidValue
+
+from railderail_sim import jsonout, ros_interface as m
+from railderail_sim.ranges import check_range
+from railderail_sim.ros_interface import ALERTS, DERAILMENT, FINAL_STATUS, FORCES, REAL_TIME_FACTOR_RANGE, STATES, STATUS
 
 from .criteria import Limits, default_limits, Monitor, lead_times
+from .recording import schema_definitions, schema_text, split_type
 
 MAGIC = b"\x89MCAP0\r\n"
 # what the mcap readers raise on a cut or damaged file (besides McapError)
 READ_ERRORS = (McapError, struct.error, EOFError, ValueError, KeyError)
-STATES, FORCES, STATUS = "/railderail/wheelset_states", "/railderail/contact_forces", "/railderail/vehicle_status"
-FINAL_STATUS, DERAILMENT, ALERTS = "/railderail/final_status", "/railderail/derailment", "/railderail/alerts"
 
 
 class RecordingError(ValueError):
@@ -76,19 +80,35 @@ def _check_head(path):
         return f.read(8) == MAGIC
 
 
-def _decoders():
-    """schema -> callable(bytes) -> message: the fast decoder of cdr.py, mcap_ros2's if it cannot."""
-    from .cdr import Decoder, UnsupportedSchema
+def installed_class(schema):
+    """The rclpy class of a recorded ros2msg schema if this type is installed here with the
+    recorded definition (compared as rosidl_adapter parses them, so comments and layout do not
+    matter), else None."""
+    try:
+        recorded = schema_definitions(schema.name, schema.data.decode())
+        if recorded != schema_definitions(schema.name, schema_text(schema.name)):
+            return None
+        package, name = split_type(schema.name)
+        return m.message_class(f"{package}/msg/{name}")
+    except (InvalidSpecification, InvalidValue, ValueError, TypeError, NameError, FileNotFoundError, ImportError,
+            AttributeError):
+        return None
 
+
+def message_decoders():
+    """schema -> decode(CDR bytes) -> message: rclpy's deserialize_message into the installed
+    class where the recording's definition is the installed one (every railderail recording);
+    mcap_ros2's generic decoder for any other (foreign or older) definition."""
     cache = {}
     fallback = DecoderFactory()
 
     def decoder(schema):
         d = cache.get(schema.id)
         if d is None:
-            try:
-                d = Decoder(schema.name, schema.data.decode())
-            except (UnsupportedSchema, UnicodeDecodeError):
+            cls = installed_class(schema)
+            if cls is not None:
+                d = lambda data, cls=cls: deserialize_message(data, cls)  # noqa: E731
+            else:
                 d = fallback.decoder_for("cdr", schema) or (lambda data: None)
             cache[schema.id] = d
         return d
@@ -99,7 +119,7 @@ def read_recording(path, allow_truncated=False, decode=True):
     """All messages of a railderail MCAP in log-time order (RecordingError if it cannot be used)."""
     path = Path(path)
     complete = _check_head(path)
-    decoder = _decoders()
+    decoder = message_decoders()
     messages, problem = [], ""
     metadata = {}
 
@@ -150,16 +170,6 @@ def limits_of(recording):
     return Limits(**{**default_limits().as_dict(), **values}).validated()
 
 
-def _alert_dict(msg):
-    from .messages import alert_dict
-    return alert_dict(msg)
-
-
-def _derailment_dict(msg):
-    from .messages import derailment_dict
-    return derailment_dict(msg)
-
-
 @dataclass
 class Review:
     """What a replay found."""
@@ -194,17 +204,17 @@ def review(recording, limits=None, on_message=None, on_alert=None):
         found = []
         if topic == STATES:
             out.samples += 1
-            found = monitor.on_states(msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec, msg.sample,
+            found = monitor.on_states(m.seconds(msg.header.stamp), msg.sample,
                                       msg.track_position, msg.speed, msg.attack_angle, msg.wheel_lift)
         elif topic == FORCES:
-            found = monitor.on_forces(msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec, msg.sample,
+            found = monitor.on_forces(m.seconds(msg.header.stamp), msg.sample,
                                       msg.track_position, msg.speed, msg.derailment_coefficient, msg.vertical_force)
         elif topic == STATUS:
             monitor.set_curvature(msg.sample, msg.curvature)
         elif topic == ALERTS:
-            out.recorded_alerts.append(_alert_dict(msg))
+            out.recorded_alerts.append(m.alert_dict(msg))
         elif topic == DERAILMENT:
-            out.derailment = _derailment_dict(msg)
+            out.derailment = m.derailment_dict(msg)
         elif topic == FINAL_STATUS:
             out.final_status = msg.message
         for alert in found:
@@ -222,8 +232,6 @@ class Publisher:
     def __init__(self, recording, rate, include_alerts, wait_for_subscribers, log):
         import rclpy
         from rclpy.qos import QoSProfile
-
-        from . import messages as m
 
         self.rclpy = rclpy
         rclpy.init()
@@ -325,8 +333,7 @@ def command(parser: argparse.ArgumentParser):
                         help="replay the readable part of a truncated recording instead of refusing it")
 
     def run(args):
-        if not 0.0 <= args.rate <= 1000.0:
-            raise ValueError(f"--rate {args.rate:g} is outside 0-1000 (0 = as fast as possible)")
+        check_range("--rate", args.rate, *REAL_TIME_FACTOR_RANGE)
         if args.rrd and not args.rrd.endswith(".rrd"):
             raise ValueError(f"--rrd {args.rrd}: the file name must end in .rrd")
         recording = read_recording(args.file, allow_truncated=args.allow_truncated)
@@ -348,7 +355,7 @@ def command(parser: argparse.ArgumentParser):
             viewer = RunViewer(limits, flush_every=20 if args.rerun else 5000)
             viewer.spawn() if args.rerun else viewer.save(args.rrd)
             callbacks.append(feed_viewer(viewer))
-        derailment = next((_derailment_dict(msg) for topic, _, _, _, msg in recording.messages
+        derailment = next((m.derailment_dict(msg) for topic, _, _, _, msg in recording.messages
                            if topic == DERAILMENT and msg is not None), None)
         on_alert = None if args.json else (lambda a: print(format_alert(a, derailment), flush=True))
         try:
@@ -360,7 +367,7 @@ def command(parser: argparse.ArgumentParser):
             if publisher is not None:
                 publisher.close()
         if args.json:
-            print(json.dumps(result.as_json(recording), indent=1, allow_nan=True))
+            print(jsonout.dumps(result.as_json(recording), indent=1))
         else:
             if derailment is not None:
                 print(f"derailment: t = {derailment['time_s']:.3f} s, s = {derailment['track_position_m']:.1f} m, "

@@ -27,26 +27,28 @@ import numpy as np
 import rerun as rr
 import rerun.blueprint as rrb
 
+from rclpy.node import Node
+
+from railderail_sim import ros_interface as m
+from railderail_sim.parameters import TrackParameters, VehicleParameters
+from railderail_sim.ros_interface import seconds
+
 from .criteria import Limits, default_limits, SEVERITY_CRITICAL, unloading_ratio
 
 WHEELS = [f"ws{w}_{side}" for w in range(4) for side in ("left", "right")]
 TIMELINE = "sim_time"
-# schematic geometry (m): stations from the hs19 parameter set (bogie semi-distance 8.75 m,
-# wheelbase semi 1.25 m, rolling radius 0.46 m); body sizes only for the picture
-STATIONS = (10.0, 7.5, -7.5, -10.0)
-BOGIES = (8.75, -8.75)
-RAIL_Y = 0.75                 # m, rail centre from the track centre line
-WHEEL_RADIUS = 0.46
+# schematic geometry (m) of the built-in car and track; body sizes only for the picture
+_CAR, _TRACK = VehicleParameters(), TrackParameters()
+BOGIES = (_CAR.bogie_semi_distance, -_CAR.bogie_semi_distance)              # bogie centres from the car's
+STATIONS = tuple(b + w for b in BOGIES for w in (_CAR.wheelbase_semi, -_CAR.wheelbase_semi))   # wheelsets 0..3
+RAIL_Y = _TRACK.rail_spacing / 2.0                                          # rail centre from the track centre line
+WHEEL_RADIUS = _CAR.rolling_radius
 GREEN, ORANGE, RED, GREY = (60, 180, 75), (245, 130, 48), (230, 25, 75), (128, 128, 128)
 LEVEL_COLORS = (ORANGE, RED)
 
 
 def _arr(x):
     return np.asarray(x, dtype=float)
-
-
-def _stamp(msg):
-    return msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec
 
 
 def _quat_xz(roll, yaw):
@@ -163,7 +165,7 @@ class RunViewer:
             self.flush()
 
     def on_states(self, msg):
-        t = _stamp(msg)
+        t = seconds(msg.header.stamp)
         self._append("/plots/attack_angle/values", t, _arr(msg.attack_angle))
         self._limits("attack_angle", "attack_angle", t)
         lift = _arr(msg.wheel_lift)
@@ -175,7 +177,7 @@ class RunViewer:
         self._tick()
 
     def on_forces(self, msg):
-        t = _stamp(msg)
+        t = seconds(msg.header.stamp)
         self.forces = msg
         self._append("/plots/derailment_coefficient/values", t, _arr(msg.derailment_coefficient))
         self._limits("derailment_coefficient", "derailment_coefficient", t)
@@ -189,22 +191,16 @@ class RunViewer:
         self.status = msg
         if msg.curvature != 0.0:
             self.curve_sign = math.copysign(1.0, msg.curvature)
-        self._append("/plots/speed_kmh", _stamp(msg), float(msg.speed) * 3.6)
+        self._append("/plots/speed_kmh", seconds(msg.header.stamp), float(msg.speed) * 3.6)
 
     def on_alert(self, alert):
-        """An Alert message or an alert dict (criteria.AlertRecord.as_dict())."""
-        a = alert if isinstance(alert, dict) else {"time_s": _stamp(alert), "severity": alert.severity,
-                                                   "message": alert.message, "track_position": alert.track_position}
+        a = m.alert_dict(alert)
         self.rec.set_time(TIMELINE, duration=a["time_s"])
         level = "ERROR" if a["severity"] == SEVERITY_CRITICAL else "WARN"
         self.rec.log("/alerts", rr.TextLog(f"s = {a['track_position']:.1f} m: {a['message']}", level=level))
 
     def on_derailment(self, event):
-        """A DerailmentEvent message or a messages.derailment_dict()."""
-        d = event if isinstance(event, dict) else {
-            "time_s": _stamp(event), "wheelset": event.wheelset, "wheel_side": event.wheel_side,
-            "rail_side": event.rail_side, "mechanism": event.mechanism, "track_position_m": event.track_position,
-            "speed_kmh": event.speed * 3.6}
+        d = m.derailment_dict(event)
         self.rec.set_time(TIMELINE, duration=d["time_s"])
         self.rec.log("/alerts", rr.TextLog(
             f"s = {d['track_position_m']:.1f} m: DERAILED: wheelset {d['wheelset']} {d['wheel_side']} "
@@ -212,7 +208,7 @@ class RunViewer:
             level="CRITICAL"))
 
     def on_final_status(self, msg):
-        self.rec.set_time(TIMELINE, duration=_stamp(msg))
+        self.rec.set_time(TIMELINE, duration=seconds(msg.header.stamp))
         self.rec.log("/alerts", rr.TextLog(f"run stopped: {msg.message}", level="INFO"))
 
     # --- scene ------------------------------------------------------------------------------
@@ -312,13 +308,26 @@ class RunViewer:
 
 # --- live viewer node ---------------------------------------------------------------------------
 
+class ViewerNode(Node):
+    """The viewer node `railderail_viewer`: every /railderail topic into a RunViewer, which it
+    closes (flushing the file or the stream) in `destroy_node`."""
+
+    def __init__(self, viewer, saving=None):
+        super().__init__("railderail_viewer")
+        self.viewer = viewer
+        handlers = {m.STATES: viewer.on_states, m.FORCES: viewer.on_forces, m.STATUS: viewer.on_status,
+                    m.ALERTS: viewer.on_alert, m.DERAILMENT: viewer.on_derailment,
+                    m.FINAL_STATUS: viewer.on_final_status}
+        for topic, (_, cls, _, qos) in m.TOPICS.items():
+            self.create_subscription(cls, topic, handlers[topic], qos)
+        self.get_logger().info("showing /railderail in Rerun" + (f" (saving {saving})" if saving else ""))
+
+    def destroy_node(self):
+        self.viewer.close()
+        super().destroy_node()
+
+
 def viewer_node_main(args):
-    import rclpy
-    from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
-    from rclpy.node import Node
-
-    from . import messages as m
-
     viewer = RunViewer(exaggeration=args.exaggeration, scene_rate=args.scene_rate, flush_every=20)
     if args.rrd:
         viewer.save(args.rrd)
@@ -326,28 +335,7 @@ def viewer_node_main(args):
         viewer.connect(args.connect)
     else:
         viewer.spawn()
-    rclpy.init()
-    executor = SingleThreadedExecutor()      # shut down before the node and the context (see node.main)
-    node = None
-    try:
-        node = Node("railderail_viewer")
-        handlers = {m.STATES: viewer.on_states, m.FORCES: viewer.on_forces, m.STATUS: viewer.on_status,
-                    m.ALERTS: viewer.on_alert, m.DERAILMENT: viewer.on_derailment,
-                    m.FINAL_STATUS: viewer.on_final_status}
-        for topic, (_, cls, _, qos) in m.TOPICS.items():
-            node.create_subscription(cls, topic, handlers[topic], qos)
-        node.get_logger().info("showing /railderail in Rerun" + (f" (saving {args.rrd})" if args.rrd else ""))
-        executor.add_node(node)
-        executor.spin()
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        executor.shutdown()
-        viewer.close()
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
-    return 0
+    return m.run_node("railderail view", lambda: ViewerNode(viewer, args.rrd))
 
 
 def add_arguments(parser):

@@ -30,13 +30,18 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import replace
 from pathlib import Path
 
+from railderail_sim import jsonout
+from railderail_sim.node import PARAMETERS
+from railderail_sim.ranges import check_range
+from railderail_sim.vehicle.simulate import RADIUS_RANGE
+
 from .criteria import CRITERIA, SEVERITY_NAMES, alerts_of_run, default_limits, lead_times
 
 PAPER_RADII = (800.0, 1000.0, 1200.0, 1400.0, 1600.0, 1800.0)
 CASES = ("trial", "critical", "near", "balance", "operating")
 NEAR_BELOW_KMH = 10.0
 OPERATING_CANT_DEFICIENCY = 0.100      # m
-RATE = 200.0                           # Hz, the simulator node's default publish rate
+RATE = next(spec.default for spec in PARAMETERS if spec.name == "publish_rate")   # Hz, as the node publishes
 def levels():
     """Every enabled criterion level of the built-in limits, as 'criterion/severity'."""
     limits = default_limits()
@@ -61,8 +66,7 @@ def _scenario(radius, case, speed_kmh, friction):
 
 def run_case(radius, case, speed_kmh, friction=0.3):
     """One run and its alerts (a module-level function for the process pool)."""
-    from railderail_sim.vehicle import layout as L
-    from railderail_sim.vehicle.simulate import Simulation, SimulationDiverged, Result
+    from railderail_sim.vehicle.simulate import Simulation, SimulationDiverged, output_arrays
 
     from .criteria import limits_for_model
 
@@ -78,7 +82,7 @@ def run_case(radius, case, speed_kmh, friction=0.3):
     import numpy as np
     rows = np.concatenate(parts) if parts else np.zeros((0, 1))
     limits = limits_for_model(sim.model, friction)
-    arrays = Result(rows=rows, scenario=sc, status="").arrays()
+    arrays = output_arrays(rows)
     alerts = alerts_of_run(arrays, limits)
     from .criteria import front_attack_angle, unloading_ratio
     peaks = dict(attack_angle_rad=float(front_attack_angle(arrays["attack_angle"]).max()),
@@ -91,7 +95,7 @@ def run_case(radius, case, speed_kmh, friction=0.3):
         derailment = dict(event, track_position_m=event["car_body_position_m"])
     return dict(radius_m=radius, case=case, speed_kmh=speed_kmh if case != "trial" else None,
                 derailed=derailment is not None, derailment=derailment, diverged=error,
-                end_position_m=float(rows[-1, L.OutputRow.position]) if len(rows) else 0.0,
+                end_position_m=float(arrays["position"][-1]) if len(rows) else 0.0,
                 alerts=[a.as_dict() for a in alerts], first=lead_times(alerts, derailment), peaks=peaks,
                 limits=limits.as_dict(), compute_s=time.monotonic() - t0)
 
@@ -231,8 +235,7 @@ def command(parser: argparse.ArgumentParser):
         except ValueError:
             raise ValueError(f"--radii {args.radii!r} is not a comma-separated list of numbers") from None
         for r in radii:
-            if not 300.0 <= r <= 20000.0:
-                raise ValueError(f"radius {r:g} m is outside 300-20000 m")
+            check_range("curve radius", r, *RADIUS_RANGE, "m")
         cases = [c for c in args.cases.split(",") if c]
         bad = [c for c in cases if c not in CASES]
         if bad:
@@ -243,11 +246,11 @@ def command(parser: argparse.ArgumentParser):
         if args.out:
             out = Path(args.out)
             out.mkdir(parents=True, exist_ok=True)
-            (out / "warnings.json").write_text(json.dumps(result, indent=1))
+            jsonout.write(out / "warnings.json", result)
             (out / "warnings.md").write_text(markdown(result["runs"], result["summary"]) + "\n")
             say(f"wrote {out / 'warnings.json'} and {out / 'warnings.md'}")
         if args.json:
-            print(json.dumps(result, indent=1))
+            print(jsonout.dumps(result, indent=1))
         else:
             print(markdown(result["runs"], result["summary"]))
     return run

@@ -3,60 +3,73 @@
 A timer fires at the publish rate (times the real-time factor); each tick integrates exactly one
 publication period (`Simulation.advance`) and publishes the new sample on the state topics
 (sensor-data QoS): wheelset states and contact forces at every sample, the vehicle status at
-`status_rate` (every 4th sample by default), plus /clock when not running at real time. When the run stops it publishes the
-final VehicleStatus on /railderail/final_status and, after a derailment, the ground-truth
-DerailmentEvent on /railderail/derailment (both reliable, transient local), then exits (0; 1 if the
-model diverged, with the reason in the log and in the final status). Topics and QoS:
-railderail_monitor/messages.py; parameters (ros-args `-p name:=value`): PARAMETERS below.
+`status_rate` (every 4th sample by default), plus /clock when not running at real time. When the
+run stops it publishes the final VehicleStatus on /railderail/final_status and, after a derailment,
+the ground-truth DerailmentEvent on /railderail/derailment (both reliable, transient local), then
+exits (0; 1 if the model diverged, with the reason in the log and in the final status). Topics and
+QoS: railderail_sim/ros_interface.py.
+
+Parameters (`-p name:=value`, `--params-file`): PARAMETERS below, each with its descriptor (range,
+read-only). A bad value at start is one line `railderail-simulator: error: ...` and exit status 2.
+The scenario's parameters are read-only (the model is built from them); real_time_factor,
+status_rate, linger_s and frame_id may change while running (`ros2 param set`), checked as at start.
 """
 import sys
 import time
 from dataclasses import replace
 
 import rclpy
-from rclpy.exceptions import InvalidParameterTypeException
-from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.task import Future
 
-from railderail_monitor import messages as m
+from railderail_sim import ros_interface as m
+from railderail_sim.parameters import FRICTION_RANGE
+from railderail_sim.ros_interface import REAL_TIME_FACTOR_RANGE, ParameterSpec as P
+from railderail_sim.vehicle.assemble import NORMAL_MODELS
+from railderail_sim.vehicle.simulate import (RADIUS_RANGE, SPEED_RANGE_KMH, Simulation, SimulationDiverged,
+                                             output_arrays)
 
 MAX_CATCH_UP = 20   # samples one late tick may publish in a row
+PUBLISH_RATE_RANGE = (1.0, 2000.0)        # Hz of simulated time
 
-PARAMETERS = {  # name: (default, description)
-    "radius": (1000.0, "curve radius, m (300-20000)"),
-    "speed_mode": ("progressive", "progressive (the paper's staircase trial, until derailment) | constant"),
-    "speed_kmh": (200.0, "constant speed, or the staircase's start speed, km/h"),
-    "step_kmh": (5.0, "progressive: speed step of the staircase, km/h"),
-    "hold_m": (200.0, "progressive: distance each speed is held, m"),
-    "contact_model": ("hertz", "normal contact model: hertz | discrete (Kik-Piotrowski)"),
-    "friction": (0.3, "wheel-rail friction coefficient"),
-    "publish_rate": (200.0, "wheelset states and contact forces per second of simulated time, Hz"),
-    "status_rate": (50.0, "vehicle status messages per second of simulated time, Hz (at most publish_rate)"),
-    "real_time_factor": (1.0, "simulated seconds per wall-clock second; 0 = as fast as possible"),
-    "wait_for_subscribers": (0, "start the run once wheelset_states and contact_forces have this many subscribers"),
-    "exit_when_done": (True, "exit when the run stops (else keep the latched topics up until Ctrl-C)"),
-    "linger_s": (1.0, "seconds the node stays up after the run stops, so that late subscribers get the "
-                 "final status and derailment event (transient local)"),
-    "frame_id": ("track", "header.frame_id of the published messages"),
-}
+# The scenario's parameters are read-only: the model is built from them before the run starts.
+PARAMETERS = (
+    P("radius", 1000.0, "curve radius", "m", RADIUS_RANGE, read_only=True),
+    P("speed_mode", "progressive", "progressive: the paper's staircase trial, until derailment; constant: "
+      "speed_kmh throughout", choices=("progressive", "constant"), read_only=True),
+    P("speed_kmh", 200.0, "constant speed, or the staircase's start speed", "km/h", SPEED_RANGE_KMH, read_only=True),
+    P("step_kmh", 5.0, "progressive: speed step of the staircase", "km/h", (0.0, 100.0), lo_open=True,
+      read_only=True),
+    P("hold_m", 200.0, "progressive: distance each speed is held", "m", (0.0, 10000.0), lo_open=True, read_only=True),
+    P("contact_model", "hertz", "normal contact model (discrete: Kik-Piotrowski)", choices=tuple(NORMAL_MODELS),
+      read_only=True),
+    P("friction", 0.3, "wheel-rail friction coefficient", "", FRICTION_RANGE, lo_open=True, read_only=True),
+    P("publish_rate", 200.0, "wheelset states and contact forces per second of simulated time", "Hz",
+      PUBLISH_RATE_RANGE, read_only=True),
+    P("status_rate", 50.0, "vehicle status messages per second of simulated time, at most publish_rate", "Hz",
+      (0.0, PUBLISH_RATE_RANGE[1]), lo_open=True),
+    P("real_time_factor", 1.0, "simulated seconds per wall-clock second; 0 = as fast as possible; not 1: "
+      "publishes /clock", "", REAL_TIME_FACTOR_RANGE),
+    P("wait_for_subscribers", 0, "start the run once wheelset_states and contact_forces have this many "
+      "subscribers", "", (0, 100), read_only=True),
+    P("exit_when_done", True, "exit when the run stops (else keep the latched topics up until Ctrl-C)",
+      read_only=True),
+    P("linger_s", 1.0, "time the node stays up after the run stops, so that late subscribers get the final "
+      "status and derailment event (transient local)", "s", (0.0, 60.0)),
+    P("frame_id", "track", "header.frame_id of the published messages"),
+)
+
+
+def check_rates(p):
+    if p["status_rate"] > p["publish_rate"]:
+        raise ValueError(f"status_rate {p['status_rate']:g} Hz is above publish_rate {p['publish_rate']:g} Hz")
 
 
 def build_scenario(p):
-    """The Scenario of the node's parameters (ValueError with a sentence on bad values)."""
+    """The Scenario of the node's (checked) parameters (ValueError with a sentence on bad values)."""
     from railderail_sim.methods.progressive_trial import Staircase, staircase_scenario
     from railderail_sim.vehicle.simulate import scenario
 
-    if p["speed_mode"] not in ("progressive", "constant"):
-        raise ValueError(f"speed_mode {p['speed_mode']!r} is not progressive or constant")
-    if p["contact_model"] not in ("hertz", "discrete"):
-        raise ValueError(f"contact_model {p['contact_model']!r} is not hertz or discrete")
-    if not 1.0 <= p["publish_rate"] <= 2000.0:
-        raise ValueError(f"publish_rate {p['publish_rate']:g} Hz is outside 1-2000 Hz")
-    if not 0.0 < p["status_rate"] <= p["publish_rate"]:
-        raise ValueError(f"status_rate {p['status_rate']:g} Hz is outside 0-publish_rate ({p['publish_rate']:g} Hz)")
-    if not 0.0 <= p["real_time_factor"] <= 1000.0:
-        raise ValueError(f"real_time_factor {p['real_time_factor']:g} is outside 0-1000 (0 = as fast as possible)")
     base = scenario(radius=p["radius"], speed_kmh=p["speed_kmh"], contact_model=p["contact_model"],
                     friction=p["friction"])
     if p["speed_mode"] == "progressive":
@@ -68,46 +81,63 @@ def build_scenario(p):
 class SimulatorNode(Node):
     def __init__(self):
         super().__init__("railderail_simulator")
-        self.p = m.declare_parameters(self, PARAMETERS)
-        sc = build_scenario(self.p)
-        from railderail_sim.vehicle.simulate import Result, Simulation
-
-        self.Result = Result
-        self.scenario = sc
-        self.get_logger().info(f"railderail simulator: building the model (R = {self.p['radius']:g} m, {self.p['speed_mode']} speed from "
-                               f"{self.p['speed_kmh']:g} km/h, {self.p['contact_model']} contact); the first run "
-                               "in a fresh checkout also compiles the core (about a minute)")
-        self.sim = Simulation(sc)
+        self.p = m.declare_parameters(self, PARAMETERS, check=check_rates, apply=self.on_parameters)
+        self.scenario = build_scenario(self.p)
+        self.get_logger().info(f"railderail simulator: building the model (R = {self.p['radius']:g} m, "
+                               f"{self.p['speed_mode']} speed from {self.p['speed_kmh']:g} km/h, "
+                               f"{self.p['contact_model']} contact); the first run in a fresh checkout also "
+                               "compiles the core (about a minute)")
+        self.sim = Simulation(self.scenario)
         self.period = 1.0 / self.p["publish_rate"]
         self.status_every = max(1, round(self.p["publish_rate"] / self.p["status_rate"]))
         self.pending = self.sim.advance(self.period)      # compiles; the start sample and the first period
         self.convert = m.RowConverter(self.p["frame_id"])
         self.pubs = {topic: self.create_publisher(cls, topic, qos)
                      for topic, (_, cls, qos, _) in m.TOPICS.items() if topic != m.ALERTS}
-        rtf = self.p["real_time_factor"]
         self.clock_pub = None
-        if rtf != 1.0:
-            topic, (_, clock_cls, qos, _) = m.clock_topic()
-            self.clock_pub, self.Clock = self.create_publisher(clock_cls, topic, qos), clock_cls
         self.sample = 0
         self.done = Future()
         self.exit_code = 0
         self.settle_until = None
-        self.wall_start = None
+        self.run_start = None                  # wall clock of the first tick (the achieved rate)
+        self.pace_start = self.pace_sample = None   # wall clock and sample the pacing counts from
         self.last_arrays, self.last_index = None, 0
         self.timer = None
         waiting = self.p["wait_for_subscribers"] > 0
-        pace = "as fast as possible" if rtf == 0.0 else f"{rtf:g} x real time"
-        self.get_logger().info(f"ready: {self.p['publish_rate']:g} Hz of simulated time, {pace}"
+        self.get_logger().info(f"ready: {self.p['publish_rate']:g} Hz of simulated time, {self.pace_text()}"
                                + (f"; waiting for {self.p['wait_for_subscribers']} subscribers" if waiting else ""))
         if waiting:
             self.wait_timer = self.create_timer(0.05, self.wait_for_subscribers)
         else:
             self.start()
 
-    def start(self):
+    def pace_text(self):
         rtf = self.p["real_time_factor"]
-        self.timer = self.create_timer(0.0 if rtf == 0.0 else self.period / rtf, self.tick)
+        return "as fast as possible" if rtf == 0.0 else f"{rtf:g} x real time"
+
+    def start(self):
+        """(Re)start the timer at the real-time factor; the pacing counts from the current sample."""
+        rtf = self.p["real_time_factor"]
+        if rtf != 1.0 and self.clock_pub is None:
+            _, clock_cls, qos, _ = m.CLOCK_TOPIC
+            self.clock_pub, self.Clock = self.create_publisher(clock_cls, m.CLOCK, qos), clock_cls
+        self.pace_start = None
+        period = 0.0 if rtf == 0.0 else self.period / rtf
+        if self.timer is None:
+            self.timer = self.create_timer(period, self.tick)
+        else:
+            self.timer.timer_period_ns = int(period * 1e9)
+
+    def on_parameters(self, changed):
+        """Apply the parameters that may change while running (the others are read-only)."""
+        if "status_rate" in changed:
+            self.status_every = max(1, round(self.p["publish_rate"] / self.p["status_rate"]))
+        if "frame_id" in changed:
+            self.convert.frame_id = self.p["frame_id"]
+        if "real_time_factor" in changed and self.timer is not None and not self.done.done():
+            self.start()
+        self.get_logger().info("parameters changed: " + ", ".join(f"{k} {v}" for k, v in changed.items())
+                               + f" ({self.pace_text()})")
 
     def wait_for_subscribers(self):
         if self._subscribers_ready():
@@ -128,18 +158,20 @@ class SimulatorNode(Node):
         wall clock x real-time factor asks for (a late tick catches up instead of losing periods)."""
         if self.done.done():
             return
-        if self.wall_start is None:
-            self.wall_start = time.monotonic()
+        now = time.monotonic()
+        if self.run_start is None:
+            self.run_start = now
+        if self.pace_start is None:
+            self.pace_start, self.pace_sample = now, self.sample
         rtf = self.p["real_time_factor"]
-        due = 1 if rtf == 0.0 else int((time.monotonic() - self.wall_start) * self.p["publish_rate"] * rtf) + 1 - self.sample
+        due = 1 if rtf == 0.0 else (int((now - self.pace_start) * self.p["publish_rate"] * rtf) + 1
+                                    - (self.sample - self.pace_sample))
         for _ in range(min(due, MAX_CATCH_UP)):
             if not self.step():
                 return
 
     def step(self):
         """Integrate one publication period and publish it; False once the run has stopped."""
-        from railderail_sim.vehicle.simulate import SimulationDiverged
-
         try:
             rows, self.pending = (self.pending, None) if self.pending is not None else (self.sim.advance(self.period), None)
         except SimulationDiverged as error:
@@ -147,7 +179,7 @@ class SimulatorNode(Node):
             self.finish(m.msgs.VehicleStatus.STATE_DIVERGED, str(error), self.last_arrays, self.last_index, code=1)
             return False
         if len(rows):
-            a = m.sample_arrays(self.Result(rows=rows, scenario=self.scenario, status=""))
+            a = output_arrays(rows)
             for i in range(len(rows)):
                 self.publish_sample(a, i)
             self.last_arrays, self.last_index = a, len(rows) - 1
@@ -159,7 +191,7 @@ class SimulatorNode(Node):
     def publish_sample(self, a, i):
         if self.clock_pub is not None:
             clock = self.Clock()
-            clock.clock.sec, clock.clock.nanosec = divmod(int(round(a["time"][i] * 1e9)), 1_000_000_000)
+            m.set_time(clock.clock, a["time"][i])
             self.clock_pub.publish(clock)
         self.pubs[m.STATES].publish(self.convert.states(a, i, self.sample))
         self.pubs[m.FORCES].publish(self.convert.forces(a, i, self.sample))
@@ -171,7 +203,7 @@ class SimulatorNode(Node):
                                    f"v = {a['speed'][i] * 3.6:.1f} km/h ({self.achieved_rate():.0f} samples/s)")
 
     def achieved_rate(self):
-        wall = time.monotonic() - self.wall_start if self.wall_start else 0.0
+        wall = time.monotonic() - self.run_start if self.run_start else 0.0
         return self.sample / wall if wall > 0 else 0.0
 
     def stop_run(self):
@@ -204,41 +236,29 @@ class SimulatorNode(Node):
         self.done.set_result(code)
 
 
-def main(argv=None) -> int:
-    rclpy.init(args=argv)
-    # an executor of our own, shut down before the node and the context: rclpy's global one would be
-    # torn down at interpreter exit, after them
-    executor = SingleThreadedExecutor()
-    node = None
-    try:  # from here on, Ctrl-C (KeyboardInterrupt) or SIGTERM ends the node cleanly
-        try:
-            node = SimulatorNode()
-        except (ValueError, InvalidParameterTypeException) as error:
-            print(f"railderail-simulator: error: {error}", file=sys.stderr)
-            return 2
-        except RuntimeError as error:      # SimulationDiverged on the very first period
-            print(f"railderail-simulator: error: {error}", file=sys.stderr)
-            return 1
-        executor.add_node(node)
-        if node.p["exit_when_done"]:
-            executor.spin_until_future_complete(node.done)
-            end = time.monotonic() + node.p["linger_s"]
-            while time.monotonic() < end:
-                executor.spin_once(timeout_sec=0.05)
-            for topic in (m.FINAL_STATUS, m.DERAILMENT):
-                node.pubs[topic].wait_for_all_acked(rclpy.duration.Duration(seconds=2.0))
-        else:
-            executor.spin()
+    def destroy_node(self):
+        if not self.done.done():
+            self.get_logger().info(f"stopped (Ctrl-C/SIGTERM) after {self.sample} samples")
+        super().destroy_node()
+
+
+def run_until_done(node, executor):
+    """Spin until the run stops, stay up `linger_s` for late subscribers and until the reliable
+    readers of the latched topics acknowledged; or, with exit_when_done false, until Ctrl-C."""
+    if not node.p["exit_when_done"]:
+        executor.spin()
         return node.exit_code
-    except (KeyboardInterrupt, ExternalShutdownException):
-        if node is not None:
-            node.get_logger().info(f"stopped (Ctrl-C/SIGTERM) after {node.sample} samples")
-        return 0
-    finally:
-        executor.shutdown()
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
+    executor.spin_until_future_complete(node.done)
+    end = time.monotonic() + node.p["linger_s"]
+    while time.monotonic() < end:
+        executor.spin_once(timeout_sec=0.05)
+    for topic in (m.FINAL_STATUS, m.DERAILMENT):
+        node.pubs[topic].wait_for_all_acked(rclpy.duration.Duration(seconds=2.0))
+    return node.exit_code
+
+
+def main(argv=None) -> int:
+    return m.run_node("railderail-simulator", SimulatorNode, argv, spin=run_until_done)
 
 
 if __name__ == "__main__":

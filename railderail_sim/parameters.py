@@ -325,3 +325,4 @@ class ContactParameters:
 
 
 GRAVITY = 9.81  # m/s^2, standard value used throughout
+FRICTION_RANGE = (0.0, 1.0)     # accepted wheel-rail friction coefficients, (0, 1]

@@ -1,5 +1,7 @@
-"""The layering rule: numba core <- model building <- methods <- CLI; nothing imports upward, and the
-package __init__ files import nothing (importing one module does not load the whole stack)."""
+"""The dependency rule of docs/design.md, walked over every import statement of the package:
+numba core <- model building <- methods <- the top (cli, bench, the ROS interface and node) <- railderail_monitor;
+nothing imports upward, package __init__ files import nothing, and importing a core module does not load
+the model."""
 import ast
 import subprocess
 import sys
@@ -7,44 +9,100 @@ from pathlib import Path
 
 import pytest
 
-PACKAGE = Path(__file__).resolve().parents[1] / "railderail_sim"
-# a layer's folder: the packages it must not import (relative or absolute)
-FORBIDDEN = {
-    "contact": ("vehicle", "methods", "cli", "bench", "parameters", "profiles", "plotting"),
-    "track": ("vehicle", "methods", "cli", "bench", "plotting"),
-    "vehicle": ("methods", "cli", "bench", "plotting"),
-    "methods": ("cli", "bench"),
-}
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGE = ROOT / "railderail_sim"
+HELPERS = ("railderail_sim.ranges", "railderail_sim.jsonout", "railderail_sim.atomic", "railderail_sim.plotting")
+CORE, MODEL, METHODS, TOP = range(4)
+LAYERS = [  # module name prefix -> layer (the first prefix that matches)
+    ("railderail_sim.record", CORE), ("railderail_sim.jit", CORE), ("railderail_sim.contact", CORE),
+    ("railderail_sim.track", CORE), ("railderail_sim.vehicle.layout", CORE),
+    ("railderail_sim.vehicle.dynamics", CORE), ("railderail_sim.vehicle.integrator", CORE),
+    ("railderail_sim.parameters", MODEL), ("railderail_sim.profiles", MODEL), ("railderail_sim.vehicle", MODEL),
+    ("railderail_sim.methods", METHODS),
+    ("railderail_sim.cli", TOP), ("railderail_sim.bench", TOP), ("railderail_sim.ros_interface", TOP),
+    ("railderail_sim.node", TOP),
+]
 
 
-def imported_modules(path):
-    """Absolute names of the railderail_sim modules that the file at `path` imports."""
-    package = path.relative_to(PACKAGE.parent).with_suffix("").parts[:-1]
+def layer(module):
+    if module in PACKAGES or module.startswith(HELPERS):
+        return None                                  # the packages themselves and the small helpers
+    for prefix, level in LAYERS:
+        if module == prefix or module.startswith(prefix + "."):
+            return level
+    raise AssertionError(f"module {module} has no layer in tests/test_layers.py (add it to LAYERS)")
+
+
+def module_name(path, root=ROOT):
+    parts = path.relative_to(root).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+PACKAGES = {module_name(path) for path in PACKAGE.rglob("__init__.py")}
+
+
+def imports(path, root=ROOT):
+    """(line, imported module) of every import statement of a file (absolute names)."""
+    name = module_name(path, root)
+    package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
     for node in ast.walk(ast.parse(path.read_text())):
         if isinstance(node, ast.Import):
-            yield from (a.name for a in node.names)
+            yield from ((node.lineno, a.name) for a in node.names)
         elif isinstance(node, ast.ImportFrom):
-            base = package[:len(package) - node.level + 1] if node.level else ()
-            module = ".".join(base + tuple(filter(None, [node.module])))
-            yield from (f"{module}.{a.name}" for a in node.names)
+            base = package[:len(package) - node.level + 1] if node.level else []
+            module = ".".join(base + ([node.module] if node.module else []))
+            for a in node.names:            # `from .. import vehicle`, `from ..vehicle import simulate` name
+                sub = f"{module}.{a.name}"  # modules; `from .geometry import Patch` a name in one
+                path = root.joinpath(*sub.split("."))
+                yield node.lineno, (sub if path.with_suffix(".py").exists() or path.is_dir() else module)
 
 
-@pytest.mark.parametrize("layer", sorted(FORBIDDEN))
-def test_no_layer_imports_upward(layer):
-    bad = [(path.name, name) for path in sorted((PACKAGE / layer).glob("*.py")) for name in imported_modules(path)
-           if any(name == f"railderail_sim.{up}" or name.startswith(f"railderail_sim.{up}.") for up in FORBIDDEN[layer])]
-    assert bad == []
+def violations(root):
+    """Every import of the railderail_sim tree under `root` that breaks the rule, as 'file:line ...'."""
+    bad = []
+    for path in sorted((root / "railderail_sim").rglob("*.py")):
+        name = module_name(path, root)
+        own = layer(name)
+        for line, target in imports(path, root):
+            where = f"{path.relative_to(root)}:{line} imports {target}"
+            if target.startswith("railderail_monitor"):
+                bad.append(where)
+            elif not target.startswith("railderail_sim") or target == "railderail_sim":
+                continue
+            elif own is None and name not in PACKAGES and layer(target) is not None:
+                bad.append(where + " (a helper imports a layer)")
+            elif own is not None and layer(target) is not None and layer(target) > own:
+                bad.append(where + " (from a higher layer)")
+    return sorted(set(bad))
 
 
-@pytest.mark.parametrize("package", ["contact", "track", "vehicle", "methods", "bench"])
-def test_package_init_imports_nothing(package):
-    tree = ast.parse((PACKAGE / package / "__init__.py").read_text())
-    assert not [node for node in ast.walk(tree) if isinstance(node, (ast.Import, ast.ImportFrom))]
+def test_nothing_imports_upward_and_the_simulator_never_imports_the_monitor():
+    assert violations(ROOT) == []
 
 
-def test_layout_loads_without_the_model():
-    code = ("import sys\nimport railderail_sim.vehicle.layout\n"
-            "print(sorted(m for m in sys.modules if m.startswith('railderail_sim')))")
-    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60, check=True)
-    loaded = result.stdout.split()
-    assert not any(name in text for text in loaded for name in ("assemble", "simulate", "parameters", "profiles"))
+def test_the_walk_catches_an_upward_import(tmp_path):
+    core = tmp_path / "railderail_sim" / "contact"
+    core.mkdir(parents=True)
+    (tmp_path / "railderail_sim" / "vehicle").mkdir()
+    (tmp_path / "railderail_sim" / "vehicle" / "simulate.py").write_text("")
+    (core / "bad.py").write_text("import math\nfrom ..vehicle import simulate\nfrom . import geometry\n"
+                                 "import railderail_monitor.criteria\n")
+    assert violations(tmp_path) == [
+        "railderail_sim/contact/bad.py:2 imports railderail_sim.vehicle.simulate (from a higher layer)",
+        "railderail_sim/contact/bad.py:4 imports railderail_monitor.criteria"]
+
+
+@pytest.mark.parametrize("path", sorted(PACKAGE.rglob("__init__.py")), ids=lambda p: str(p.relative_to(ROOT)))
+def test_package_init_imports_only_within_its_package(path):
+    name = module_name(path)
+    outside = [target for _, target in imports(path) if not target.startswith(name + ".")]
+    assert outside == [] or name == "railderail_sim.cli", outside
+
+
+def test_a_core_module_loads_without_the_model():
+    code = ("import sys\nimport railderail_sim.vehicle.integrator\n"
+            "print(sorted(m for m in sys.modules if m.startswith('railderail')))")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True)
+    loaded = eval(result.stdout.strip().splitlines()[-1])
+    assert [m for m in loaded if layer(m) not in (None, CORE)] == []
+    assert "railderail_sim.contact.wheelset" in loaded

@@ -5,7 +5,6 @@ from dataclasses import replace
 import pytest
 
 from railderail_monitor.criteria import alerts_of_run, default_limits
-from railderail_monitor.messages import sample_arrays
 from railderail_monitor.recording import McapRecording, record_run
 from railderail_monitor.replay import RecordingError, read_recording, review
 from railderail_sim.cli import main
@@ -69,7 +68,7 @@ def test_review_finds_the_recorded_alerts(recorded):
     found = review(recording)
     assert [key(a) for a in found.alerts] == [key(a) for a in alerts]
     assert [key(a) for a in found.recorded_alerts] == [key(a) for a in alerts]
-    assert [a.as_dict() for a in alerts] == [a.as_dict() for a in alerts_of_run(sample_arrays(result), default_limits())]
+    assert [a.as_dict() for a in alerts] == [a.as_dict() for a in alerts_of_run(result.arrays(), default_limits())]
     assert found.derailment["time_s"] == pytest.approx(result.derailment["time_s"])
     assert found.as_json(recording)["same_as_recorded"]
 

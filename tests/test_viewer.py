@@ -66,7 +66,7 @@ def test_live_viewer_node_writes_rrd(spawn, read_until, tmp_path):
     viewer = spawn([sys.executable, "-m", "railderail_sim.cli", "view", "--rrd", str(out)])
     read_until(viewer, "showing /railderail in Rerun", timeout=60)
     simulator = spawn([sys.executable, "-m", "railderail_sim.node", "--ros-args", "-p", "speed_mode:=constant",
-                       "-p", "speed_kmh:=310.0", "-p", "real_time_factor:=2.0", "-p", "wait_for_subscribers:=1"])
+                       "-p", "speed_kmh:=310.0", "-p", "real_time_factor:=0.0", "-p", "wait_for_subscribers:=1"])
     assert simulator.wait(timeout=300) == 0         # a cold numba compile included
     import signal
     viewer.send_signal(signal.SIGINT)

@@ -9,7 +9,7 @@ import math
 import sys
 
 from .. import jsonout, plotting
-from ..parameters import VEHICLE_SETS, ContactParameters, TrackParameters, vehicle_parameters
+from ..parameters import FRICTION_RANGE, VEHICLE_SETS, ContactParameters, TrackParameters, vehicle_parameters
 from ..ranges import check_range
 from ..vehicle.assemble import CONTACT_GEOMETRIES
 from ..vehicle.simulate import Scenario, constant_speed
@@ -30,7 +30,7 @@ def _common(parser):
 
 
 def base_scenario(args, **track):
-    check_range("friction coefficient", args.friction, 0.0, 1.0, lo_open=True)
+    check_range("friction coefficient", args.friction, *FRICTION_RANGE, lo_open=True)
     return Scenario(vehicle=vehicle_parameters(args.vehicle_set),
                     track=TrackParameters(rail_profile=args.rail, **track),
                     contact=ContactParameters(wheel_profile=args.wheel, normal_model=args.contact,

@@ -351,9 +351,12 @@ def wheel_range(cg, pose):
     ry1 = ry0 + (cg[GeometryHeader.rail_points] - 1) * cg[GeometryHeader.rail_step]
     base = (y + cg[GeometryHeader.rolling_circle_distance] * cphi + cg[GeometryHeader.nominal_radius] * sphi
             + cg[GeometryHeader.wheel_y0])
+    nw = int(cg[GeometryHeader.wheel_points])
     j0 = int(math.floor((ry0 - base) / (dw * cphi) - 3e-3 / dw))
     j1 = int(math.ceil((ry1 - base) / (dw * cphi) + 3e-3 / dw)) + 1
-    return max(j0, 0), min(j1, int(cg[GeometryHeader.wheel_points]))
+    # 0 <= j0 <= j1 <= nw: empty when no part of the wheel lies over the rail (a wheel pushed far off it)
+    j0 = min(max(j0, 0), nw)
+    return j0, max(min(j1, nw), j0)
 
 
 @core
@@ -588,8 +591,11 @@ def wheel_lift(cg, z, phi):
 
 @core
 def min_gap(cg, y, z, phi, psi, gap, ys):
-    """Smallest gap of the left wheel (m) on the fine grid and the index where it occurs."""
+    """Smallest gap of the left wheel (m) on the fine grid and the index where it occurs; (NO_RAIL_GAP, -1)
+    when no part of the wheel lies over the rail."""
     j0, j1 = trace_gap(cg, y, z, phi, psi, gap, ys)
+    if j1 <= j0:
+        return NO_RAIL_GAP, -1
     jm = j0
     for j in range(j0, j1):
         if gap[j] < gap[jm]:

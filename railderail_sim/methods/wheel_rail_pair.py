@@ -16,7 +16,7 @@ import numpy as np
 from .. import profiles
 from ..contact import conicity
 from ..contact import geometry as geo
-from ..parameters import ContactParameters, TrackParameters, VehicleParameters
+from ..parameters import FRICTION_RANGE, ContactParameters, TrackParameters, VehicleParameters
 from ..ranges import check_range
 from ..vehicle.assemble import contact_array, contact_geometry
 
@@ -25,7 +25,6 @@ GAUGE_MM = (1000.0, 1700.0)
 BACK_TO_BACK_MM = (900.0, 1700.0)
 INCLINATION_MAX = 0.1                 # slope 1:10
 RADIUS_M = (0.2, 0.7)
-FRICTION = (0.0, 1.0)                 # (0, 1]
 YOUNGS_GPA = (50.0, 500.0)
 POISSON = (0.0, 0.5)                  # [0, 0.5)
 TREAD_ANGLE_MAX = 0.5                 # rad: the centred wheelset must touch its rails below this angle
@@ -113,7 +112,7 @@ def build_pair(wheel="lm", rail="uic60", *, gauge_mm=1435.0, inclination="1/40",
     gauge = check_range("gauge", gauge_mm, *GAUGE_MM, "mm") * 1e-3
     b2b = check_range("back-to-back distance", back_to_back_mm, *BACK_TO_BACK_MM, "mm") * 1e-3
     radius = check_range("nominal rolling radius", radius_m, *RADIUS_M, "m")
-    mu = check_range("friction coefficient", friction, *FRICTION, "", lo_open=True)
+    mu = check_range("friction coefficient", friction, *FRICTION_RANGE, "", lo_open=True)
     E = check_range("Young's modulus", youngs_gpa, *YOUNGS_GPA, "GPa") * 1e9
     nu = check_range("Poisson's ratio", poisson, *POISSON, "", hi_open=True)
     if model not in MODELS:

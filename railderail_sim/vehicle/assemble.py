@@ -15,7 +15,7 @@ from ..contact import creep, geometry, table, wheelset
 from ..contact.geometry import GeometryHeader
 from ..contact.hertz import combined_modulus
 from ..contact.wheelset import ContactConstants
-from ..parameters import GRAVITY, ContactParameters, TrackParameters, VehicleParameters
+from ..parameters import FRICTION_RANGE, GRAVITY, ContactParameters, TrackParameters, VehicleParameters
 from ..ranges import check_range
 from ..track import alignment
 from .dynamics import ModelArrays
@@ -182,7 +182,7 @@ def contact_array(contact: ContactParameters, static_wheel_load=0.0):
     if contact.creep_model not in CREEP_MODELS:
         raise ValueError(f"creep model {contact.creep_model!r} is unknown; choose one of "
                          f"{', '.join(CREEP_MODELS)}")
-    check_range("friction coefficient", contact.friction_coefficient, 0.0, 1.0, lo_open=True)
+    check_range("friction coefficient", contact.friction_coefficient, *FRICTION_RANGE, lo_open=True)
     E, nu = contact.youngs_modulus, contact.poisson_ratio
     estar = combined_modulus(E, nu, E, nu)
     return ContactConstants.pack(youngs_modulus=E, combined_modulus=estar, combined_modulus_cbrt=estar ** (1.0 / 3.0),
