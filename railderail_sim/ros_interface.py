@@ -39,6 +39,8 @@ from rosgraph_msgs.msg import Clock
 import railderail_msgs.msg as msgs
 from railderail_msgs.msg import Alert, ContactForces, DerailmentEvent, VehicleStatus, WheelsetStates
 
+from railderail_sim.vehicle.layout import BOGIES, WHEELSETS, Body, Dof
+
 from .ranges import check_range
 
 NS = "/railderail"
@@ -125,9 +127,9 @@ class RowConverter:
         m.speed = float(a["speed"][i])
         bodies = a["body_states"][i]
         m.lateral_displacement = np.ascontiguousarray(a["wheelset_lateral"][i])
-        m.vertical_displacement = np.ascontiguousarray(bodies[3:7, 1])
+        m.vertical_displacement = np.ascontiguousarray(bodies[WHEELSETS, Dof.vertical])
         m.roll = np.ascontiguousarray(a["wheelset_roll"][i])
-        m.yaw = np.ascontiguousarray(bodies[3:7, 4])
+        m.yaw = np.ascontiguousarray(bodies[WHEELSETS, Dof.yaw])
         m.attack_angle = np.ascontiguousarray(a["attack_angle"][i])
         m.wheel_lift = np.ascontiguousarray(a["wheel_lift"][i])
         return m
@@ -158,13 +160,14 @@ class RowConverter:
         m.cant = float(a["cant"][i])
         m.uncompensated_lateral_acceleration = float(a["uncompensated_acceleration"][i])
         b = a["body_states"][i]
-        m.car_body_lateral_displacement = float(b[0, 0])
-        m.car_body_vertical_displacement = float(b[0, 1])
-        m.car_body_roll = float(b[0, 2])
-        m.car_body_yaw = float(b[0, 4])
-        m.bogie_lateral_displacement = np.ascontiguousarray(b[1:3, 0])
-        m.bogie_roll = np.ascontiguousarray(b[1:3, 2])
-        m.bogie_yaw = np.ascontiguousarray(b[1:3, 4])
+        body = b[Body.car_body]
+        m.car_body_lateral_displacement = float(body[Dof.lateral])
+        m.car_body_vertical_displacement = float(body[Dof.vertical])
+        m.car_body_roll = float(body[Dof.roll])
+        m.car_body_yaw = float(body[Dof.yaw])
+        m.bogie_lateral_displacement = np.ascontiguousarray(b[BOGIES, Dof.lateral])
+        m.bogie_roll = np.ascontiguousarray(b[BOGIES, Dof.roll])
+        m.bogie_yaw = np.ascontiguousarray(b[BOGIES, Dof.yaw])
         m.state = state
         m.message = message
         return m

@@ -8,6 +8,7 @@ from railderail_sim.contact import conicity as C
 from railderail_sim.contact import geometry as geo
 from railderail_sim.parameters import ContactParameters, TrackParameters
 from railderail_sim.vehicle.assemble import contact_geometry
+from railderail_sim.contact.layout import CANDIDATES_SIZE, MAX_PATCHES, P_COLS, W_SIZE, GeometryHeader, Patch
 
 
 @pytest.fixture(scope="module", params=["lm", "s1002"])
@@ -21,8 +22,8 @@ def cg_lm():
 
 
 def _buffers(cg):
-    n = int(cg[geo.GeometryHeader.wheel_points])
-    return np.zeros(n), np.zeros(n), np.zeros((geo.MAX_PATCHES, geo.P_COLS)), np.zeros(geo.CANDIDATES_SIZE)
+    n = int(cg[GeometryHeader.wheel_points])
+    return np.zeros(n), np.zeros(n), np.zeros((MAX_PATCHES, P_COLS)), np.zeros(CANDIDATES_SIZE)
 
 
 def _brute_force(cg, y, z, phi, psi):
@@ -63,11 +64,11 @@ def test_coarse_to_fine_search_finds_every_patch(cg):
         z = -g0 - rng.uniform(1e-6, 3e-4)
         expected = _brute_force(cg, y, z, phi, psi)
         n, _ = geo.find_patches(cg, y, z, phi, psi, gap, ys, patches, cand)
-        got = _significant(zip(patches[:n, geo.Patch.gap], patches[:n, geo.Patch.weight]))
+        got = _significant(zip(patches[:n, Patch.gap], patches[:n, Patch.weight]))
         want = _significant(expected)
         assert len(got) == len(want)
         assert np.allclose(got, want, atol=1e-9)
-        assert min(patches[:n, geo.Patch.gap], default=0.0) == pytest.approx(min((g for g, _ in expected), default=0.0),
+        assert min(patches[:n, Patch.gap], default=0.0) == pytest.approx(min((g for g, _ in expected), default=0.0),
                                                                           abs=1e-9)
 
 
@@ -82,7 +83,7 @@ def test_tracking_inside_a_step_reproduces_the_full_search(cg_lm):
         m = geo.track_patches(cg_lm, y + 2e-5, z, 1e-5, psi, gap, ys, p2, cand)
         k, _ = geo.find_patches(cg_lm, y + 2e-5, z, 1e-5, psi, gap, ys, patches, np.zeros_like(cand))
         assert m == k
-        assert np.allclose(np.sort(p2[:m, geo.Patch.gap]), np.sort(patches[:k, geo.Patch.gap]), atol=1e-12)
+        assert np.allclose(np.sort(p2[:m, Patch.gap]), np.sort(patches[:k, Patch.gap]), atol=1e-12)
 
 
 def test_wheel_lifts_off_with_a_gap(cg_lm):
@@ -150,7 +151,7 @@ def test_two_point_contact_force_is_continuous(model):
     forces = []
     for dz in np.arange(20e-6, 160e-6, 2e-6):
         fm = ws.wheel_forces(cg, cp, 0, (0.005, z0 - dz, phi, 0.0), (83.3, 0.0, 0.0, 0.0, 0.0, 0.0, 181.0, 83.3),
-                             scratch, ws.candidates()[0], False, np.zeros(ws.W_SIZE))
+                             scratch, ws.candidates()[0], False, np.zeros(W_SIZE))
         forces.append(fm[2])
     steps = np.diff(forces)
     assert np.all(steps > 0.0)                          # monotonic

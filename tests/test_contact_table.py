@@ -7,6 +7,7 @@ from railderail_sim.contact import table as tab
 from railderail_sim.contact import wheelset as ws
 from railderail_sim.parameters import ContactParameters, TrackParameters
 from railderail_sim.vehicle.assemble import contact_array, contact_geometry
+from railderail_sim.contact.layout import CANDIDATES_SIZE, MAX_PATCHES, P_COLS, W_SIZE, GeometryHeader, Patch
 
 
 @pytest.fixture(scope="module")
@@ -17,9 +18,9 @@ def geometries():
 
 
 def _buffers(cg):
-    n = int(cg[geo.GeometryHeader.wheel_points])
-    return (np.zeros(n), np.zeros(n), np.zeros((geo.MAX_PATCHES, geo.P_COLS)), np.zeros((geo.MAX_PATCHES, geo.P_COLS)),
-            np.zeros(geo.CANDIDATES_SIZE))
+    n = int(cg[GeometryHeader.wheel_points])
+    return (np.zeros(n), np.zeros(n), np.zeros((MAX_PATCHES, P_COLS)), np.zeros((MAX_PATCHES, P_COLS)),
+            np.zeros(CANDIDATES_SIZE))
 
 
 def _random_poses(exact, n, seed=7):
@@ -49,13 +50,13 @@ def test_table_matches_the_online_search(geometries):
             continue
         if n_table != n_online:
             # only a contact just touching may be counted by one and not the other
-            shallow = min(online[:n_online, geo.Patch.gap].min(initial=0.0), tabulated[:n_table, geo.Patch.gap].min(initial=0.0))
+            shallow = min(online[:n_online, Patch.gap].min(initial=0.0), tabulated[:n_table, Patch.gap].min(initial=0.0))
             assert shallow > -3e-6, (y, z, phi, psi)
             unmatched += 1
             continue
         for k in range(n_online):
-            errors.append(tabulated[k, geo.Patch.gap] - online[k, geo.Patch.gap])
-            angles.append(np.arctan(tabulated[k, geo.Patch.slope]) - np.arctan(online[k, geo.Patch.slope]))
+            errors.append(tabulated[k, Patch.gap] - online[k, Patch.gap])
+            angles.append(np.arctan(tabulated[k, Patch.slope]) - np.arctan(online[k, Patch.slope]))
     errors = np.abs(errors)
     assert fallback < 0.10 * len(poses) and unmatched < 0.01 * len(poses)
     # penetrations are 0-150 um: the gap (hence the Hertz force, ~ gap^1.5) agrees to about a micrometre
@@ -71,23 +72,23 @@ def test_vertical_displacement_is_exact(geometries):
     gap, ys, _, rows, cand = _buffers(table)
     g0, _ = geo.min_gap(exact, 0.004, 0.0, 0.003, 0.002, gap, ys)
     n1, _ = tab.table_patches(table, 0.004, -g0 - 1e-4, 0.003, 0.002, rows, cand)
-    g1 = rows[0, geo.Patch.gap]
+    g1 = rows[0, Patch.gap]
     n2, _ = tab.table_patches(table, 0.004, -g0 - 5e-5, 0.003, 0.002, rows, cand)
     assert n1 == n2 == 1
-    assert rows[0, geo.Patch.gap] - g1 == pytest.approx(5e-5, abs=1e-15)
+    assert rows[0, Patch.gap] - g1 == pytest.approx(5e-5, abs=1e-15)
 
 
 def test_tread_forces_agree_with_the_exact_search(geometries):
     """Normal and creep forces of a loaded wheel, table vs online, on the tread and at the flange root."""
     exact, table = geometries
     cp = contact_array(ContactParameters())
-    nw = int(exact[geo.GeometryHeader.wheel_points])
+    nw = int(exact[GeometryHeader.wheel_points])
     gap, ys = np.zeros(nw), np.zeros(nw)
     for y, psi in ((0.0, 0.0), (0.003, 0.002), (0.0087, 0.005)):
         forces = []
         for cg in (exact, table):
             g0, _ = geo.min_gap(exact, y, 0.0, 0.0, psi, gap, ys)
-            rec = np.zeros(ws.W_SIZE)
+            rec = np.zeros(W_SIZE)
             f = ws.wheel_forces(cg, cp, 0, (y, -g0 - 80e-6, 0.0, psi), (83.3, 0.0, 0.0, 0.0, 0.0, 0.0, 83.3 / 0.46, 83.3),
                                 ws.contact_scratch(cg), ws.candidates()[0], False, rec)
             forces.append(np.array(f[:3]))
@@ -118,4 +119,4 @@ def test_models_of_one_geometry_share_one_table(geometries):
     assert contact_geometry(ContactParameters(), TrackParameters(), 0.46) is first
     assert np.array_equal(first, table)
     other = contact_geometry(ContactParameters(), TrackParameters(), 0.45)       # another wheelset radius
-    assert other is not first and other[geo.GeometryHeader.nominal_radius] == 0.45
+    assert other is not first and other[GeometryHeader.nominal_radius] == 0.45

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from railderail_sim import jit
-from railderail_sim.contact.wheelset import W_SIZE, Wheel, WheelPatch
+from railderail_sim.contact.layout import W_SIZE, Wheel, WheelPatch
 from railderail_sim.record import Record
 from railderail_sim.vehicle.layout import N_OUT, N_STATE, Body, Dof, OutputRow, State, WheelsetOutput
 

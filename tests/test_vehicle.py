@@ -93,7 +93,7 @@ def test_balance_speed_needs_no_lateral_force():
 def test_cant_deficiency_force_equals_mass_times_uncompensated_acceleration(speed_kmh):
     res, sel = _steady_curve(speed_kmh)
     fy = _lateral_force_on_vehicle(res)[sel].mean()
-    a_nc = res.rows[sel, 6].mean()
+    a_nc = res.arrays()["uncompensated_acceleration"][sel].mean()
     assert a_nc > 1.0
     assert fy == pytest.approx(MASS * a_nc, rel=0.03)
 

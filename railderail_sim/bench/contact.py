@@ -47,6 +47,7 @@ from ..contact import wheelset as ws
 from ..methods.contact_case import contact_case
 from ..methods.contact_patch import gap_run
 from ..methods.wheel_rail_pair import build_pair, static_wheelset_load
+from ..contact.layout import W_SIZE, Patch
 
 REPEATS = 7
 TARGET_S = 0.1
@@ -129,7 +130,7 @@ def run() -> dict:
         spin = speed / pair.radius
         scratch = ws.contact_scratch(cg)
         cands = ws.candidates(8)
-        recs = np.zeros((8, ws.W_SIZE))
+        recs = np.zeros((8, W_SIZE))
         step = np.array(STEP)
 
         def evaluate(n, tracked=False, geometry=cg):
@@ -169,12 +170,12 @@ def run() -> dict:
     scratch = ws.contact_scratch(cg)
     patches = scratch.patches
     n_p, _ = geo.find_patches(cg, *pose, scratch.gap, scratch.ys, patches, ws.candidates()[0])
-    k = int(np.argmin(patches[:n_p, geo.Patch.gap]))
-    cd = 1.0 / math.sqrt(1.0 + patches[k, geo.Patch.slope] ** 2)
-    s, g, R, _, _ = gap_run(cg, pose, int(patches[k, geo.Patch.grid_index]), patches[k, geo.Patch.gap], cd,
+    k = int(np.argmin(patches[:n_p, Patch.gap]))
+    cd = 1.0 / math.sqrt(1.0 + patches[k, Patch.slope] ** 2)
+    s, g, R, _, _ = gap_run(cg, pose, int(patches[k, Patch.grid_index]), patches[k, Patch.gap], cd,
                             margin=3)
     su = np.linspace(s[0], s[-1], 64)
-    x_half = 1.05 * math.sqrt(2.0 * R.max() * (-patches[k, geo.Patch.gap] * cd))
+    x_half = 1.05 * math.sqrt(2.0 * R.max() * (-patches[k, Patch.gap] * cd))
     h, x, dx, dy = hs.wheelrail_gap(su, np.interp(su, s, g), np.interp(su, s, R), x_half, 64)
     load = 0.5 * static_wheelset_load()
     E, nu = pair.contact.youngs_modulus, pair.contact.poisson_ratio

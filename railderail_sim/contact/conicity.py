@@ -24,6 +24,7 @@ from scipy.optimize import brentq
 
 from ..ranges import check_range
 from . import geometry as geo
+from .layout import CANDIDATES_SIZE, MAX_PATCHES, P_COLS, GeometryHeader, Patch
 
 QUADRATURE_POINTS = 20001    # trapezoidal rule in the angle variable; converged to ~1e-6
 TWO_POINT_GAP = 1.0e-5       # m: a second contact this close to touching counts as two-point contact
@@ -56,21 +57,21 @@ class RigidTable:
 def _wheel_contact(cg, y, z, phi):
     """Deepest contact of the left wheel at a rigid pose: radius, contact angle, wheel y_p, rail y and
     whether a second contact lies within TWO_POINT_GAP of touching (two-point contact)."""
-    nw = int(cg[geo.GeometryHeader.wheel_points])
+    nw = int(cg[GeometryHeader.wheel_points])
     gap = np.zeros(nw)
     ys = np.zeros(nw)
-    patches = np.zeros((geo.MAX_PATCHES, geo.P_COLS))
+    patches = np.zeros((MAX_PATCHES, P_COLS))
     n, _ = geo.find_patches(cg, y, z - TWO_POINT_GAP, phi, 0.0, gap, ys, patches,
-                            np.zeros(geo.CANDIDATES_SIZE))
-    k = int(np.argmin(patches[:n, geo.Patch.gap]))
-    return (patches[k, geo.Patch.radius], math.atan(patches[k, geo.Patch.slope]), patches[k, geo.Patch.wheel_y],
-            patches[k, geo.Patch.y] - cg[geo.GeometryHeader.rail_axis_y], n > 1)
+                            np.zeros(CANDIDATES_SIZE))
+    k = int(np.argmin(patches[:n, Patch.gap]))
+    return (patches[k, Patch.radius], math.atan(patches[k, Patch.slope]), patches[k, Patch.wheel_y],
+            patches[k, Patch.y] - cg[GeometryHeader.rail_axis_y], n > 1)
 
 
 def rigid_table(cg, y_max=0.012, step=1.0e-4):
     """Rigid contact of LM-type profiles over -y_max..y_max (m)."""
     ys_grid = np.round(np.arange(-y_max, y_max + 0.5 * step, step), 12)
-    nw = int(cg[geo.GeometryHeader.wheel_points])
+    nw = int(cg[GeometryHeader.wheel_points])
     gap = np.zeros(nw)
     yb = np.zeros(nw)
     rows = []
@@ -81,9 +82,9 @@ def rigid_table(cg, y_max=0.012, step=1.0e-4):
         rows.append((rl - rr, phi, z, rl, rr, al, ar, ypl, ypr, ryl, ryr, tpl, tpr,
                      geo.wheel_lift(cg, z, phi), geo.wheel_lift(cg, z, -phi)))
     a = np.array(rows, dtype=float)
-    r0 = cg[geo.GeometryHeader.nominal_radius]
+    r0 = cg[GeometryHeader.nominal_radius]
     i0 = len(ys_grid) // 2
-    half = cg[geo.GeometryHeader.rolling_circle_distance] + a[i0, 7]
+    half = cg[GeometryHeader.rolling_circle_distance] + a[i0, 7]
     return RigidTable(y=ys_grid, delta_r=a[:, 0], roll=a[:, 1], z=a[:, 2], radius_left=a[:, 3],
                       radius_right=a[:, 4], contact_angle_left=a[:, 5], contact_angle_right=a[:, 6],
                       contact_y_left=a[:, 7], contact_y_right=a[:, 8], rail_y_left=a[:, 9],
@@ -136,7 +137,7 @@ def harmonic_conicity(table: RigidTable, amplitude):
 
 
 def _buffers(cg):
-    nw = int(cg[geo.GeometryHeader.wheel_points])
+    nw = int(cg[GeometryHeader.wheel_points])
     return np.zeros(nw), np.zeros(nw)
 
 
@@ -153,13 +154,13 @@ def deepest_patch(cg, y, z, phi, psi):
     """(patch row of the deepest contact, patch count) of the left wheel just below touching at this
     pose; (None, 0) if it finds no rail."""
     gap, ys = _buffers(cg)
-    patches = np.zeros((geo.MAX_PATCHES, geo.P_COLS))
+    patches = np.zeros((MAX_PATCHES, P_COLS))
     g0, _ = geo.min_gap(cg, y, z, phi, psi, gap, ys)
     n, _ = geo.find_patches(cg, y, z - g0 - 1e-7, phi, psi, gap, ys, patches,
-                            np.zeros(geo.CANDIDATES_SIZE))
+                            np.zeros(CANDIDATES_SIZE))
     if n == 0:
         return None, 0
-    return patches[int(np.argmin(patches[:n, geo.Patch.gap]))].copy(), n
+    return patches[int(np.argmin(patches[:n, Patch.gap]))].copy(), n
 
 
 def max_contact_angle(cg, table=None):
@@ -177,7 +178,7 @@ def max_contact_angle(cg, table=None):
     def angle(yy):
         z, phi, ok = rigid_pose(cg, yy, 0.0)
         row = deepest_patch(cg, yy, z, phi, 0.0)[0] if ok else None
-        return math.atan(row[geo.Patch.slope]) if row is not None else -math.inf
+        return math.atan(row[Patch.slope]) if row is not None else -math.inf
 
     y = table.y
     yi = abs(float(y[i]))

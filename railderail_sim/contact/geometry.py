@@ -33,97 +33,14 @@ import math
 import numpy as np
 
 from ..jit import core
-from ..record import Record
+from .layout import H_SIZE, MAX_CANDIDATES, MAX_PATCHES, Candidates, GeometryHeader, HertzShape, Patch
 
 
-class GeometryHeader(Record):
-    """Header of the packed contact-geometry array cg (`pack_contact_geometry`); the wheel and rail
-    tables, and the contact table if any, follow it."""
-    wheel_points = "-", "points of the wheel grid"
-    wheel_y0 = "m", "first wheel profile coordinate y_p of the grid"
-    wheel_step = "m", "wheel grid step"
-    rail_points = "-", "points of the rail grid (track frame, left rail)"
-    rail_y0 = "m", "first track-frame Y of the rail grid"
-    rail_step = "m", "rail grid step"
-    nominal_radius = "m", "nominal rolling radius r0"
-    rolling_circle_distance = "m", "lateral distance lw from the wheelset centre to the nominal rolling circle"
-    rail_top_y = "m", "track-frame Y of the rail's highest point"
-    rail_axis_y = "m", "track-frame Y of the rail head's axis at its top"
-    flange_height = "m", "flange height above the nominal rolling circle"
-    flange_tip_y = "m", "wheel profile coordinate y_p of the flange tip"
-    rail_head_width = "m", "rail head width at the gauge-measuring depth"
-    gauge_y = "m", "track-frame Y of the gauge point"
-    # the contact table (`contact.table`)
-    table = "-", "offset of the contact table's nodes in cg; 0 when there is none"
-    table_u_points = "-", "nodes along the table's lateral axis u"
-    table_u0 = "m", "first u of the table"
-    table_u_step = "m", "u step of the table"
-    table_roll_points = "-", "nodes along the table's roll axis"
-    table_roll0 = "rad", "first roll of the table"
-    table_roll_step = "rad", "roll step of the table"
-    table_yaw_max = "rad", "largest yaw the table's second-order yaw terms serve"
-
-
-H_SIZE = GeometryHeader.size()
-
-
-class HertzShape(Record):
-    """Hertz's contact shape of a patch at E* = 1 Pa: the semi-axes a = a_c N^(1/3), b = b_c N^(1/3) and
-    the normal force N = C d^1.5; at a modulus E* they scale as E*^(-1/3), E*^(-1/3) and E* (exact)."""
-    a_coefficient = "m N^(-1/3)", "a_c"
-    b_coefficient = "m N^(-1/3)", "b_c"
-    stiffness = "N m^-1.5", "C"
-
-
-class Patch(Record):
-    """One contact patch of a wheel: a row of the `patches` array, filled by the search (geometry, or
-    the contact table) and, from `normal_force` on, by `contact.wheelset.wheel_forces`."""
-    y = "m", "contact point on the rail: track-frame Y (left-wheel form)"
-    z = "m", "contact point: track-frame Z"
-    x = "m", "contact point: lead along the track from the wheelset centre"
-    gap = "m", "vertical gap at the deepest point (negative = interpenetration)"
-    slope = "-", "rail slope dZ/dY at the contact (tan of the contact angle)"
-    wheel_y = "m", "wheel profile coordinate y_p of the contact"
-    radius = "m", "wheel radius at the contact (NaN from the contact table)"
-    curvature_b = "1/m", "half the relative lateral curvature, Hertz's B (NaN from the contact table)"
-    curvature_a = "1/m", "half the relative longitudinal curvature, Hertz's A (NaN from the contact table)"
-    grid_index = "-", "fine wheel grid index of the deepest point"
-    normal_force = "N", "normal force (0 if the patch carries none)"
-    approach = "m", "normal approach"
-    half_length = "m", "semi-axis along x: Hertz, or the discrete patch's"
-    half_width = "m", "semi-axis along the contact's lateral tangent: Hertz, or the discrete patch's"
-    creep_a = "m", "semi-axis along x of the ellipse the creep law uses"
-    creep_b = "m", "lateral semi-axis of the ellipse the creep law uses"
-    hertz_a = "m", "Hertz semi-axis along x at the same load"
-    hertz_b = "m", "lateral Hertz semi-axis at the same load"
-    creepage_x = "-", "longitudinal creepage"
-    creepage_y = "-", "lateral creepage in the contact plane"
-    spin_creepage = "1/m", "spin creepage"
-    creep_force_x = "N", "longitudinal creep force on the wheel"
-    creep_force_lateral = "N", "lateral creep force on the wheel, in the contact plane"
-    spin_moment = "N m", "spin moment on the wheel"
-    weight = "-", "share weight of an equivalent-elliptic patch (see _set_weights)"
-    hertz_shape = "-", "Hertz shape at E* = 1 Pa from the contact table (stiffness 0: not given)", (), HertzShape
-
-
-P_COLS = Patch.size()
-MAX_PATCHES = 3
 COARSE_STRIDE = 8                    # coarse search every 8th wheel grid point (1 mm on the 0.125 mm grid)
 COARSE_WINDOW_GAP = 1.5e-3           # m; coarse minima below this are searched on the fine grid (the
                                      # vertical gap can dip ~0.5 mm between coarse samples on a steep flange)
 NO_RAIL_GAP = 1.0                    # m; gap reported where there is no rail under the wheel
 TRACK_GAP = 1.0e-3                   # m; near-contacts below this are followed during a time step
-MAX_CANDIDATES = 6
-
-
-class Candidates(Record):
-    """The contact minima of one wheel worth following within the next integration step: listed by a
-    full search (`find_patches`, the contact table) and followed by `track_patches`."""
-    count = "-", "number of minima listed"
-    indices = "-", "their fine wheel grid indices", (MAX_CANDIDATES,)
-
-
-CANDIDATES_SIZE = Candidates.size()
 RUN_BLOCK = 16                       # grid points scanned at a time when a patch's extent is walked out
 PROMINENCE_FULL = 0.5                # see _set_weights
 

@@ -44,9 +44,9 @@ import numpy as np
 
 from ..jit import core, core_inline
 from . import geometry as geo
-from .geometry import Candidates, GeometryHeader, HertzShape, Patch
 from .hertz import hertz_shape
 from ..record import Record
+from .layout import MAX_CANDIDATES, MAX_PATCHES, P_COLS, Candidates, GeometryHeader, HertzShape, Patch
 
 # Grid (left-wheel form: the right wheel is the mirrored left one, so one table serves both rails)
 U_MIN, U_MAX, DU = -0.020, 0.030, 2.5e-5       # m; lateral axis u (above), + toward the rail
@@ -91,7 +91,7 @@ class TableNode(Record):
     """One node of the table (lateral u, roll phi)."""
     count = "-", "minima kept (-1: the node is unusable)"
     min_gap = "m", "smallest gap along the trace line"
-    minima = "-", "the minima, in order across the wheel", (geo.MAX_PATCHES,), TableMinimum
+    minima = "-", "the minima, in order across the wheel", (MAX_PATCHES,), TableMinimum
 
 
 NQ = Tabulated.size()
@@ -114,8 +114,8 @@ def attach(cg):
                          (H.table_yaw_max, PSI_MAX)):
         out[field] = value
     nw = int(cg[GeometryHeader.wheel_points])
-    _build(out, np.zeros(nw), np.zeros(nw), np.zeros((geo.MAX_PATCHES, geo.P_COLS)),
-           np.zeros((3, geo.MAX_PATCHES, NQ)), np.zeros(MAX_MINIMA, dtype=np.int64))
+    _build(out, np.zeros(nw), np.zeros(nw), np.zeros((MAX_PATCHES, P_COLS)),
+           np.zeros((3, MAX_PATCHES, NQ)), np.zeros(MAX_MINIMA, dtype=np.int64))
     return out
 
 
@@ -160,7 +160,7 @@ def _build(cg, gap, ys, patches, qs, minima):
                     minima[nmin] = j
                     nmin += 1
             # keep the MAX_PATCHES deepest, in order across the wheel
-            while nmin > geo.MAX_PATCHES:
+            while nmin > MAX_PATCHES:
                 worst = 0
                 for k in range(nmin):
                     if gap[minima[k]] > gap[minima[worst]]:
@@ -296,10 +296,10 @@ def table_patches(cg, y, z, phi, psi, patches, cand):
         gmin = min(gmin, g)
         yp = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, _quantity(o, Tabulated.wheel_y), psi)
         jm = int(round((yp - cg[GeometryHeader.wheel_y0]) / cg[GeometryHeader.wheel_step]))
-        if g < geo.TRACK_GAP and ncand < geo.MAX_CANDIDATES:
+        if g < geo.TRACK_GAP and ncand < MAX_CANDIDATES:
             cand[Candidates.indices + ncand] = jm
             ncand += 1
-        if g < 0.0 and count < geo.MAX_PATCHES:
+        if g < 0.0 and count < MAX_PATCHES:
             row = patches[count]
             row[Patch.gap] = g
             row[Patch.y] = _value(cg, n00, n01, n10, n11, w00, w01, w10, w11, _quantity(o, Tabulated.y), psi)

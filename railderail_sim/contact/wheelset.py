@@ -29,61 +29,17 @@ from ..jit import core
 from ..record import Record
 from . import geometry as geo
 from .creep import creep_forces
-from .geometry import Candidates, GeometryHeader, HertzShape, Patch
 from .hertz import hertz_shape
 from . import kik_piotrowski as kp
 from .kik_piotrowski import DiscretePatch
 from . import table as tab
+from .layout import (MAX_PATCHES, P_COLS, WP_SIZE, Candidates, ContactConstants, GeometryHeader, HertzShape, Patch,
+                     Wheel, WheelPatch)
 
 NORMAL_HERTZ, NORMAL_DISCRETE = 0, 1
 KP_MIN_STRIPS = 24    # strips across a Kik-Piotrowski patch at least (a flange patch spans 4-6 grid points)
 
 
-class ContactConstants(Record):
-    """The contact constants array cp."""
-    youngs_modulus = "Pa", "Young's modulus E of wheel and rail"
-    combined_modulus = "Pa", "E* = E / (2 (1 - nu^2)) of two bodies of the same material"
-    combined_modulus_cbrt = "Pa^(1/3)", "E*^(1/3): scales the contact table's Hertz shape (given at E* = 1 Pa)"
-    shear_modulus = "Pa", "shear modulus G"
-    poisson_ratio = "-", "Poisson's ratio"
-    friction = "-", "friction coefficient"
-    contact_damping = "s/m", "Hunt-Crossley coefficient chi: N = C d^1.5 (1 + chi d')"
-    normal_model = "-", "NORMAL_HERTZ or NORMAL_DISCRETE"
-    creep_model = "-", "creep law, one of creep.LINEAR, SHEN_HEDRICK_ELKINS, POLACH, FASTSIM"
-    qp_min_load = "N", "vertical load below which Q/P is not evaluated (an unloaded wheel's ratio means nothing)"
-
-
-C_SIZE = ContactConstants.size()
-
-
-class WheelPatch(Record):
-    """One contact patch in a wheel's output record."""
-    lateral_position = "m", "contact point on the rail from the head axis, + field side"
-    lead = "m", "contact point's lead along the track from the wheelset centre"
-    length = "m", "patch length 2a along the track"
-    width = "m", "patch width 2b across it"
-    normal_force = "N", "normal force"
-    contact_angle = "rad", "contact angle, + toward the flange"
-
-
-class Wheel(Record):
-    """A wheel's output record (right wheels in their mirrored, left-wheel form)."""
-    wheel_lift = "m", "wheel lift hp: the nominal rolling circle's lowest point above the rail's highest point"
-    lateral_force = "N", "lateral force Q on the rail, + toward the rail's field side"
-    vertical_force = "N", "vertical force P on the rail, + down"
-    longitudinal_force = "N", "longitudinal force on the rail"
-    derailment_coefficient = "-", "Q/P (0 while P is below ContactConstants.qp_min_load)"
-    contact_position = "m", "main patch (the most loaded one): lateral position on the rail from the head axis"
-    contact_angle = "rad", "main patch: contact angle"
-    patch_length = "m", "main patch: length 2a"
-    patch_width = "m", "main patch: width 2b"
-    contact_count = "-", "number of patches"
-    min_gap = "m", "smallest wheel-rail gap (negative when in contact)"
-    patches = "-", "every patch, in order across the wheel (unused rows 0)", (geo.MAX_PATCHES,), WheelPatch
-
-
-W_SIZE = Wheel.size()
-WP_SIZE = WheelPatch.size()
 
 
 class Strip(Record):
@@ -102,13 +58,13 @@ ContactScratch = namedtuple("ContactScratch", "gap ys patches kpbuf kpid kprow")
 def contact_scratch(cg):
     """Buffers of `wheel_forces` for the packed geometry cg."""
     nw = int(cg[GeometryHeader.wheel_points])
-    return ContactScratch(gap=np.zeros(nw), ys=np.zeros(nw), patches=np.zeros((geo.MAX_PATCHES, geo.P_COLS)),
+    return ContactScratch(gap=np.zeros(nw), ys=np.zeros(nw), patches=np.zeros((MAX_PATCHES, P_COLS)),
                           kpbuf=np.zeros((Strip.size(), nw)), kpid=np.zeros(nw, dtype=np.int64),
                           kprow=np.zeros((1, DiscretePatch.size())))
 
 
 def candidates(count=1):
-    """Candidate lists (`geometry.Candidates`) of `count` wheels."""
+    """Candidate lists (`Candidates`) of `count` wheels."""
     return np.zeros((count, Candidates.size()))
 
 

@@ -35,6 +35,7 @@ from ..jsonout import NOT_WRITTEN, plain
 from ..ranges import check_range
 from .contact_patch import GRID, ContactPatch, steady_rolling, wheel_patch_details
 from .wheel_rail_pair import SIDES, WheelRailPair, contact_range, gap_buffers, static_wheelset_load
+from ..contact.layout import W_SIZE, Wheel
 
 LOAD_KN = (0.0, 1000.0)               # (0, 1000]
 SPEED_KMH = (1.0, 600.0)
@@ -172,7 +173,7 @@ def _mirror(pose, side):
 
 def steady_wheel_forces(cg, cp, side, pose, speed, spin):
     """`wheelset.wheel_forces` in steady rolling: (force, moment, wheel record W_*), track axes."""
-    rec = np.zeros(ws.W_SIZE)
+    rec = np.zeros(W_SIZE)
     fm = ws.wheel_forces(cg, cp, side, pose, steady_rolling(speed, spin), ws.contact_scratch(cg), ws.candidates()[0],
                          False, rec)
     return np.array(fm[:3]), np.array(fm[3:]), rec
@@ -270,7 +271,7 @@ def contact_case(pair: WheelRailPair, *, lateral_mm=0.0, yaw_mrad=0.0, roll_mrad
         total_f += f
         total_m += m
         patches = wheel_patch_details(pair, _mirror(pose, side), speed, spin_rate, grid)
-        r = ws.Wheel.split(rec)
+        r = Wheel.split(rec)
         wheels.append(WheelContact(side=SIDES[side], Q_N=r["lateral_force"], P_N=r["vertical_force"],
                                    Q_over_P=r["derailment_coefficient"],
                                    longitudinal_force_on_rail_N=r["longitudinal_force"], wheel_lift_m=r["wheel_lift"],

@@ -19,6 +19,7 @@ from ..contact.nadal import nadal_limit
 from ..jsonout import NOT_WRITTEN
 from ..ranges import check_range
 from .wheel_rail_pair import WheelRailPair
+from ..contact.layout import H_SIZE, GeometryHeader
 
 Y_MAX_MM = (1.0, 40.0)
 STEP_MM = (0.01, 1.0)
@@ -151,7 +152,7 @@ class ContactGeometry:
         metres of lateral shift (for the contact-point figure)."""
         pair, t = self.pair, self.table
         cg = pair.cg
-        h = geo.GeometryHeader.split(cg[:geo.H_SIZE])
+        h = GeometryHeader.split(cg[:H_SIZE])
         axis_y = h["rail_axis_y"]
         ry = np.linspace(h["rail_y0"], h["rail_y0"] + (h["rail_points"] - 2) * h["rail_step"], samples)
         z0 = t.z[len(t.y) // 2]
@@ -199,10 +200,10 @@ def contact_geometry(pair: WheelRailPair, *, y_max_mm=12.0, step_mm=0.1, amplitu
     return ContactGeometry(
         pair=pair, y_max_m=y_max, step_m=step, equivalent_conicity=ge, equivalent_conicity_amplitude_m=amp,
         harmonic_conicity=float(conicity.harmonic_conicity(table, amp)), kinematic_wavelength_m=wavelength,
-        equivalent_conicity_by_amplitude=by_amp, flange_height_m=float(cg[geo.GeometryHeader.flange_height]),
-        flange_tip_y_m=float(cg[geo.GeometryHeader.flange_tip_y]), max_flange_angle_rad=flange_angle,
+        equivalent_conicity_by_amplitude=by_amp, flange_height_m=float(cg[GeometryHeader.flange_height]),
+        flange_tip_y_m=float(cg[GeometryHeader.flange_tip_y]), max_flange_angle_rad=flange_angle,
         max_contact_angle_rad=max_angle, max_contact_angle_at_y_m=y_peak,
         max_contact_angle_table_rad=float(angles[int(np.argmax(angles))]),
         flange_contact_shift_m=float(table.y[on_flange[0]]) if len(on_flange) else None,
         nadal_limit=float(nadal_limit(max_angle, pair.contact.friction_coefficient)),
-        rail_head_width_m=float(cg[geo.GeometryHeader.rail_head_width]), table=table)
+        rail_head_width_m=float(cg[GeometryHeader.rail_head_width]), table=table)

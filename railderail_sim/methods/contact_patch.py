@@ -26,6 +26,7 @@ from ..contact import kik_piotrowski as kp
 from ..contact import wheelset as ws
 from ..jsonout import NOT_WRITTEN, WRITTEN_IF_SET
 from .wheel_rail_pair import WheelRailPair, gap_buffers
+from ..contact.layout import W_SIZE, GeometryHeader, Patch, Wheel
 
 GRID = (16, 256)                      # accepted half-space grid (elements per direction)
 MIN_ELEMENTS_ACROSS = 16              # half-space: elements across the main patch (refined grid below)
@@ -131,12 +132,12 @@ def steady_rolling(speed, spin):
 
 
 def left_wheel_patches(cg, cp, pose, speed, spin):
-    """The patch rows (geometry.Patch) that `wheelset.wheel_forces` fills at `pose` in steady rolling
+    """The patch rows (Patch) that `wheelset.wheel_forces` fills at `pose` in steady rolling
     (centre velocity (speed, 0, 0), no angular velocity but the spin)."""
     scratch = ws.contact_scratch(cg)
-    rec = np.zeros(ws.W_SIZE)
+    rec = np.zeros(W_SIZE)
     ws.wheel_forces(cg, cp, 0, pose, steady_rolling(speed, spin), scratch, ws.candidates()[0], False, rec)
-    return scratch.patches[:int(rec[ws.Wheel.contact_count])].copy()
+    return scratch.patches[:int(rec[Wheel.contact_count])].copy()
 
 
 def wheel_patch_details(pair: WheelRailPair, pose, speed, spin, grid=64) -> list[ContactPatch]:
@@ -147,7 +148,7 @@ def wheel_patch_details(pair: WheelRailPair, pose, speed, spin, grid=64) -> list
     E, nu = pair.contact.youngs_modulus, pair.contact.poisson_ratio
     out = []
     for row in left_wheel_patches(cg, pair.cp, pose, speed, spin):
-        p = geo.Patch.split(row)
+        p = Patch.split(row)
         normal = p["normal_force"]
         if normal <= 0.0:
             continue
@@ -164,7 +165,7 @@ def wheel_patch_details(pair: WheelRailPair, pose, speed, spin, grid=64) -> list
                 halfspace = _halfspace_patch(cg, pose, int(p["grid_index"]), p["gap"], cd, normal, E, nu, grid)
                 length, width = halfspace.length_m, halfspace.width_m
         out.append(ContactPatch(
-            rail_y_m=p["y"] - cg[geo.GeometryHeader.rail_axis_y], wheel_y_m=p["wheel_y"], lead_x_m=p["x"],
+            rail_y_m=p["y"] - cg[GeometryHeader.rail_axis_y], wheel_y_m=p["wheel_y"], lead_x_m=p["x"],
             contact_angle_rad=math.atan(slope), rolling_radius_m=p["radius"],
             vertical_gap_m=p["gap"], normal_approach_m=p["approach"], normal_force_N=normal,
             hertz_a_m=ha, hertz_b_m=hb, hertz_p0_Pa=1.5 * normal / (math.pi * ha * hb),
@@ -197,9 +198,9 @@ def gap_run(cg, pose, jm, gmin, cd, margin=0):
     wheel_z, wheel_slope, _ = geo.wheel_table(cg)
     zw = wheel_z[j]
     sw = wheel_slope[j]
-    R = (cg[geo.GeometryHeader.nominal_radius] + zw) * np.sqrt(1.0 + sw * sw)
+    R = (cg[GeometryHeader.nominal_radius] + zw) * np.sqrt(1.0 + sw * sw)
     n_run = jb - ja + 1
-    ds = abs((ys[jb] - ys[ja]) / ((n_run - 1) * cd)) if n_run > 1 else cg[geo.GeometryHeader.wheel_step]
+    ds = abs((ys[jb] - ys[ja]) / ((n_run - 1) * cd)) if n_run > 1 else cg[GeometryHeader.wheel_step]
     s = (j - jm) * ds
     g = (gap[lo:hi + 1] - gmin) * cd
     return s, g, R, ja - lo, jb - lo

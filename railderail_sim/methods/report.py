@@ -14,6 +14,8 @@ import numpy as np
 from .. import jsonout, plotting
 from ..atomic import atomic_write
 from ..parameters import ContactParameters, TrackParameters, vehicle_parameters
+from ..contact.layout import WheelPatch
+from ..vehicle.layout import Body, Dof
 from ..vehicle.simulate import Scenario, constant_speed, simulate
 from . import limit_cycle as lc
 from . import root_locus as rl
@@ -119,6 +121,12 @@ def _process_numbers(runs):
     return rows
 
 
+def _main_patch(run, wheel):
+    """(n, WheelPatch) the most loaded patch of a wheel at each sample."""
+    p = run.patches(wheel)
+    return p[np.arange(len(p)), np.argmax(p[:, :, WheelPatch.normal_force], axis=1)]
+
+
 def _patch_sizes(runs):
     """Outer wheel of the front wheelset: the largest Hertz patch while on the tread (contact angle below
     0.1 rad, straight track) and at the flange root (first contact with an angle above 0.5 rad)."""
@@ -126,16 +134,14 @@ def _patch_sizes(runs):
     for radius, run in sorted(runs.items()):
         i = 0 if run.scenario.track.direction > 0 else 1
         o = 1 - i
-        p = run.patches(o)                       # (n, 3, 6): y, lead, length, width, N, angle
-        main = np.argmax(p[:, :, 4], axis=1)
-        sel = p[np.arange(len(p)), main]
-        tread = (np.abs(sel[:, 5]) < 0.1) & (run.position < 180.0)
-        root = np.nonzero(sel[:, 5] > 0.5)[0]
+        main = WheelPatch.split(_main_patch(run, o))
+        tread = (np.abs(main["contact_angle"]) < 0.1) & (run.position < 180.0)
+        root = np.nonzero(main["contact_angle"] > 0.5)[0]
         out[radius] = dict(
-            tread_length_m=float(np.median(sel[tread, 2])) if tread.any() else float("nan"),
-            tread_width_m=float(np.median(sel[tread, 3])) if tread.any() else float("nan"),
-            root_length_m=float(sel[root[0], 2]) if len(root) else float("nan"),
-            root_width_m=float(sel[root[0], 3]) if len(root) else float("nan"),
+            tread_length_m=float(np.median(main["length"][tread])) if tread.any() else float("nan"),
+            tread_width_m=float(np.median(main["width"][tread])) if tread.any() else float("nan"),
+            root_length_m=float(main["length"][root[0]]) if len(root) else float("nan"),
+            root_width_m=float(main["width"][root[0]]) if len(root) else float("nan"),
             root_position_m=float(run.position[root[0]]) if len(root) else float("nan"))
     return out
 
@@ -147,15 +153,14 @@ PHASES = ("a: straight track", "b: transition", "c: first flange-root contact", 
 def _phase_rows(run):
     """Row indices of the phases of Yu 2022 Fig. 7 for the outer wheel of the front wheelset (-1: none)."""
     o = 1 if run.scenario.track.direction > 0 else 0
-    p = run.patches(o)
-    main = p[np.arange(len(p)), np.argmax(p[:, :, 4], axis=1)]
+    main = _main_patch(run, o)
     pos = run.position
     first = lambda mask: int(np.argmax(mask)) if mask.any() else -1  # noqa: E731
     curve_start = run.scenario.track.straight_in + run.scenario.track.transition_in
     steady = 0.5 * (curve_start + min(pos[-1], curve_start + run.scenario.track.curve_length))
     tr = run.scenario.track
     return [first(pos >= 0.6 * tr.straight_in), first(pos >= tr.straight_in + 0.25 * tr.transition_in),
-            first(main[:, 5] > 0.5), first(pos >= steady), first(run.wheel("contact_count")[:, o] >= 2),
+            first(main[:, WheelPatch.contact_angle] > 0.5), first(pos >= steady), first(run.wheel("contact_count")[:, o] >= 2),
             len(pos) - 1]
 
 
@@ -173,8 +178,8 @@ def _patch_phases(run, out):
         if i < 0:
             panels.append((None, None, f"{label}: not reached"))
             continue
-        ws1 = bodies[i, 3]
-        y, z, phi, psi = run.wheelset_lateral[i, 0], ws1[1], ws1[2], ws1[4]
+        front = bodies[i, Body.wheelset_0]
+        y, z, phi, psi = run.wheelset_lateral[i, 0], front[Dof.vertical], front[Dof.roll], front[Dof.yaw]
         pose = (-y, z, -phi, -psi) if right else (y, z, phi, psi)
         v = run.speed[i]
         details = wheel_patch_details(pair, pose, v, v / sc.vehicle.rolling_radius, grid=48)

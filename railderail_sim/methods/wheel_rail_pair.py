@@ -19,6 +19,7 @@ from ..contact import geometry as geo
 from ..parameters import FRICTION_RANGE, ContactParameters, TrackParameters, VehicleParameters
 from ..ranges import check_range
 from ..vehicle.assemble import contact_array, contact_geometry
+from ..contact.layout import H_SIZE, GeometryHeader, Patch
 
 # accepted ranges (user units: mm, km/h, kN, GPa, mrad)
 GAUGE_MM = (1000.0, 1700.0)
@@ -135,7 +136,7 @@ def build_pair(wheel="lm", rail="uic60", *, gauge_mm=1435.0, inclination="1/40",
 
 def gap_buffers(cg):
     """Work arrays (gap, track-frame y) of the core's gap functions, one entry per wheel grid point."""
-    nw = int(cg[geo.GeometryHeader.wheel_points])
+    nw = int(cg[GeometryHeader.wheel_points])
     return np.zeros(nw), np.zeros(nw)
 
 
@@ -143,18 +144,18 @@ def _check_centred_fit(pair, gauge_mm, back_to_back_mm):
     cg = pair.cg
     z, phi, ok = conicity.rigid_pose(cg, 0.0, 0.0)
     row = conicity.deepest_patch(cg, 0.0, z, phi, 0.0)[0] if ok else None
-    angle = math.atan(row[geo.Patch.slope]) if row is not None else float("nan")
+    angle = math.atan(row[Patch.slope]) if row is not None else float("nan")
     # the flange face: steepest point between the flange tip and the rolling circle
     wheel_z, slope, _ = geo.wheel_table(cg)
     tip = int(np.argmax(wheel_z))
-    y0, dy = cg[geo.GeometryHeader.wheel_y0], cg[geo.GeometryHeader.wheel_step]
+    y0, dy = cg[GeometryHeader.wheel_y0], cg[GeometryHeader.wheel_step]
     j0 = int(round(-y0 / dy))
     y_face = y0 + (tip + int(np.argmin(slope[tip:j0 + 1]))) * dy
-    on_tread = row is not None and row[geo.Patch.wheel_y] > y_face
+    on_tread = row is not None and row[Patch.wheel_y] > y_face
     if not (ok and abs(angle) < TREAD_ANGLE_MAX and on_tread):
         what = ("finds no rail under its wheels" if not math.isfinite(angle) else
                 f"touches its rails at a contact angle of {math.degrees(angle):.1f} deg" if on_tread else
-                f"touches its rails with the flange ({row[geo.Patch.wheel_y] * 1e3:.1f} mm from the rolling circle, "
+                f"touches its rails with the flange ({row[Patch.wheel_y] * 1e3:.1f} mm from the rolling circle, "
                 f"beyond the flange face at {y_face * 1e3:.1f} mm)")
         raise ValueError(f"gauge {gauge_mm:g} mm with back-to-back {back_to_back_mm:g} mm does not fit "
                          f"{pair.wheel.name} on {pair.rail.name}: the centred wheelset {what}; the "
@@ -166,7 +167,7 @@ def contact_range(cg, psi=0.0, y_hi=0.1, tol=1e-5):
     """Largest lateral shift (m) for which the rigid wheelset still touches both rails with the
     climbing wheel's contact short of its flange tip and the other wheel's contact inside its profile
     (the same for -y by mirror symmetry)."""
-    h = geo.GeometryHeader.split(cg[:geo.H_SIZE])
+    h = GeometryHeader.split(cg[:H_SIZE])
     tip = h["flange_tip_y"]
     y_end = h["wheel_y0"] + (h["wheel_points"] - 1) * h["wheel_step"]
 
@@ -176,7 +177,7 @@ def contact_range(cg, psi=0.0, y_hi=0.1, tol=1e-5):
             return False
         for yy, pp, ss in ((y, phi, psi), (-y, -phi, -psi)):
             row, _ = conicity.deepest_patch(cg, yy, z, pp, ss)
-            if row is None or not (tip + TIP_MARGIN < row[geo.Patch.wheel_y] < y_end - TIP_MARGIN):
+            if row is None or not (tip + TIP_MARGIN < row[Patch.wheel_y] < y_end - TIP_MARGIN):
                 return False
         return True
 

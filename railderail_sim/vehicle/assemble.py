@@ -12,9 +12,8 @@ import numpy as np
 
 from .. import profiles
 from ..contact import creep, geometry, table, wheelset
-from ..contact.geometry import GeometryHeader
 from ..contact.hertz import combined_modulus
-from ..contact.wheelset import ContactConstants
+from ..contact.layout import ContactConstants, GeometryHeader
 from ..parameters import FRICTION_RANGE, GRAVITY, ContactParameters, TrackParameters, VehicleParameters
 from ..ranges import check_range
 from ..track import alignment

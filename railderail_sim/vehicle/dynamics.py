@@ -31,7 +31,7 @@ from .layout import (AntiRollBar, BodyTable, BumpStop, Bushing, Damper, Dof, N_B
 # the model's arrays (built by vehicle.assemble), as the core's functions take them
 ModelArrays = namedtuple("ModelArrays", "bodies vp bush damp bump arb track cg cp")
 # buffers of one right-hand side: per-body kinematics, one wheel's contact scratch, each wheel's contact
-# candidates (geometry.Candidates) and wheel record (wheelset.Wheel)
+# candidates (contact.layout.Candidates) and wheel record (contact.layout.Wheel)
 RhsBuffers = namedtuple("RhsBuffers", "kin contact cands recs")
 
 
@@ -333,7 +333,7 @@ def rhs(x, dx, model, sp, buffers, tracked):
     """dx = f(x) for the ModelArrays `model` and the speed table sp; the wheel records of the 8 wheels are
     left in buffers.recs (8 x W_SIZE).
 
-    buffers.cands (one `geometry.Candidates` per wheel): contact minima written by a full search (tracked
+    buffers.cands (one `contact.layout.Candidates` per wheel): contact minima written by a full search (tracked
     False) and followed by the cheap local search when `tracked` (the inner stages of one step).
     """
     bodies, vp, track = model.bodies, model.vp, model.track

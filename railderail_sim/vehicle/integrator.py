@@ -24,6 +24,7 @@ from ..track import alignment as trk
 from . import dynamics as dyn
 from .layout import (BodyTable, Dof, N_BODY, N_DAMPER, N_DOF, N_STATE, N_WHEEL, N_WHEELSET, OutputRow,
                      State, VehicleConstants, WheelsetOutput, WHEELSETS)
+from ..contact.layout import W_SIZE, Wheel
 
 RUNNING, DERAILED, DIVERGED, END_OF_LINE = 0, 1, 2, 3
 MECH_FLANGE_CLIMBING, MECH_WHEEL_UNLOADING = 1, 2
@@ -74,7 +75,7 @@ def workspace(cg):
     stepper = np.zeros(Stepper.size())
     stepper[Stepper.step] = 1e-4
     buffers = dyn.RhsBuffers(kin=np.zeros((N_BODY, dyn.K_COLS)), contact=ws.contact_scratch(cg),
-                             cands=ws.candidates(N_WHEEL), recs=np.zeros((N_WHEEL, ws.W_SIZE)))
+                             cands=ws.candidates(N_WHEEL), recs=np.zeros((N_WHEEL, W_SIZE)))
     return Workspace(rhs=buffers, stages=np.zeros((7, N_STATE)), trial=np.zeros(N_STATE),
                      cand_save=ws.candidates(N_WHEEL), event=np.zeros(EV_SIZE), stepper=stepper)
 
@@ -108,8 +109,8 @@ def fill_row(row, t, x, v, model, recs):
         row[r + WheelsetOutput.attack_angle] = -direction * (x[o + Dof.yaw] - dyd)
         row[r + WheelsetOutput.wheelset_roll] = x[o + Dof.roll]
     for k in range(N_WHEEL):
-        o = OutputRow.wheels + k * ws.W_SIZE
-        for q in range(ws.W_SIZE):
+        o = OutputRow.wheels + k * W_SIZE
+        for q in range(W_SIZE):
             row[o + q] = recs[k, q]
 
 
@@ -129,7 +130,7 @@ def _check_derailment(x, v, t, model, recs, event):
         b = WHEELSETS[w]
         y = x[State.positions + N_DOF * b + Dof.lateral]
         for side in range(2):
-            lift = recs[2 * w + side, ws.Wheel.wheel_lift]
+            lift = recs[2 * w + side, Wheel.wheel_lift]
             toward = y if side == 0 else -y
             mech = 0
             if lift >= hf - tol and toward >= yclimb:

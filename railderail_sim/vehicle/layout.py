@@ -8,7 +8,7 @@ its axle (rad/s, about v / r0), a degree of freedom driven by the contact forces
 """
 import enum
 
-from ..contact.wheelset import Wheel
+from ..contact.layout import Wheel
 from ..record import Record
 
 

@@ -17,9 +17,8 @@ import numpy as np
 
 from ..contact import geometry as geo
 from ..contact import wheelset as ws
-from ..contact.geometry import Patch
 from ..contact.hertz import hertz_shape
-from ..contact.wheelset import ContactConstants, Wheel
+from ..contact.layout import ContactConstants, Patch, Wheel
 from ..parameters import ContactParameters, TrackParameters, VehicleParameters, vehicle_parameters
 from ..ranges import check_range
 from ..track import alignment
@@ -310,11 +309,11 @@ class Result:
         return self.arrays()["wheelset_roll"]
 
     def wheel(self, name):
-        """A field of the wheel record (wheelset.Wheel) for the 8 wheels, (n, 8)."""
+        """A field of the wheel record (contact.layout.Wheel) for the 8 wheels, (n, 8)."""
         return self.arrays()[name]
 
     def patches(self, wheel_index):
-        """(n, MAX_PATCHES, 6): one wheel's patches (wheelset.WheelPatch: lateral position, lead, length,
+        """(n, MAX_PATCHES, 6): one wheel's patches (contact.layout.WheelPatch: lateral position, lead, length,
         width, normal force, contact angle)."""
         return self.arrays()["patches"][:, wheel_index]
 
