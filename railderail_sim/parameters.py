@@ -34,7 +34,7 @@ SOURCES = {
             "header cites the SIMPACK model CRH2-380; the repository was not identified), values as read in "
             "that file",
     "Zhai": "Zhai W., Vehicle-Track Coupled Dynamics, appendix 'high-speed passenger car' preset, as "
-            "republished in public vehicle-track code (vehicle-and-profiles.md section 3.2 notes)",
+            "republished in public vehicle-track code",
     "EN13674": "EN 13674-1 (60E1 = UIC60 rail head), EN 13715 (S1002); 1:40 rail inclination and 1435 mm "
                "gauge at 14 mm below the rail top as on Chinese lines (Ye et al., Rail. Eng. Sci. 30 (2022) "
                "96-116, Table 2)",

@@ -126,7 +126,8 @@ def test_equivalent_conicity_of_a_cone_is_its_cone_angle():
 
 
 def test_lm_conicity_against_independent_estimate(tables):
-    """shared/reference/lm-profile.md §5 computed 0.11 at 3 mm for the LM.prw data on UIC60 1:40."""
+    """An EN 15302 computation on the LM.prw table itself (SIMPACK's example LM, docs/profiles.md), outside
+    this code, gave 0.11 at 3 mm on UIC60 1:40."""
     ge, _ = C.equivalent_conicity(tables["lm"], 0.003)
     assert 0.10 <= ge <= 0.13
 

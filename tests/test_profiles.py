@@ -90,7 +90,7 @@ def _simpack_forward(y_m, z_ours_m, kind, *, shift=(0.0, 0.0), rotate=0.0, mirro
 
 # ----------------------------------------------------------------------------- UIC60
 def test_uic60_tangent_points_match_recomputed_table():
-    """vehicle-and-profiles.md 2.1: R300/R80 at 10.228, R80 centre (7.5005, -80.1279), R80/R13 at
+    """Tangent points computed by hand from the EN 13674-1 arcs: R300/R80 at 10.228, R80 centre (7.5005, -80.1279), R80/R13 at
     (26.0265, -2.3025), R13 centre (23.0160, -14.9491), 1:20 tangent at (36.000, -14.300)."""
     pieces = uic60_chain_mm().pieces
     line_l, r13_l, r80_l, r300_l, r300_r, r80_r, r13_r, line_r = pieces
@@ -201,7 +201,7 @@ def test_table_of_point_data_is_not_noisy():
 
 # ----------------------------------------------------------------------------- LM
 def test_lm_against_extract_table():
-    """LM reconstruction vs the LM.prw coordinate extract (lm-profile.md 2): max 0.046 mm at y = -37
+    """LM reconstruction vs the LM.prw coordinate extract (arcbuilt.LM_PRW_EXTRACT_MM): max 0.046 mm at y = -37
     (flange root, the least clean arc); tread (y >= -28 mm) within 0.001 mm; flange back, tip and face
     (-62 .. -40 mm) within 0.015 mm."""
     y, z = LM_PRW_EXTRACT_MM[:, 0], LM_PRW_EXTRACT_MM[:, 1]
@@ -244,7 +244,7 @@ def test_lm_dimensions():
     assert w.flange_tip_y() / MM == pytest.approx(-54.0, abs=0.01)
     assert 69.0 <= math.degrees(w.max_flange_angle()) <= 70.0
     assert w.flange_thickness(0.012) / MM == pytest.approx(32.3, abs=0.1)
-    # lm-profile.md table (heights above the LM.prw z = 0 line, back face at -70 mm)
+    # flange thickness read off the LM.prw table (heights above its z = 0 line, back face at -70 mm)
     sh = LM_DATUM_SHIFT_MM * MM
     for h, thick in [(10, 33.4), (12, 32.3), (13, 31.9), (15, 31.2)]:
         assert w.flange_thickness(h * MM + sh) / MM == pytest.approx(thick, abs=0.06)

@@ -135,8 +135,8 @@ def uic60() -> Profile:
 
 # =====================================================================================  LM wheel
 #: Coordinate extract (y, z in mm) of SIMPACK's example wheel profile LM.prw, as republished in
-#: wenquantongxin/OpenRailVehicleDynamics (gz18_reference_wheel_profile.json) and tabulated in
-#: shared reference lm-profile.md section 2. z is in the LM.prw datum (z(0) = -0.093 mm).
+#: wenquantongxin/OpenRailVehicleDynamics (gz18_reference_wheel_profile.json), read off that table at these
+#: y. z is in the LM.prw datum (z(0) = -0.093 mm).
 LM_PRW_EXTRACT_MM = np.array([
     (-64.5, 21.964), (-62.0, 24.642), (-60.0, 26.092), (-58.0, 27.014), (-56.0, 27.532),
     (-54.0, 27.700), (-52.0, 27.532), (-50.0, 27.015), (-48.0, 26.094), (-46.0, 24.805),
@@ -148,7 +148,7 @@ LM_PRW_EXTRACT_MM = np.array([
 ])
 
 #: Parameters of the LM reconstruction (mm; LM.prw datum before the z shift). "fit" = least-squares fit
-#: to LM_PRW_EXTRACT_MM with every tangency built in; "data" = the arc fits of lm-profile.md (kept at
+#: to LM_PRW_EXTRACT_MM with every tangency built in; "data" = circle fits to that table (kept at
 #: their clean values); "assumed" = not in any data.
 LM_PARAMS_MM = {
     "tip_r": 12.0,            # data: flange tip R12
@@ -246,8 +246,8 @@ LM_DATUM_SHIFT_MM = float(-lm_chain_mm(prw_datum=True)(0.0))
 _LM_NOTES = f"""\
 LM wheel (TB/T 449), RECONSTRUCTED. TB/T 449 defines LM by a dimensioned drawing that is not public.
 This profile is a tangent-continuous arc chain fitted to SIMPACK's example wheel profile LM.prw (the
-likely profile of Yu et al. 2022), as republished in wenquantongxin/OpenRailVehicleDynamics and analysed
-in lm-profile.md. Wheel frame: y from the nominal rolling circle, + toward the rim face, flange at -y;
+likely profile of Yu et al. 2022), as republished in wenquantongxin/OpenRailVehicleDynamics; the arc
+radii below come from circle fits to that table. Wheel frame: y from the nominal rolling circle, + toward the rim face, flange at -y;
 z = radius minus nominal radius, shifted by +{LM_DATUM_SHIFT_MM:.4f} mm from the LM.prw datum so that
 z(0) = 0.
 Pieces (y toward +), source, confidence:
@@ -256,7 +256,7 @@ Pieces (y toward +), source, confidence:
   (y = -64.5, -62); the data say "not one arc". ASSUMED shape; never in contact with the rail head.
 - flange tip R12, centre (-54.00, 15.70 mm, LM.prw datum): data [clean fit, sure].
 - flange face R{LM_PARAMS_MM['face_r']} (data ~R20.1), internally tangent to the tip: fitted [fairly sure].
-- straight flank at {LM_PARAMS_MM['flank_deg']} deg, ~1.1 mm long in y: fitted. lm-profile.md reports
+- straight flank at {LM_PARAMS_MM['flank_deg']} deg, ~1.1 mm long in y: fitted. the circle fits show
   "no straight flank" but a direct R20/R14 tangency gives 74 deg and misfits by 0.3 mm; the short flank
   reproduces the measured maximum flange angle (69.6 deg) [fairly sure about the angle].
 - flange root R{LM_PARAMS_MM['root_r']} concave (data ~R14, "not a clean arc"): fitted [least sure;
@@ -271,7 +271,7 @@ Pieces (y toward +), source, confidence:
 - back face y = -70 mm (rolling circle 70 mm from the back face): secondary sources (1493 - 1353)/2.
 Derived (measured on this profile): flange height 27.79 mm over z(0); flange thickness from the back
 face 33.51 / 32.37 / 31.95 / 31.20 mm at 10 / 12 / 13 / 15 mm above z(0) (33.45 / 32.32 / 31.91 / 31.16
-above the LM.prw z = 0 line, as tabulated in lm-profile.md: 33.4 / 32.3 / 31.9 / 31.2); max flange angle
+above the LM.prw z = 0 line; the LM.prw table itself gives 33.4 / 32.3 / 31.9 / 31.2); max flange angle
 69.36 deg; slope -0.066 (1:15) at y = 0.
 Check against the 34-point LM.prw extract: max deviation 0.046 mm (y = -37, flange root), RMS 0.012 mm,
 tread (y >= -28 mm) 0.0006 mm, flange tip and face 0.013 mm, flange back 0.003 mm.
