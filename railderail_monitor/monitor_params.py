@@ -24,6 +24,8 @@ from pathlib import Path
 
 import yaml
 
+from railderail_sim.atomic import atomic_write
+
 from .criteria import Limits, limits_for_model, model_basis
 
 NODE = "railderail_monitor"
@@ -114,6 +116,7 @@ def command(parser: argparse.ArgumentParser):
         if args.out is None:
             sys.stdout.write(text)
         else:
-            Path(args.out).write_text(text)
+            with atomic_write(args.out) as handle:
+                handle.write(text)
             print(f"wrote {args.out}", file=sys.stderr)
     return run

@@ -31,6 +31,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from railderail_sim import jsonout
+from railderail_sim.atomic import atomic_write
 from railderail_sim.node import PARAMETERS
 from railderail_sim.ranges import check_range
 from railderail_sim.vehicle.simulate import RADIUS_RANGE
@@ -247,7 +248,8 @@ def command(parser: argparse.ArgumentParser):
             out = Path(args.out)
             out.mkdir(parents=True, exist_ok=True)
             jsonout.write(out / "warnings.json", result)
-            (out / "warnings.md").write_text(markdown(result["runs"], result["summary"]) + "\n")
+            with atomic_write(out / "warnings.md") as handle:
+                handle.write(markdown(result["runs"], result["summary"]) + "\n")
             say(f"wrote {out / 'warnings.json'} and {out / 'warnings.md'}")
         if args.json:
             print(jsonout.dumps(result, indent=1))

@@ -53,7 +53,9 @@ ALERTS = f"{NS}/alerts"
 CLOCK = "/clock"
 
 SENSOR = qos_profile_sensor_data
-SENSOR_SUBSCRIBER = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=500,
+# a subscriber's queue: 25 s at 200 Hz, or a short run published as fast as possible (about 2500 samples
+# a second), so that a Python callback that falls behind for a while loses nothing
+SENSOR_SUBSCRIBER = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5000,
                                reliability=ReliabilityPolicy.BEST_EFFORT, durability=DurabilityPolicy.VOLATILE)
 LATCHED = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1, reliability=ReliabilityPolicy.RELIABLE,
                      durability=DurabilityPolicy.TRANSIENT_LOCAL)

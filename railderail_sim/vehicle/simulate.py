@@ -8,13 +8,12 @@
 simulated time into preallocated buffers; `simulate` is the same stepper run to the end of the line.
 """
 from dataclasses import dataclass, field
-import json
 import math
-import os
-import tempfile
 
 import numpy as np
 
+from .. import jsonout
+from ..atomic import atomic_write
 from ..contact import geometry as geo
 from ..contact import wheelset as ws
 from ..contact.hertz import hertz_shape
@@ -331,7 +330,6 @@ class Result:
 
     def save(self, path):
         """Write the documented .npz format (docs/output-format.md) atomically."""
-        path = os.fspath(path)
         meta = dict(status=self.status, derailment=self.derailment, flange_height_m=self.flange_height,
                     radius_m=self.scenario.track.radius, vehicle_set=self.scenario.vehicle.name,
                     contact_model=self.scenario.contact.normal_model,
@@ -339,12 +337,5 @@ class Result:
                     wheel_profile=self.scenario.contact.wheel_profile,
                     speed_table=self.scenario.speed_table.tolist(), rtol=self.scenario.rtol,
                     atol=self.scenario.atol)
-        d = os.path.dirname(os.path.abspath(path))
-        fd, tmp = tempfile.mkstemp(suffix=".npz", dir=d)
-        os.close(fd)
-        try:
-            np.savez_compressed(tmp, metadata=json.dumps(meta), **self.arrays())
-            os.replace(tmp, path)
-        except BaseException:
-            os.unlink(tmp)
-            raise
+        with atomic_write(path, "wb") as handle:
+            np.savez_compressed(handle, metadata=jsonout.dumps(meta), **self.arrays())
