@@ -19,9 +19,19 @@ from pathlib import Path
 import pytest
 
 
+def ros_domain_id():
+    """A ROS domain of this test run (1..100, the range DDS's default ports allow): with pytest-xdist one
+    per worker, the workers of one run never sharing one; without it, one from the process id."""
+    worker = os.environ.get("PYTEST_XDIST_WORKER")
+    if worker is None:
+        return 1 + os.getpid() % 100
+    run = int(os.environ["PYTEST_XDIST_TESTRUNUID"], 16)
+    return 1 + (run % 25) * 4 + int(worker.removeprefix("gw")) % 4
+
+
 def pytest_configure(config):
     config.addinivalue_line("markers", "slow: heavy physics check (minutes); skip with -m 'not slow'")
-    os.environ["ROS_DOMAIN_ID"] = str(1 + os.getpid() % 100)
+    os.environ["ROS_DOMAIN_ID"] = str(ros_domain_id())
     os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
     os.environ.pop("ROS_STATIC_PEERS", None)
 
