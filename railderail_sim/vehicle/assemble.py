@@ -4,7 +4,7 @@ This is where the vehicle's topology lives: which body is attached to which, whe
 Nominal attachment points are given in vehicle coordinates on straight level track (x forward from the
 car-body centre, y left, z up from the rail top) and converted to each body's own coordinates.
 """
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 import functools
 import math
 
@@ -43,14 +43,17 @@ class Model:
     vehicle: VehicleParameters
     track_parameters: TrackParameters
     contact: ContactParameters
-    static_wheel_load: float = 0.0
-    extra: dict = field(default_factory=dict)
 
     @property
     def arrays(self):
         """The arrays of the core, as `dynamics.rhs` and `integrator.advance` take them."""
         return ModelArrays(bodies=self.bodies, vp=self.vp, bush=self.bush, damp=self.damp, bump=self.bump,
                            arb=self.arb, track=self.track, cg=self.cg, cp=self.cp)
+
+    @property
+    def static_wheel_load(self):
+        """Static vertical load of one wheel (N), `VehicleParameters.static_wheel_load`."""
+        return self.vehicle.static_wheel_load
 
     @property
     def flange_height(self):
@@ -221,7 +224,6 @@ def build_model(vehicle: VehicleParameters, track: TrackParameters, contact: Con
                                track.transition_out, track.straight_out, track.radius, track.cant_height,
                                track.direction, track.rail_spacing,
                                (track.excitation_start, track.excitation_length, track.excitation_amplitude))
-    static = vehicle.static_wheel_load
     return Model(bodies=bodies, vp=vehicle_array(vehicle, cg, lift_tolerance), bush=bush, damp=damp,
-                 bump=bump, arb=arb, track=trk, cg=cg, cp=contact_array(contact, static), vehicle=vehicle,
-                 track_parameters=track, contact=contact, static_wheel_load=static)
+                 bump=bump, arb=arb, track=trk, cg=cg, cp=contact_array(contact, vehicle.static_wheel_load),
+                 vehicle=vehicle, track_parameters=track, contact=contact)
