@@ -264,9 +264,6 @@ class TrackParameters:
     gauge_depth: float = _p(0.014, "m", "EN13674", "V", "gauge measured 14 mm below the rail top")
     rail_inclination: float = _p(math.atan(1.0 / 40.0), "rad", "EN13674", "V", "1:40")
     rail_profile: str = _p("uic60", "-", "Yu2022", "V")
-    excitation_start: float = _p(50.0, "m", "model", "A", "lateral alignment defect (limit cycle only)")
-    excitation_length: float = _p(20.0, "m", "model", "A")
-    excitation_amplitude: float = _p(0.0, "m", "model", "A", "0 = none; the limit cycle uses 0.010 m")
 
     @property
     def cant_angle(self):

@@ -188,6 +188,8 @@ def derailment_message(event, car_body_position, frame_id="track"):
     m.speed = event["speed_kmh"] / 3.6
     m.wheel_lift = event["wheel_lift_m"]
     m.lateral_displacement = event["lateral_displacement_m"]
+    m.attack_angle = event["attack_angle_rad"]
+    m.contact_position = event["contact_position_m"]
     return m
 
 
@@ -207,7 +209,8 @@ def derailment_dict(message):
     return dict(time_s=seconds(message.header.stamp), track_position_m=float(message.track_position),
                 wheelset=int(message.wheelset), wheel_side=message.wheel_side, rail_side=message.rail_side,
                 mechanism=message.mechanism, speed_kmh=float(message.speed) * 3.6,
-                wheel_lift_m=float(message.wheel_lift), lateral_displacement_m=float(message.lateral_displacement))
+                wheel_lift_m=float(message.wheel_lift), lateral_displacement_m=float(message.lateral_displacement),
+                attack_angle_rad=float(message.attack_angle), contact_position_m=float(message.contact_position))
 
 
 # --- parameters ---------------------------------------------------------------------------------

@@ -47,7 +47,8 @@ def sample_messages():
                        message="critical: wheel lift")
     m.stamp(alert, 1.25)
     event = dict(time_s=2.5, wheelset=0, wheel_side="left", rail_side="inner", mechanism="wheel_unloading",
-                 speed_kmh=300.0, wheel_lift_m=0.028, lateral_displacement_m=-0.018)
+                 speed_kmh=300.0, wheel_lift_m=0.028, lateral_displacement_m=-0.018,
+                 attack_angle_rad=0.004, contact_position_m=-0.03)
     from rosgraph_msgs.msg import Clock
     clock = Clock()
     clock.clock.sec, clock.clock.nanosec = 3, 5

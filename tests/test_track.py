@@ -1,7 +1,6 @@
 """Track alignment: curvature and cant ramps, exact heading, position by quadrature, defect shape."""
 import math
 
-import numpy as np
 import pytest
 from scipy.integrate import quad
 
@@ -49,13 +48,3 @@ def test_position_matches_quadrature_of_the_heading(track, s):
 def test_heading_of_the_curve_is_the_arc_angle(track):
     # heading at the end = 2 transitions (each L/(2R)) + circle L/R
     assert A.frame(track, 1800.0)[2] == pytest.approx(200 / 2000 * 2 + 1.0)
-
-
-def test_lateral_defect_is_a_smooth_one_period_kink():
-    t = A.pack_track(200.0, 200.0, 1000.0, 200.0, 200.0, 1000.0, 0.175, excitation=(50.0, 20.0, 0.01))
-    assert A.lateral_defect(t, 49.9) == (0.0, 0.0)
-    assert A.lateral_defect(t, 60.0)[0] == pytest.approx(0.01)
-    s = np.linspace(50.0, 70.0, 2001)
-    y = np.array([A.lateral_defect(t, q)[0] for q in s])
-    dy = np.array([A.lateral_defect(t, q)[1] for q in s])
-    assert np.allclose(np.gradient(y, s), dy, atol=2e-5)

@@ -1,7 +1,7 @@
 """Limit-cycle method: nonlinear critical speed by time integration after a lateral excitation.
 
-The car runs on straight track through a short lateral alignment defect (one period of a cosine kink,
-`track.alignment.lateral_defect`; default 10 mm over 20 m), then on smooth track. Following Yu 2022
+The car runs on straight track through a short lateral alignment defect (one period of a cosine kink of
+both rails, `track.rails.lateral_kink`; default 10 mm over 20 m), then on smooth track. Following Yu 2022
 (Table 3), the run is unstable when the wheelset lateral displacement does not decay below 0.1 mm: the
 largest |lateral displacement| of any wheelset over the last `window_m` metres of the line is compared
 with that threshold. The nonlinear critical speed is the lowest speed whose run stays unstable, found by a
@@ -17,6 +17,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..ranges import check_range
+from ..track.rails import lateral_kink
 from ..vehicle.simulate import Scenario, constant_speed, simulate, straight_track
 
 THRESHOLD_M = 1.0e-4
@@ -42,9 +43,8 @@ class LimitCycle:
 
 def excited_scenario(sc: Scenario, speed_kmh, amplitude=0.010, length=20.0, start=100.0):
     check_range("limit-cycle speed", speed_kmh, *SPEED_RANGE_KMH, "km/h")
-    track = straight_track(excitation_start=start, excitation_length=length, excitation_amplitude=amplitude)
-    return replace(sc, track=track, speed_table=constant_speed(speed_kmh), stop_on_derailment=True,
-                   output_rate=100.0)
+    return replace(sc, track=straight_track(), irregularity=lateral_kink(start, length, amplitude),
+                   speed_table=constant_speed(speed_kmh), stop_on_derailment=True, output_rate=100.0)
 
 
 def final_amplitude(sc: Scenario, speed_kmh, window_m=300.0, **excitation):

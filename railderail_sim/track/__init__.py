@@ -1,1 +1,2 @@
-"""Track alignment (curvature, cant, heading, position) and lateral excitation; see `alignment`."""
+"""The track: its ideal alignment (curvature, cant, heading, position; `alignment`) and where the rails
+actually lie about it (irregularities and defects; `rails`)."""

@@ -1,8 +1,8 @@
 """Ideal track alignment as a function of the distance s along the line.
 
 The line is straight -> clothoid transition with a linear cant ramp -> circular curve -> transition ->
-straight (Yu et al. 2022, Table 2), with an optional short lateral alignment defect used to excite the
-vehicle in the limit-cycle method. Before s = 0 and after the end the line continues straight.
+straight (Yu et al. 2022, Table 2). Before s = 0 and after the end the line continues straight. Where
+the rails actually lie about this alignment (irregularities, defects) is `rails`.
 
 Frames: the track frame at s has its origin on the track centre line at top-of-rail level, x along the
 tangent, y to the left, z normal to the (canted) track plane. Cant rolls the frame about x about the
@@ -32,9 +32,6 @@ class TrackHeader(Record):
     cant_height = "m", "cant height at the breakpoints", (N_BREAKS,)
     rail_spacing = "m", "distance e between the rail centres"
     direction = "-", "+1 curve to the left, -1 to the right"
-    excitation_start = "m", "lateral alignment defect: start s"
-    excitation_length = "m", "lateral alignment defect: length"
-    excitation_amplitude = "m", "lateral alignment defect: peak amplitude (0 = none)"
     grid_step = "m", "step of the heading/position grid"
     grid_nodes = "-", "nodes of the grid"
     grid_first = "m", "s of the first node"
@@ -56,12 +53,9 @@ GAUSS_W = np.array([0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 
 
 
 def pack_track(straight_in, transition_in, curve, transition_out, straight_out, radius, cant_height,
-               direction=1, rail_spacing=1.5, excitation=(0.0, 0.0, 0.0), margin=100.0):
-    """Pack the alignment into a float64 array for the numba core (lengths in m, cant height in m).
-
-    `excitation` = (start s, length, amplitude) of a one-period lateral alignment defect (see
-    `lateral_defect`); amplitude 0 disables it. `margin` extends the grid beyond both ends.
-    """
+               direction=1, rail_spacing=1.5, margin=100.0):
+    """Pack the alignment into a float64 array for the numba core (lengths in m, cant height in m);
+    `margin` extends the grid beyond both ends."""
     lengths = (straight_in, transition_in, curve, transition_out, straight_out)
     breaks = np.concatenate(([0.0], np.cumsum(lengths)))
     kappa = 0.0 if math.isinf(radius) else 1.0 / radius
@@ -75,8 +69,6 @@ def pack_track(straight_in, transition_in, curve, transition_out, straight_out, 
     head[TrackHeader.cant_height.columns] = cant_h
     head[TrackHeader.rail_spacing] = rail_spacing
     head[TrackHeader.direction] = 1.0 if direction >= 0 else -1.0
-    head[TrackHeader.excitation_start], head[TrackHeader.excitation_length], head[TrackHeader.excitation_amplitude] = \
-        excitation
     s_first = -margin
     n = int(math.ceil((breaks[-1] + 2 * margin) / GRID_STEP)) + 1
     head[TrackHeader.grid_step], head[TrackHeader.grid_nodes], head[TrackHeader.grid_first] = GRID_STEP, n, s_first
@@ -180,23 +172,6 @@ def _integrate_nodes(track):
         track[j + TrackNode.heading] = _heading_exact(track, s)
         track[j + TrackNode.x] = x
         track[j + TrackNode.y] = y
-
-
-@core
-def lateral_defect(track, s):
-    """Lateral alignment defect (m, + left) and its slope d/ds at s.
-
-    One full period of a cosine-shaped lateral kink: y(s) = A/2 (1 - cos(2 pi (s - s0) / L)) for
-    s0 <= s <= s0 + L. Smooth (C1), zero outside, peak amplitude A in the middle.
-    """
-    s0 = track[TrackHeader.excitation_start]
-    length = track[TrackHeader.excitation_length]
-    amp = track[TrackHeader.excitation_amplitude]
-    if amp == 0.0 or s < s0 or s > s0 + length:
-        return 0.0, 0.0
-    w = 2.0 * math.pi / length
-    u = s - s0
-    return 0.5 * amp * (1.0 - math.cos(w * u)), 0.5 * amp * w * math.sin(w * u)
 
 
 @core

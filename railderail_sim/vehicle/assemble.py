@@ -16,7 +16,7 @@ from ..contact.hertz import combined_modulus
 from ..contact.layout import ContactConstants, GeometryHeader
 from ..parameters import FRICTION_RANGE, GRAVITY, ContactParameters, TrackParameters, VehicleParameters
 from ..ranges import check_range
-from ..track import alignment
+from ..track import alignment, rails
 from .dynamics import ModelArrays
 from .layout import (BOGIES, BUMP_POINTS, CAR_BODY, N_DAMPER, WHEELSETS, AntiRollBar, BodyTable, BumpStop,
                      Bushing, Damper, State, VehicleConstants)
@@ -38,6 +38,7 @@ class Model:
     bump: np.ndarray
     arb: np.ndarray
     track: np.ndarray
+    rails: np.ndarray
     cg: np.ndarray
     cp: np.ndarray
     vehicle: VehicleParameters
@@ -48,7 +49,7 @@ class Model:
     def arrays(self):
         """The arrays of the core, as `dynamics.rhs` and `integrator.advance` take them."""
         return ModelArrays(bodies=self.bodies, vp=self.vp, bush=self.bush, damp=self.damp, bump=self.bump,
-                           arb=self.arb, track=self.track, cg=self.cg, cp=self.cp)
+                           arb=self.arb, track=self.track, rails=self.rails, cg=self.cg, cp=self.cp)
 
     @property
     def static_wheel_load(self):
@@ -61,9 +62,9 @@ class Model:
         return float(self.vp[VehicleConstants.flange_height])
 
     @property
-    def climb_displacement(self):
-        """Lateral displacement that puts the flange tip over the rail's highest point (m)."""
-        return float(self.vp[VehicleConstants.climb_displacement])
+    def flange_contact_angle(self):
+        """Contact angle above which a contact is on the flange (rad)."""
+        return float(self.vp[VehicleConstants.flange_contact_angle])
 
 
 def body_table(vp: VehicleParameters):
@@ -204,26 +205,30 @@ def vehicle_array(vp: VehicleParameters, cg, lift_tolerance):
     force = np.zeros(BUMP_POINTS)
     travel[:n] = vp.bump_stop_travel
     force[:n] = vp.bump_stop_force
-    # the flange tip above the rail's highest point
     H = GeometryHeader
-    climb = cg[H.rail_top_y] - (cg[H.rolling_circle_distance] + cg[H.flange_tip_y])
+    # the flange face: the steepest part of the wheel between the rolling circle and the flange tip
+    _, wheel_slope, _ = geometry.wheel_table(cg)
+    i0 = int(round(-cg[H.wheel_y0] / cg[H.wheel_step]))
+    tip = int(round((cg[H.flange_tip_y] - cg[H.wheel_y0]) / cg[H.wheel_step]))
+    flange_angle = float(np.max(np.arctan(np.abs(wheel_slope[min(i0, tip):max(i0, tip) + 1]))))
     return VehicleConstants.pack(gravity=GRAVITY, rolling_radius=vp.rolling_radius,
                                  spin_inertia=vp.wheelset_spin_inertia, bump_clearance=vp.bump_stop_clearance,
                                  bump_points=n, bump_travel=travel, bump_force=force,
-                                 flange_height=cg[H.flange_height], climb_displacement=climb,
+                                 flange_height=cg[H.flange_height], flange_contact_angle=0.5 * flange_angle,
                                  lift_tolerance=lift_tolerance)
 
 
 def build_model(vehicle: VehicleParameters, track: TrackParameters, contact: ContactParameters,
-                lift_tolerance=1.0e-3):
-    """Pack a scenario's parameters into a Model."""
+                lift_tolerance=1.0e-3, irregularity=None):
+    """Pack a scenario's parameters into a Model; `irregularity`: the packed rail offsets
+    (`track.rails.pack_rails`), None for ideal rails."""
     bodies = body_table(vehicle)
     bush, damp, bump, arb = element_tables(vehicle, bodies)
     cg = contact_geometry(contact, track, vehicle.rolling_radius)
     trk = alignment.pack_track(track.straight_in, track.transition_in, track.curve_length,
                                track.transition_out, track.straight_out, track.radius, track.cant_height,
-                               track.direction, track.rail_spacing,
-                               (track.excitation_start, track.excitation_length, track.excitation_amplitude))
+                               track.direction, track.rail_spacing)
     return Model(bodies=bodies, vp=vehicle_array(vehicle, cg, lift_tolerance), bush=bush, damp=damp,
-                 bump=bump, arb=arb, track=trk, cg=cg, cp=contact_array(contact, vehicle.static_wheel_load),
+                 bump=bump, arb=arb, track=trk, rails=rails.pack_rails() if irregularity is None else irregularity,
+                 cg=cg, cp=contact_array(contact, vehicle.static_wheel_load),
                  vehicle=vehicle, track_parameters=track, contact=contact)

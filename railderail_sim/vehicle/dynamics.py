@@ -24,12 +24,12 @@ import math
 from ..jit import core
 from ..contact import wheelset as ws
 from ..record import Record
-from ..track import alignment as trk
+from ..track import alignment as trk, rails
 from .layout import (AntiRollBar, BodyTable, BumpStop, Bushing, Damper, Dof, N_BODY, N_DOF, State, Vector,
                      VehicleConstants, WHEELSETS)
 
 # the model's arrays (built by vehicle.assemble), as the core's functions take them
-ModelArrays = namedtuple("ModelArrays", "bodies vp bush damp bump arb track cg cp")
+ModelArrays = namedtuple("ModelArrays", "bodies vp bush damp bump arb track rails cg cp")
 # buffers of one right-hand side: per-body kinematics, one wheel's contact scratch, each wheel's contact
 # candidates (contact.layout.Candidates) and wheel record (contact.layout.Wheel)
 RhsBuffers = namedtuple("RhsBuffers", "kin contact cands recs")
@@ -373,19 +373,23 @@ def rhs(x, dx, model, sp, buffers, tracked):
         # wheel-rail force and moment of both wheels of a wheelset (track axes, about its centre)
         cx = cy = cz = cmx = cmy = cmz = 0.0
         if is_ws:
-            yd, dyd = trk.lateral_defect(track, s + bodies[b, BodyTable.station])
-            pose = (x[o + Dof.lateral] - yd, x[o + Dof.vertical], x[o + Dof.roll], x[o + Dof.yaw] - dyd)
-            motion = (vtx, vty, vtz, wx, wy, wz, spin, v)
+            sw = s + bodies[b, BodyTable.station]
             for side in range(2):
+                # each wheel on its own rail (track.rails): the pose relative to the rail, the velocities in
+                # the rail's axes (turned by the small angles a, c) and the force and moment back
+                ly, lz, a, c = rails.rail_offset(model.rails, side, sw)
+                pose = (x[o + Dof.lateral] - ly, x[o + Dof.vertical] - lz, x[o + Dof.roll], x[o + Dof.yaw] - a)
+                motion = (vtx + a * vty + c * vtz, vty - a * vtx, vtz - c * vtx,
+                          wx + a * wy + c * wz, wy - a * wx, wz - c * wx, spin, v)
                 k = 2 * (b - WHEELSETS[0]) + side
                 f0, f1, f2, m0, m1, m2 = ws.wheel_forces(model.cg, model.cp, side, pose, motion, buffers.contact,
                                                          cands[k], tracked, recs[k])
-                cx += f0
-                cy += f1
-                cz += f2
-                cmx += m0
-                cmy += m1
-                cmz += m2
+                cx += f0 - a * f1 - c * f2
+                cy += f1 + a * f0
+                cz += f2 + c * f0
+                cmx += m0 - a * m1 - c * m2
+                cmy += m1 + a * m0
+                cmz += m2 + c * m0
             fx += cx
             fy += cy
             fz += cz

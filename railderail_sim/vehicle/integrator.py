@@ -20,11 +20,11 @@ import numpy as np
 from ..jit import core
 from ..contact import wheelset as ws
 from ..record import Record
-from ..track import alignment as trk
+from ..track import alignment as trk, rails
 from . import dynamics as dyn
 from .layout import (BodyTable, Dof, N_BODY, N_DAMPER, N_DOF, N_STATE, N_WHEEL, N_WHEELSET, OutputRow,
                      State, VehicleConstants, WheelsetOutput, WHEELSETS)
-from ..contact.layout import W_SIZE, Wheel
+from ..contact.layout import W_SIZE, WP_SIZE, Wheel, WheelPatch
 
 RUNNING, DERAILED, DIVERGED, END_OF_LINE = 0, 1, 2, 3
 MECH_FLANGE_CLIMBING, MECH_WHEEL_UNLOADING = 1, 2
@@ -38,10 +38,18 @@ class Event(Record):
     side = "-", "derailed wheel: 0 left, 1 right"
     mechanism = "-", "MECH_FLANGE_CLIMBING or MECH_WHEEL_UNLOADING"
     wheel_lift = "m", "the wheel's lift"
-    lateral_displacement = "m", "the wheelset's lateral displacement"
+    lateral_displacement = "m", "the wheelset's lateral displacement from the derailed wheel's rail position"
+    attack_angle = "rad", "the wheelset's attack angle to the derailed wheel's rail, + front toward the outer rail"
+    contact_position = "m", "where the wheel last touched its rail (LastContact)"
     speed = "m/s", "forward speed"
     state_index = "-", "DIVERGED: index of the runaway state in the state vector (-1: the step size fell)"
     state_value = "-", "DIVERGED: its value (or the step size, s)"
+
+
+class LastContact(Record):
+    """Where a wheel last touched its rail (kept while it is off the rail, `_follow_contact`)."""
+    on_flange = "-", "1 if a loaded patch was on the flange (contact angle above the flange_contact_angle)"
+    contact_position = "m", "the main patch's point on the rail, from the head axis, + field side"
 
 
 class Stepper(Record):
@@ -63,9 +71,9 @@ LIMIT_DAMPER = 0.5             # m
 LIMIT_SPIN = 1000.0            # rad/s, a wheelset's spin (about 240 rad/s at 400 km/h)
 
 # the stepper's buffers: the right-hand side's (dynamics.RhsBuffers), the seven stage derivatives, the
-# trial state, the contact candidates saved before a step (restored when it is rejected), the Event and
-# the Stepper record
-Workspace = namedtuple("Workspace", "rhs stages trial cand_save event stepper")
+# trial state, the contact candidates saved before a step (restored when it is rejected), the Event, the
+# Stepper record and, per wheel, its LastContact
+Workspace = namedtuple("Workspace", "rhs stages trial cand_save event stepper last_contact")
 # error control and the stopping rules
 StepControl = namedtuple("StepControl", "atol rtol h_min h_max s_end stop_on_derailment")
 
@@ -77,7 +85,8 @@ def workspace(cg):
     buffers = dyn.RhsBuffers(kin=np.zeros((N_BODY, dyn.K_COLS)), contact=ws.contact_scratch(cg),
                              cands=ws.candidates(N_WHEEL), recs=np.zeros((N_WHEEL, W_SIZE)))
     return Workspace(rhs=buffers, stages=np.zeros((7, N_STATE)), trial=np.zeros(N_STATE),
-                     cand_save=ws.candidates(N_WHEEL), event=np.zeros(EV_SIZE), stepper=stepper)
+                     cand_save=ws.candidates(N_WHEEL), event=np.zeros(EV_SIZE), stepper=stepper,
+                     last_contact=np.zeros((N_WHEEL, LastContact.size())))
 
 
 @core
@@ -102,11 +111,13 @@ def fill_row(row, t, x, v, model, recs):
     for w in range(N_WHEELSET):
         b = WHEELSETS[w]
         o = State.positions + N_DOF * b
-        yd, dyd = trk.lateral_defect(track, s + bodies[b, BodyTable.station])
+        # relative to the track's actual centre line and direction: the mean of the two rails
+        yl, _, al, _ = rails.rail_offset(model.rails, 0, s + bodies[b, BodyTable.station])
+        yr, _, ar, _ = rails.rail_offset(model.rails, 1, s + bodies[b, BodyTable.station])
         r = OutputRow.wheelsets + w * WS_SIZE
-        row[r + WheelsetOutput.wheelset_lateral] = x[o + Dof.lateral] - yd
+        row[r + WheelsetOutput.wheelset_lateral] = x[o + Dof.lateral] - 0.5 * (yl + yr)
         # attack angle: + when the front of the wheelset points toward the outer rail
-        row[r + WheelsetOutput.attack_angle] = -direction * (x[o + Dof.yaw] - dyd)
+        row[r + WheelsetOutput.attack_angle] = -direction * (x[o + Dof.yaw] - 0.5 * (al + ar))
         row[r + WheelsetOutput.wheelset_roll] = x[o + Dof.roll]
     for k in range(N_WHEEL):
         o = OutputRow.wheels + k * W_SIZE
@@ -115,36 +126,61 @@ def fill_row(row, t, x, v, model, recs):
 
 
 @core
-def _check_derailment(x, v, t, model, recs, event):
+def _follow_contact(recs, vp, last):
+    """Per wheel in contact: its LastContact, on the flange when a loaded patch's contact angle is above the
+    `flange_contact_angle`; unchanged while the wheel is off the rail, so that a wheel that has lifted
+    remembers where it touched before."""
+    limit = vp[VehicleConstants.flange_contact_angle]
+    for k in range(N_WHEEL):
+        loaded = False
+        on_flange = False
+        for q in range(int(recs[k, Wheel.contact_count])):
+            o = Wheel.patches + q * WP_SIZE
+            if recs[k, o + WheelPatch.normal_force] > 0.0:
+                loaded = True
+                if recs[k, o + WheelPatch.contact_angle] > limit:
+                    on_flange = True
+        if loaded:
+            last[k, LastContact.on_flange] = 1.0 if on_flange else 0.0
+            last[k, LastContact.contact_position] = recs[k, Wheel.contact_position]
+
+
+@core
+def _check_derailment(x, v, t, model, recs, last, event):
     """The paper's geometric criterion, per wheel (docs/methods.md): True and `event` filled if met.
 
-    flange climbing: lift >= flange height - tolerance and the wheelset displaced toward that wheel's rail
-    by at least the displacement that puts the flange tip over the rail's highest point;
-    wheel unloading (lift-off / overturning): lift >= flange height on a wheel not climbing its rail.
+    flange climbing: the flanging wheel (its last contact on the flange, `LastContact`) has
+    lifted to the flange height less the tolerance; wheel unloading (lift-off, overturning): a wheel whose
+    last contact was on its tread has lifted to the flange height. The event gives the wheelset's lateral
+    displacement and attack angle relative to the derailed wheel's rail and where the wheel last touched it.
     """
     vp = model.vp
     hf = vp[VehicleConstants.flange_height]
     tol = vp[VehicleConstants.lift_tolerance]
-    yclimb = vp[VehicleConstants.climb_displacement]
+    direction = model.track[trk.TrackHeader.direction]
     for w in range(N_WHEELSET):
         b = WHEELSETS[w]
-        y = x[State.positions + N_DOF * b + Dof.lateral]
+        o = State.positions + N_DOF * b
+        sw = x[State.s] + model.bodies[b, BodyTable.station]
         for side in range(2):
-            lift = recs[2 * w + side, Wheel.wheel_lift]
-            toward = y if side == 0 else -y
+            k = 2 * w + side
+            lift = recs[k, Wheel.wheel_lift]
             mech = 0
-            if lift >= hf - tol and toward >= yclimb:
+            if last[k, LastContact.on_flange] > 0.5 and lift >= hf - tol:
                 mech = MECH_FLANGE_CLIMBING
             elif lift >= hf:
                 mech = MECH_WHEEL_UNLOADING
             if mech > 0:
+                rail_y, _, rail_slope, _ = rails.rail_offset(model.rails, side, sw)
                 event[Event.time] = t
-                event[Event.position] = x[State.s] + model.bodies[b, BodyTable.station]
+                event[Event.position] = sw
                 event[Event.wheelset] = w
                 event[Event.side] = side
                 event[Event.mechanism] = mech
                 event[Event.wheel_lift] = lift
-                event[Event.lateral_displacement] = y
+                event[Event.lateral_displacement] = x[o + Dof.lateral] - rail_y
+                event[Event.attack_angle] = -direction * (x[o + Dof.yaw] - rail_slope)
+                event[Event.contact_position] = last[k, LastContact.contact_position]
                 event[Event.speed] = v
                 return True
     return False
@@ -231,7 +267,7 @@ def advance(x, t, duration, out_dt, first_row, model, sp, control, work, out):
         if (interval > 0 or first_row) and rows < nout:
             fill_row(out[rows], t, x, v, model, recs)
             rows += 1
-        if control.stop_on_derailment and _check_derailment(x, v, t, model, recs, event):
+        if control.stop_on_derailment and _check_derailment(x, v, t, model, recs, work.last_contact, event):
             stepper[Stepper.step] = h_prop
             return DERAILED, rows, t
         if x[State.s] >= control.s_end:
@@ -271,6 +307,7 @@ def advance(x, t, duration, out_dt, first_row, model, sp, control, work, out):
                     k0[i] = ks[6, i]
                 t = t_target if clipped else t + h
                 v = vt
+                _follow_contact(recs, model.vp, work.last_contact)
                 if _check_divergence(x, t, event):
                     stepper[Stepper.step] = h_prop
                     return DIVERGED, rows, t

@@ -127,14 +127,14 @@ class VehicleConstants(Record):
     bump_travel = "m", "deflection at each point of the bump-stop law", (BUMP_POINTS,)
     bump_force = "N", "force at each point of the bump-stop law", (BUMP_POINTS,)
     flange_height = "m", "flange height above the nominal rolling circle"
-    climb_displacement = "m", "lateral displacement that puts the flange tip over the rail's highest point"
+    flange_contact_angle = "rad", "a contact steeper than this is on the flange: half the wheel's flange angle"
     lift_tolerance = "m", "wheel lift short of the flange height at which a climbing wheel counts as derailed"
 
 
 class WheelsetOutput(Record):
     """What the output row gives of each wheelset."""
-    wheelset_lateral = "m", "lateral displacement relative to the rails, + left"
-    attack_angle = "rad", "attack angle: + when the front of the wheelset points toward the outer rail"
+    wheelset_lateral = "m", "lateral displacement from the middle of the two rails, + left"
+    attack_angle = "rad", "yaw to the mean direction of the two rails, + front toward the outer rail"
     wheelset_roll = "rad", "roll relative to the track"
 
 

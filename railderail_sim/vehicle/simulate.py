@@ -21,6 +21,7 @@ from ..contact.layout import ContactConstants, Patch, Wheel
 from ..parameters import ContactParameters, TrackParameters, VehicleParameters, vehicle_parameters
 from ..ranges import check_range
 from ..track import alignment
+from ..track.rails import pack_rails
 from . import integrator as itg
 from .assemble import build_model
 from .integrator import Event, StepControl, Stepper
@@ -80,6 +81,7 @@ class Scenario:
     track: TrackParameters = field(default_factory=TrackParameters)
     contact: ContactParameters = field(default_factory=ContactParameters)
     speed_table: np.ndarray = field(default_factory=lambda: constant_speed(300.0))
+    irregularity: np.ndarray = field(default_factory=pack_rails)   # the rails' offsets (track.rails)
     rtol: float = RTOL
     atol: float = ATOL_DISPLACEMENT
     output_rate: float = 200.0              # Hz
@@ -147,7 +149,7 @@ class Simulation:
     def __init__(self, sc: Scenario, model=None):
         self.scenario = sc.validated()
         self.model = model if model is not None else build_model(sc.vehicle, sc.track, sc.contact,
-                                                                 sc.lift_tolerance)
+                                                                 sc.lift_tolerance, sc.irregularity)
         self.speed_table = np.ascontiguousarray(sc.speed_table, dtype=np.float64)
         self.work = itg.workspace(self.model.cg)
         self.x = np.zeros(N_STATE)
@@ -216,6 +218,8 @@ class Simulation:
                     rail_side="inner" if side == inner_side else "outer",
                     mechanism=MECHANISMS[int(e[Event.mechanism])], wheel_lift_m=float(e[Event.wheel_lift]),
                     lateral_displacement_m=float(e[Event.lateral_displacement]),
+                    attack_angle_rad=float(e[Event.attack_angle]),
+                    contact_position_m=float(e[Event.contact_position]),
                     speed_kmh=float(e[Event.speed]) / KMH)
 
 
@@ -250,7 +254,7 @@ def simulate(sc: Scenario, progress=None, chunk=1.0):
             progress(sim)
     rows = np.concatenate(parts) if parts else np.zeros((0, N_OUT))
     return Result(rows=rows, scenario=sc, status=STATUS[sim.status], derailment=sim.derailment(),
-                  flange_height=sim.model.flange_height, climb_displacement=sim.model.climb_displacement)
+                  flange_height=sim.model.flange_height)
 
 
 def output_arrays(rows):
@@ -273,7 +277,6 @@ class Result:
     status: str
     derailment: dict = None
     flange_height: float = 0.0
-    climb_displacement: float = 0.0
 
     def arrays(self):
         """Named arrays of the documented output format (`output_arrays`)."""
