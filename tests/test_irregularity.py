@@ -1,6 +1,6 @@
 """Track irregularities (railderail_sim.track.irregularity): the spectra against their published formulas
 written out here with the published constants, generated samples against the spectra (Welch, Parseval),
-determinism, the CSV format and its errors, the packed layout the core reads."""
+determinism, the CSV format and its errors, the packed layout the core reads, the command."""
 import math
 
 import numpy as np
@@ -8,6 +8,7 @@ import pytest
 from scipy.integrate import quad
 from scipy.signal import welch
 
+from railderail_sim import cli
 from railderail_sim.track import irregularity as ir
 
 # Each published formula with its constants typed from the tables (not read from the module), at one
@@ -233,3 +234,44 @@ def test_blank_lines_are_skipped_and_line_numbers_stay_true(tmp_path):
     path.write_text(HEADER + "0,1,2,3,4\n\n2,1,2,3,4\n\n1,0,0,0,0\n")
     with pytest.raises(ValueError, match="line 6: s_m 1 m does not increase"):
         ir.read_csv(path)
+
+
+def test_the_command_writes_the_file_and_prints_the_summary(tmp_path, capsys):
+    out = tmp_path / "t.csv"
+    plot = tmp_path / "t.png"
+    assert cli.main(["track-irregularity", "--spectrum", "china-hsr", "--seed", "4", "--length-m", "800",
+                     "--out", str(out), "--plot", str(plot)]) == 0
+    text = capsys.readouterr().out
+    assert "seed 4" in text and "wavelengths 2 to 200 m" in text and "gauge" in text and "RMS" in text
+    back = ir.read_csv(out)
+    again = ir.generate("china-hsr", 800.0, seed=4)
+    assert np.abs(back.values - again.values).max() < 1e-6 and plot.stat().st_size > 10_000
+    rms_mm = float(text.split("vertical profile ")[1].split(" mm")[0])
+    assert rms_mm == pytest.approx(np.sqrt(np.mean(again.components()["vertical"] ** 2)) * 1e3, abs=1e-3)
+
+
+@pytest.mark.parametrize("options, message", [
+    (["--length-m", "5"], "length 5 m is outside the accepted range [10, 200000] m"),
+    (["--length-m", "3e5"], "length 300000 m is outside the accepted range [10, 200000] m"),
+    (["--step-m", "0.01"], "step 0.01 m is outside the accepted range [0.05, 1] m"),
+    (["--band-m", "0.2,150"], "band wavelength 0.2 m is outside the accepted range [0.5, 1000] m"),
+    (["--band-m", "1,2000"], "band wavelength 2000 m is outside the accepted range [0.5, 1000] m"),
+    (["--band-m", "150,1"], "band 150..1 m: the shortest wavelength must come first"),
+    (["--step-m", "1", "--band-m", "1,150"], "band shortest wavelength 1 m needs a step of at most 0.5 m"),
+    (["--seed", "-3"], "seed -3 is outside the accepted range: an integer >= 0"),
+    (["--plot", "x.jpg"], "plot file 'x.jpg' must end in .png, .pdf or .svg"),
+    (["--out", "x.txt"], "output file 'x.txt' must end in .csv"),
+])
+def test_bad_options_are_one_line_and_status_2(tmp_path, capsys, options, message):
+    args = {"--spectrum": "erri-low", "--seed": "1", "--length-m": "100", "--out": str(tmp_path / "x.csv")}
+    args.update(dict(zip(options[::2], options[1::2])))
+    assert cli.main(["track-irregularity", *[x for pair in args.items() for x in pair]]) == 2
+    err = capsys.readouterr().err
+    assert err == f"railderail: error: {message}" + err.split(message, 1)[1] and err.count("\n") == 1, err
+    assert not (tmp_path / "x.csv").exists()
+
+
+def test_china_band_must_stay_where_the_fit_holds(tmp_path, capsys):
+    assert cli.main(["track-irregularity", "--spectrum", "china-hsr", "--seed", "1", "--length-m", "100",
+                     "--band-m", "1,150", "--out", str(tmp_path / "x.csv")]) == 2
+    assert "band 1..150 m is outside the accepted range [2, 200] m of china-hsr" in capsys.readouterr().err
