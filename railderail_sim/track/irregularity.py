@@ -25,10 +25,11 @@ m^2/(rad/m), the cross-level as the height difference c.
 Every constant is in ERRI, FRA or TBT3352 below with its unit, source and how sure it is (V verified in a
 primary source, S documented in secondary sources, A assumed), as in parameters.py. No primary table was
 reachable for this work (docs/track-irregularity.md says what was checked where). Where public
-implementations disagree we follow: ERRI the table of Claus & Schiehlen (low A_v 4.032e-7, high 10.80e-7
-m rad; some scripts swap the levels or write 1.08e-7 for 10.80e-7); FRA Hamid's table as the textbooks
-reproduce it (k = 0.25, Omega_c = 0.8245; some scripts invent class values or give the FRA classes ERRI's
-formula); China the piecewise power law of TB/T 3352 (some scripts give it ERRI's form with invented A).
+implementations disagree we follow the values the ones citing the primary sources agree on: ERRI low A_v
+4.032e-7, high 10.80e-7 m rad, every high-level amplitude above the low one (some scripts swap the levels or
+write 1.08e-7 for 10.80e-7); FRA Hamid's profile table with k = 0.25 and Omega_c = 0.8245 (some scripts
+invent class values or give the FRA classes ERRI's formula); China the piecewise power law of TB/T 3352
+(some scripts give it ERRI's form with an invented A).
 
 Samples (`generate`): each component an independent sum of cosines, sum_k a_k cos(Omega_k s + phi_k), on
 the lines Omega_k = k dOmega of a period P = N step, N the first fast FFT length (2^a 3^b 5^c) not below
@@ -109,15 +110,15 @@ FRA = {
     "A_v": Constant((1.2107, 1.0181, 0.6816, 0.5376, 0.2095, 0.0339), "cm^2 rad/m", "FRA", "S",
                     "vertical profile (and cross-level), classes 1..6"),
     "A_a": Constant((3.3634, 1.2107, 0.4128, 0.3027, 0.0762, 0.0339), "cm^2 rad/m", "FRA", "A",
-                    "alignment, classes 1..6; the textbook table as remembered, found in no source reached"),
+                    "alignment, classes 1..6; unconfirmed: found in no source reached"),
     "omega_s": Constant((0.6046, 0.9308, 0.8520, 1.1312, 0.8209, 0.4380), "rad/m", "FRA", "A",
-                        "break of cross-level and gauge, classes 1..6; as remembered, found in no source "
+                        "break of cross-level and gauge, classes 1..6; unconfirmed: found in no source "
                         "reached"),
     "band": Constant((1.524, 304.8), "m", "FRA", "S", "5 ft .. 1000 ft, the wavelengths of the report's fits"),
 }
 FRA_CROSS_LEVEL_FACTOR = Constant(4.0, "-", "FRA", "A", "cross-level and gauge S = 4 k A_v Omega_c^2 / "
-                                  "((Omega^2 + Omega_c^2)(Omega^2 + Omega_s^2)), gauge with A_v too, as the "
-                                  "textbook table is remembered; found in no source reached")
+                                  "((Omega^2 + Omega_c^2)(Omega^2 + Omega_s^2)), the gauge with A_v too; "
+                                  "unconfirmed: found in no source reached")
 TBT3352 = {  # S_f = A_i / f^n_i between the breaks, f in 1/m, S_f in mm^2/(1/m)
     "vertical": Constant(((0.0187, 0.0474, 0.1533), (1.0544e-5, 3.5588e-3, 1.9784e-2, 3.9488e-4),
                           (3.3891, 1.9271, 1.3643, 3.4516)), "1/m; mm^2 (1/m)^(n-1); -", "TBT3352", "S",
@@ -130,8 +131,8 @@ TBT3352 = {  # S_f = A_i / f^n_i between the breaks, f in 1/m, S_f in mm^2/(1/m)
     "gauge": Constant(((0.1090, 0.2938), (5.4978e-2, 5.0701e-3, 1.8778e-4), (0.8282, 1.9037, 4.5948)),
                       "1/m; mm^2 (1/m)^(n-1); -", "TBT3352", "S", "breaks, A, n; pieces meet within 0.04 %"),
     "frequencies": Constant((0.005, 0.5), "1/m", "TBT3352", "S",
-                            "where the fit holds: wavelengths 2 .. 200 m; the standard's text excludes "
-                            "wavelengths below 2 m and extrapolates beyond its 120 m measuring band"),
+                            "where the fit holds: wavelengths 2 .. 200 m; the standard's text (as reproduced "
+                            "publicly) excludes wavelengths below 2 m and extrapolates beyond 120 m"),
 }
 
 
@@ -359,6 +360,8 @@ class Irregularity:
     band_m: tuple | None = None
 
     def __post_init__(self):
+        for name in ("s", "values") + (("slopes",) if self.slopes is not None else ()):
+            object.__setattr__(self, name, np.asarray(getattr(self, name), dtype=float))
         n = len(self.s)
         if n < 2 or self.values.shape != (n, 4) or (self.slopes is not None and self.slopes.shape != (n, 4)):
             raise ValueError(f"irregularity {self.name!r}: needs n >= 2 points with (n, 4) values and slopes")
