@@ -266,6 +266,11 @@ class TrackParameters:
     rail_profile: str = _p("uic60", "-", "Yu2022", "V")
 
     @property
+    def line_length(self):
+        """Length of the line from s = 0 to the end of the last straight (m)."""
+        return self.straight_in + self.transition_in + self.curve_length + self.transition_out + self.straight_out
+
+    @property
     def cant_angle(self):
         """Angle of the canted track plane on the circular curve (rad, magnitude)."""
         return math.asin(self.cant_height / self.rail_spacing)
@@ -323,3 +328,4 @@ class ContactParameters:
 
 GRAVITY = 9.81  # m/s^2, standard value used throughout
 FRICTION_RANGE = (0.0, 1.0)     # accepted wheel-rail friction coefficients, (0, 1]
+CANT_RANGE_MM = (0.0, 200.0)    # accepted cant heights (mm); EN 13803 allows up to 180 mm (200 mm on ballastless track)

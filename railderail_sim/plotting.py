@@ -261,7 +261,7 @@ def limit_cycle_figure(result, path, threshold_m, linear_critical_speed_kmh=None
         ax.set_xlabel("speed (km/h)")
         ax.set_ylabel("wheelset lateral amplitude (mm)")
         ax.legend()
-        ax.set_title(f"limit cycle after a {result.excitation_amplitude_m * 1e3:.0f} mm lateral kink")
+        ax.set_title(f"limit cycle after the excitation: {result.excitation}")
 
 
 def critical_speed_figure(results, path):
@@ -289,3 +289,36 @@ def position_figure(path, series, ylabel, markers=(), xlabel="position of the ca
         ax.set_xlabel(xlabel)
         ax.set_ylabel(ylabel)
         ax.legend()
+
+
+# ------------------------------------------------------------------------------------------------
+# track
+# ------------------------------------------------------------------------------------------------
+MAX_DRAWN_POINTS = 100_000            # a longer channel is drawn at every k-th point (the figure cannot show more)
+
+
+def irregularity_figure(sample, channels, psds, path):
+    """A track irregularity (`track.irregularity.Irregularity`): its lateral and vertical rail channels
+    against s (`channels` names the columns of sample.values) and, per component, the sample's Welch PSD
+    beside the spectrum's formula, log-log; `psds` rows (title, omega rad/m, estimate, formula)."""
+    stride = max(1, math.ceil(len(sample.s) / MAX_DRAWN_POINTS))
+    s = sample.s[::stride]
+    with figure(path, (11.0, 10.0)) as fig:
+        ax = fig.subplots(3, 2)
+        for a, direction in zip(ax[0], ("lateral", "vertical")):
+            for side in ("left", "right"):
+                column = channels.index(f"{side}_{direction}")
+                a.plot(s, sample.values[::stride, column] * 1e3, lw=0.6, color=WHEEL_COLOURS[side],
+                       label=f"{side} rail")
+            a.set_xlabel("s (m)" + (f", every {stride}th point" if stride > 1 else ""))
+            a.set_ylabel(f"{direction} deviation (mm, + {'left' if direction == 'lateral' else 'up'})")
+            a.legend(loc="upper right")
+        for a, (title, omega, estimate, formula) in zip(ax[1:].ravel(), psds):
+            a.loglog(omega, estimate, lw=0.8, color="0.5", label="sample (Welch)")
+            a.loglog(omega, formula, lw=1.2, color=REFERENCE_COLOUR, label="spectrum")
+            a.set_xlabel("spatial angular frequency (rad/m)")
+            a.set_ylabel("PSD (m^2/(rad/m))")
+            a.set_title(title)
+            a.legend(loc="lower left")
+        short, long_ = sample.band_m
+        fig.suptitle(f"{sample.description}; seed {sample.seed}, wavelengths {short:.4g} to {long_:.4g} m")

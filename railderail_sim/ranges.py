@@ -1,7 +1,7 @@
 """One range check for every user-facing value (CLI options, scenario fields, node parameters).
 
 Bad input must fail before any work starts with one sentence naming the value and the accepted range,
-e.g. "curve radius 100 m is outside the accepted range [300, 20000] m"; the CLIs print it as one line
+e.g. "curve radius 100 m is outside the accepted range [150, 20000] m"; the CLIs print it as one line
 and exit with status 2.
 """
 import math

@@ -157,3 +157,29 @@ def test_two_point_contact_force_is_continuous(model):
     steps = np.diff(forces)
     assert np.all(steps > 0.0)                          # monotonic
     assert np.max(steps) < 2.5 * np.median(steps)       # no jump
+
+
+@pytest.mark.parametrize("y, phi, psi", [(0.0, 0.0, 0.03), (0.006, 0.002, 0.05), (0.0095, 0.004, 0.08),
+                                         (0.0095, -0.004, -0.06)])
+def test_trace_line_gap_is_the_wheel_surfaces_lowest_point_at_large_yaw(cg_lm, y, phi, psi):
+    """Sharp curves bring attack angles of tens of mrad: the trace line's closed form (module docstring of
+    contact.geometry) against a brute-force search over the whole wheel surface, a body of revolution
+    rotated by roll and yaw, above the rail extruded along the track."""
+    gap, ys, _, _ = _buffers(cg_lm)
+    g_trace, _ = geo.min_gap(cg_lm, y, 0.0, phi, psi, gap, ys)
+    wz, _, _ = geo.wheel_table(cg_lm)
+    rz, _, _ = geo.rail_table(cg_lm)
+    H = GeometryHeader
+    yp = cg_lm[H.wheel_y0] + cg_lm[H.wheel_step] * np.arange(len(wz))
+    rail_y = cg_lm[H.rail_y0] + cg_lm[H.rail_step] * np.arange(len(rz))
+    r = cg_lm[H.nominal_radius] + wz
+    eta = cg_lm[H.rolling_circle_distance] + yp
+    theta = np.linspace(-0.25, 0.25, 5001)[:, None]                 # from the lowest point of each circle
+    px, pz = r * np.sin(theta), -r * np.cos(theta)
+    qy = eta * math.cos(phi) - pz * math.sin(phi)                   # roll about x, then yaw about z
+    qz = eta * math.sin(phi) + pz * math.cos(phi)
+    Y = y + math.sin(psi) * px + math.cos(psi) * qy
+    Z = cg_lm[H.nominal_radius] + qz
+    inside = (Y > rail_y[0]) & (Y < rail_y[-1])
+    g_brute = np.min(np.where(inside, Z - np.interp(Y, rail_y, rz), np.inf))
+    assert g_trace == pytest.approx(g_brute, abs=1e-6)

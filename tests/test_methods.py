@@ -97,3 +97,24 @@ def test_cli_refuses_out_of_range_input(capsys):
     assert "--radii '800,abc' is not a comma-separated list" in capsys.readouterr().err
     assert main(["limit-cycle", "--kink-mm", "50"]) == 2
     assert "excitation amplitude 50 mm is outside" in capsys.readouterr().err
+    assert main(["simulate", "--cant-mm", "250"]) == 2
+    assert "cant 250 mm is outside the accepted range [0, 200] mm" in capsys.readouterr().err
+    assert main(["simulate", "--irregularity", "erri-high", "--irregularity-seed", "-1"]) == 2
+    assert "seed -1 is outside the accepted range: an integer in [0, 999999]" in capsys.readouterr().err
+    assert main(["trial", "--irregularity", "missing.csv"]) == 2
+    assert "irregularity file 'missing.csv' cannot be read" in capsys.readouterr().err
+
+
+def _irregular_run(capsys, seed):
+    assert main(["simulate", "--speed-kmh", "250", "--irregularity", "erri-high", "--irregularity-seed", str(seed),
+                 "--json"]) in (0, None)
+    return json.loads(capsys.readouterr().out)
+
+
+def test_simulate_on_irregular_track_is_reproducible_and_feels_it(capsys):
+    first, again, other = _irregular_run(capsys, 7), _irregular_run(capsys, 7), _irregular_run(capsys, 8)
+    assert first == again and first != other
+    assert main(["simulate", "--speed-kmh", "250", "--json"]) in (0, None)
+    smooth = json.loads(capsys.readouterr().out)
+    # the rails' unevenness loads and unloads the wheels: peaks above the smooth track's
+    assert first["max_vertical_force_n"] > 1.05 * smooth["max_vertical_force_n"]

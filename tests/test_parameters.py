@@ -23,11 +23,14 @@ SIMULATOR, MONITOR = "railderail-simulator", "railderail-monitor"
 
 
 @pytest.mark.parametrize("command, parameter, message", [
-    (SIMULATOR, "radius:=50.0", "radius 50 m is outside the accepted range [300, 20000] m"),
-    (SIMULATOR, "radius:=50", "radius 50 m is outside the accepted range [300, 20000] m"),    # an integer
+    (SIMULATOR, "radius:=50.0", "radius 50 m is outside the accepted range [150, 20000] m"),
+    (SIMULATOR, "radius:=50", "radius 50 m is outside the accepted range [150, 20000] m"),    # an integer
     (SIMULATOR, "real_time_factor:=5000", "real_time_factor 5000 is outside the accepted range [0, 1000]"),
     (SIMULATOR, "contact_model:=rigid", "contact_model 'rigid' is not one of hertz, discrete"),
     (SIMULATOR, "status_rate:=300.0", "status_rate 300 Hz is above publish_rate 200 Hz"),
+    (SIMULATOR, "irregularity:=bumpy", "irregularity 'bumpy' is not 'none', a spectrum (erri-low, erri-high, fra-1, "
+                                       "fra-2, fra-3, fra-4, fra-5, fra-6, china-hsr) or a .csv file"),
+    (SIMULATOR, "irregularity_seed:=-3", "irregularity_seed -3 is outside the accepted range [0, 999999]"),
     (MONITOR, "debounce_m:=-1.0", "debounce_m -1 m is outside the accepted range [0, 100] m"),
     (MONITOR, "wheel_lift_critical:=0.005", "wheel_lift 0.00926425 must be below wheel_lift_critical 0.005"),
 ])
@@ -81,7 +84,7 @@ def test_running_simulator_refuses_bad_changes_and_applies_good_ones(spawn, read
     try:
         radius = client.describe("radius")
         assert radius.read_only and "curve radius [m]" in radius.description
-        assert (radius.floating_point_range[0].from_value, radius.floating_point_range[0].to_value) == (300.0, 20000.0)
+        assert (radius.floating_point_range[0].from_value, radius.floating_point_range[0].to_value) == (150.0, 20000.0)
         assert client.describe("wait_for_subscribers").integer_range[0].to_value == 100
 
         refused = client.set("radius", 50.0)                 # read-only: the model is built

@@ -78,7 +78,7 @@ def test_method_figures(tmp_path):
                          least_frequency_hz=np.full(5, 3.0), linear_critical_speed_kmh=380.0)
     cycle = lc.LimitCycle(nonlinear_critical_speed_kmh=320.0, tolerance_kmh=1.0, speeds_kmh=speeds,
                           amplitudes_m=np.array([1e-6, 1e-5, 5e-3, np.inf, np.inf]), excitation_amplitude_m=0.01,
-                          excitation_length_m=20.0)
+                          excitation_length_m=20.0, excitation="lateral kink of 10 mm over 20 m from s = 100 m")
     trials = [{"radius_m": r, "critical_derailment_speed_kmh": v, "refined_speed_kmh": v - 3.0}
               for r, v in ((800.0, 255.0), (1000.0, 285.0))]
     position = np.linspace(0.0, 600.0, 50)

@@ -55,6 +55,8 @@ COMMANDS: tuple[Command, ...] = (
             "railderail_sim.cli.methods:sweep_command"),
     Command("report", "write the report: every method beside the paper's numbers (--out DIR)",
             "railderail_sim.cli.methods:report_command"),
+    Command("track-irregularity", "a random track irregularity from a spectrum, as a CSV file (--plot)",
+            "railderail_sim.cli.track:irregularity_command"),
 )
 ENTRY_POINTS = "railderail.commands"
 

@@ -9,7 +9,9 @@ import math
 import sys
 
 from .. import jsonout, plotting
-from ..parameters import FRICTION_RANGE, VEHICLE_SETS, ContactParameters, TrackParameters, vehicle_parameters
+from ..parameters import (CANT_RANGE_MM, FRICTION_RANGE, VEHICLE_SETS, ContactParameters, TrackParameters,
+                          vehicle_parameters)
+from ..track import irregularity as ir
 from ..ranges import check_range
 from ..vehicle.assemble import CONTACT_GEOMETRIES
 from ..vehicle.simulate import Scenario, constant_speed
@@ -29,10 +31,31 @@ def _common(parser):
     parser.add_argument("--json", action="store_true", help="print one JSON object")
 
 
-def base_scenario(args, **track):
+def _track_args(parser, line, cant=True):
+    """--irregularity and --irregularity-seed (`line`: where a generated sample lies) and --cant-mm."""
+    if cant:
+        parser.add_argument("--cant-mm", type=float, default=None,
+                            help=f"cant height (mm, {CANT_RANGE_MM[0]:g}-{CANT_RANGE_MM[1]:g}; default: Table 2's "
+                                 "175 mm)")
+    parser.add_argument("--irregularity", default=ir.NONE, metavar="NAME|FILE.csv",
+                        help=f"track irregularity: none, a spectrum ({', '.join(ir.SPECTRA)}; a random sample {line}, "
+                             "from --irregularity-seed) or a CSV file (docs/track-irregularity.md)")
+    parser.add_argument("--irregularity-seed", type=int, default=0,
+                        help=f"seed of a generated irregularity (an integer in [{ir.SEEDS[0]}, {ir.SEEDS[1]}], "
+                             "default %(default)s)")
+
+
+def base_scenario(args, line_length_m=None, **track):
+    """The Scenario of the common options; with _track_args, the cant and the irregularity, a generated one
+    over line_length_m (default: the line of the track's parameters)."""
     check_range("friction coefficient", args.friction, *FRICTION_RANGE, lo_open=True)
-    return Scenario(vehicle=vehicle_parameters(args.vehicle_set),
-                    track=TrackParameters(rail_profile=args.rail, **track),
+    if getattr(args, "cant_mm", None) is not None:
+        track["cant_height"] = check_range("cant", args.cant_mm, *CANT_RANGE_MM, "mm") / 1000.0
+    tp = TrackParameters(rail_profile=args.rail, **track)
+    irregularity = None
+    if hasattr(args, "irregularity"):
+        irregularity = ir.resolve(args.irregularity, args.irregularity_seed, line_length_m or tp.line_length)
+    return Scenario(vehicle=vehicle_parameters(args.vehicle_set), track=tp, irregularity=irregularity,
                     contact=ContactParameters(wheel_profile=args.wheel, normal_model=args.contact,
                                               creep_model=args.creep, friction_coefficient=args.friction,
                                               contact_geometry=args.geometry))
@@ -53,6 +76,7 @@ def simulate_command(parser):
     parser.add_argument("--right", action="store_true", help="curve to the right (default: left)")
     parser.add_argument("--out", help="write the time histories to this .npz file (docs/output-format.md)")
     parser.add_argument("--rate", type=float, default=200.0, help="output rate (Hz)")
+    _track_args(parser, "along the line")
 
     def run(args):
         from ..vehicle.simulate import simulate
@@ -94,22 +118,25 @@ def root_locus_command(parser):
 
 
 def limit_cycle_command(parser):
+    from ..methods import limit_cycle as lc
     _common(parser)
     parser.add_argument("--from-kmh", type=float, default=200.0)
     parser.add_argument("--to-kmh", type=float, default=600.0)
     parser.add_argument("--step-kmh", type=float, default=50.0, help="scan step before the bisection")
     parser.add_argument("--tolerance-kmh", type=float, default=1.0, help="bisection tolerance")
-    parser.add_argument("--kink-mm", type=float, default=10.0, help="lateral excitation amplitude (mm)")
+    parser.add_argument("--kink-mm", type=float, default=10.0,
+                        help="lateral kink's amplitude (mm), the excitation unless --irregularity gives one")
+    _track_args(parser, f"over the first {lc.EXCITATION_M:g} m, smooth track after it", cant=False)
     parser.add_argument("--plot", metavar="FILE.png", help="amplitude-speed diagram (.png, .pdf or .svg)")
 
     def run(args):
         import numpy as np
-        from ..methods import limit_cycle as lc
         check_range("excitation amplitude", args.kink_mm, 0.1, 30.0, "mm")
         if args.step_kmh <= 0 or args.from_kmh >= args.to_kmh:
             raise ValueError(f"scan {args.from_kmh:g}-{args.to_kmh:g} km/h by {args.step_kmh:g} is empty")
         plot = _plot_path(args)
-        res = lc.limit_cycle(base_scenario(args), np.arange(args.from_kmh, args.to_kmh + 1e-9, args.step_kmh),
+        res = lc.limit_cycle(base_scenario(args, line_length_m=lc.EXCITATION_M),
+                             np.arange(args.from_kmh, args.to_kmh + 1e-9, args.step_kmh),
                              args.tolerance_kmh, amplitude=args.kink_mm / 1000.0,
                              progress=None if args.json else
                              lambda v, a: print(f"  {v:7.2f} km/h: final amplitude {a * 1e3:.4f} mm", file=sys.stderr))
@@ -138,6 +165,12 @@ def _staircase(args):
                      acceleration=args.acceleration, top_kmh=args.top_kmh)
 
 
+def _trial_scenario(args):
+    """The base scenario of a trial: an irregularity generated along the staircase's (longest) line."""
+    from ..methods.progressive_trial import trial_track
+    return base_scenario(args, line_length_m=trial_track(TrackParameters(), _staircase(args)).line_length)
+
+
 def _trial_line(d):
     v = d["critical_derailment_speed_kmh"]
     if v is None or v != v:
@@ -156,10 +189,11 @@ def trial_command(parser):
     _common(parser)
     parser.add_argument("--radius", type=float, default=1000.0, help="curve radius (m)")
     _staircase_args(parser)
+    _track_args(parser, "along the staircase's line")
 
     def run(args):
         from ..methods.progressive_trial import progressive_trial
-        r = progressive_trial(base_scenario(args), args.radius, _staircase(args), refine=not args.no_refine,
+        r = progressive_trial(_trial_scenario(args), args.radius, _staircase(args), refine=not args.no_refine,
                               tolerance_kmh=args.tolerance_kmh)
         d = r.as_json()
         _emit(args, d, _trial_line(d))
@@ -188,6 +222,7 @@ def sweep_command(parser):
     parser.add_argument("--plot", metavar="FILE.png",
                         help="critical derailment speed against radius (.png, .pdf or .svg)")
     _staircase_args(parser)
+    _track_args(parser, "along the staircase's line, the same for every case", cant=False)
 
     def run(args):
         from ..methods import sweep as sw
@@ -198,14 +233,14 @@ def sweep_command(parser):
             check_range("curve radius", r, *RADIUS_RANGE, "m")
         cants = _floats(args.cants_mm, "--cants-mm")
         for c in cants:
-            check_range("cant", c, 0.0, 200.0, "mm")
+            check_range("cant", c, *CANT_RANGE_MM, "mm")
         frictions = _floats(args.frictions, "--frictions") if args.frictions else [args.friction]
         wheels = args.wheels.split(",") if args.wheels else [args.wheel]
         sets = args.vehicle_sets.split(",") if args.vehicle_sets else [args.vehicle_set]
         for s in sets:
             vehicle_parameters(s)
         cases = sw.cases(radii, cants, frictions, wheels, sets)
-        res = sw.sweep(cases, base_scenario(args), _staircase(args), refine=not args.no_refine,
+        res = sw.sweep(cases, _trial_scenario(args), _staircase(args), refine=not args.no_refine,
                        tolerance_kmh=args.tolerance_kmh, workers=args.workers, scheduler=args.scheduler,
                        progress=not args.json)
         if plot:

@@ -1,18 +1,19 @@
-"""Where each rail actually is: its lateral and vertical offset from the ideal alignment (`alignment`).
+"""Where each rail actually is: its lateral and vertical deviation from the ideal alignment (`alignment`).
 
-A track irregularity (a measured or generated geometry record, a single defect such as the limit cycle's
-lateral kink) is carried to the core as one float64 array `rails` (`pack_rails`): a header and one node
-per station s with, for each rail, the lateral offset (+ to the left, track axes) and the vertical offset
-(+ up) and their slopes d/ds. Between nodes the offsets are linear in s (`LINEAR`, a recorded file whose
-slopes are those of the straight pieces) or cubic Hermite (`HERMITE`, a generated or analytic shape whose
-exact slopes are known at the nodes). Before the first and after the last node the rails are ideal.
+A track irregularity (a measured record, a random sample of a spectrum, a single defect such as the limit
+cycle's lateral kink; `irregularity`) reaches the core as one float64 array `rails` (`pack_rails`): an
+IrregularityHeader and one IrregularityPoint per point s with the four rail channels (left and right rail,
+lateral + to the left and vertical + up, track frame) and their slopes d/ds. Between points the
+deviations are linear in s (`LINEAR`: a file) or cubic Hermite (`HERMITE`: a generated or analytic shape
+whose exact slopes are known). Before the first and after the last point the rails are ideal.
 
-What the wheels see (Iwnicki (ed.), Handbook of Railway Vehicle Dynamics, ch. on track irregularities:
-the rails are moved rigidly, their profiles, inclination and stiffness unchanged): each wheel meets its own
-rail, so the wheelset's pose is taken relative to that rail, the lateral and vertical positions minus the
-offsets, the yaw minus the lateral slope (the rail's own direction); the wheelset's velocity is resolved
-along that direction (the rail does not move, so nothing is subtracted from the angular velocity) and the
-forces are turned back into track axes (`vehicle.dynamics.rhs`). Rail bending under load is not here.
+What the wheels see (the rails are moved rigidly: their profiles, inclination and stiffness unchanged;
+Iwnicki (ed.), Handbook of Railway Vehicle Dynamics, on track irregularities as a wheelset input): each
+wheel meets its own rail, so the wheelset's pose is taken relative to that rail (the lateral and vertical
+positions minus the rail's deviations, the yaw minus its lateral slope, i.e. the rail's own direction), its
+velocities are resolved in the rail's axes (turned by the slopes; the rail does not move, so no rail
+velocity is subtracted) and the wheel's force and moment are turned back into track axes
+(`vehicle.dynamics.rhs`).
 """
 import numpy as np
 
@@ -20,132 +21,109 @@ from ..jit import core
 from ..record import Record
 
 LINEAR, HERMITE = 0, 1
-N_RAIL_VALUES = 4               # left lateral, left vertical, right lateral, right vertical
+N_CHANNELS = 4                  # left lateral, left vertical, right lateral, right vertical
 
 
-class RailValues(Record):
-    """The offsets of both rails at one station (the order of the irregularity files' columns)."""
-    left_lateral = "m", "lateral offset of the left rail, + to the left"
-    left_vertical = "m", "vertical offset of the left rail, + up"
-    right_lateral = "m", "lateral offset of the right rail, + to the left"
-    right_vertical = "m", "vertical offset of the right rail, + up"
+class IrregularityHeader(Record):
+    """Header of the packed rails array (`pack_rails`); `points` IrregularityPoint rows follow."""
+    points = "-", "number n of points (0: ideal rails everywhere)"
+    interpolation = "-", "0 linear between the points (a file), 1 cubic Hermite with the points' slopes"
 
 
-class RailsHeader(Record):
-    """Header of the packed `rails` array; `nodes` RailNode rows follow it."""
-    nodes = "-", "number of stations (0: ideal rails everywhere)"
-    interpolation = "-", "between the stations: 0 linear, 1 cubic Hermite"
+class RailDeviation(Record):
+    """The four rail channels at a point, track frame (the order of the irregularity file's columns)."""
+    left_lateral = "m", "left rail lateral deviation, + to the left"
+    left_vertical = "m", "left rail vertical deviation, + up"
+    right_lateral = "m", "right rail lateral deviation, + to the left"
+    right_vertical = "m", "right rail vertical deviation, + up"
 
 
-class RailNode(Record):
-    """One station of the rails array."""
-    s = "m", "distance along the line (strictly increasing)"
-    offset = "m", "the rails' offsets", (1,), RailValues
-    slope = "-", "d(offset)/ds", (1,), RailValues
+class IrregularityPoint(Record):
+    """One point of the packed rails array."""
+    s = "m", "distance along the line, strictly increasing from point to point"
+    deviation = "m", "the rail channels at s", (), RailDeviation
+    slope = "m/m", "their d/ds at s (linear: of the piece that starts at the point)", (), RailDeviation
 
 
-R_HEAD = RailsHeader.size()
-R_NODE = RailNode.size()
+R_HEAD = IrregularityHeader.size()
+R_POINT = IrregularityPoint.size()
 
 
-def pack_rails(s=(), offsets=np.zeros((0, N_RAIL_VALUES)), slopes=None, interpolation=LINEAR):
-    """The `rails` array of the stations s (m, strictly increasing) with the offsets (n x 4, m, the order
-    of RailValues) and their slopes (n x 4; with `LINEAR` left None: those of the straight pieces).
-    With no stations: ideal rails."""
+def pack_rails(s=(), deviations=np.zeros((0, N_CHANNELS)), slopes=None, interpolation=LINEAR):
+    """The `rails` array of the points s (m, strictly increasing) with the deviations (n x 4, m, the order of
+    RailDeviation) and, for `HERMITE`, their slopes (n x 4; `LINEAR` takes those of the straight pieces).
+    No points: ideal rails."""
     s = np.asarray(s, dtype=float)
-    offsets = np.asarray(offsets, dtype=float).reshape(len(s), N_RAIL_VALUES)
-    if len(s) and not (np.all(np.isfinite(s)) and np.all(np.isfinite(offsets))):
-        raise ValueError("rail offsets: the stations and offsets must be finite numbers")
+    deviations = np.asarray(deviations, dtype=float).reshape(len(s), N_CHANNELS)
+    if not (np.all(np.isfinite(s)) and np.all(np.isfinite(deviations))):
+        raise ValueError("rail deviations: the points and deviations must be finite numbers")
     if len(s) == 1:
-        raise ValueError("rail offsets: one station is not a shape (give none, or two or more)")
+        raise ValueError("rail deviations: one point is not a shape (give none, or two or more)")
     if np.any(np.diff(s) <= 0.0):
         k = int(np.argmax(np.diff(s) <= 0.0))
-        raise ValueError(f"rail offsets: the stations must increase strictly (s = {s[k]:g} m is followed by "
-                         f"{s[k + 1]:g} m)")
+        raise ValueError(f"rail deviations: s must increase strictly (s = {s[k]:g} m is followed by {s[k + 1]:g} m)")
     if interpolation == LINEAR:
         if slopes is not None:
-            raise ValueError("rail offsets: linear interpolation takes its slopes from the offsets")
-        slopes = np.zeros_like(offsets)
-        if len(s) > 1:   # each node carries the slope of the piece that starts at it
-            slopes[:-1] = np.diff(offsets, axis=0) / np.diff(s)[:, None]
+            raise ValueError("rail deviations: linear interpolation takes its slopes from the deviations")
+        slopes = np.zeros_like(deviations)
+        if len(s):
+            slopes[:-1] = np.diff(deviations, axis=0) / np.diff(s)[:, None]
     elif interpolation == HERMITE:
-        slopes = np.asarray(slopes, dtype=float).reshape(offsets.shape)
+        slopes = np.asarray(slopes, dtype=float).reshape(deviations.shape)
         if not np.all(np.isfinite(slopes)):
-            raise ValueError("rail offsets: the slopes must be finite numbers")
+            raise ValueError("rail deviations: the slopes must be finite numbers")
     else:
-        raise ValueError(f"rail offsets: interpolation {interpolation} is not {LINEAR} (linear) or "
+        raise ValueError(f"rail deviations: interpolation {interpolation} is not {LINEAR} (linear) or "
                          f"{HERMITE} (cubic Hermite)")
-    nodes = np.zeros((len(s), R_NODE))
-    nodes[:, RailNode.s] = s
-    nodes[:, RailNode.offset.columns] = offsets
-    nodes[:, RailNode.slope.columns] = slopes
-    return np.concatenate((RailsHeader.pack(nodes=len(s), interpolation=interpolation), nodes.ravel()))
-
-
-def lateral_kink(start, length, amplitude, step=0.25):
-    """Both rails moved sideways by one period of a cosine, A/2 (1 - cos(2 pi (s - start) / L)) over
-    start <= s <= start + L (m): a smooth (C1) alignment defect of peak A to the left in the middle, the
-    limit-cycle method's excitation. Cubic Hermite on a `step` grid with the exact slopes (the largest
-    error of the shape, A (2 pi step / L)^4 / 384, is 2e-9 m for 10 mm over 20 m)."""
-    if not (length > 0.0 and step > 0.0):
-        raise ValueError(f"lateral kink: length {length:g} m and step {step:g} m must be positive")
-    n = max(int(round(length / step)), 2) + 1
-    s = np.linspace(start, start + length, n)
-    w = 2.0 * np.pi / length
-    lateral = 0.5 * amplitude * (1.0 - np.cos(w * (s - start)))
-    slope = 0.5 * amplitude * w * np.sin(w * (s - start))
-    zero = np.zeros(n)
-    return pack_rails(s, np.column_stack((lateral, zero, lateral, zero)),
-                      np.column_stack((slope, zero, slope, zero)), HERMITE)
+    points = np.zeros((len(s), R_POINT))
+    points[:, IrregularityPoint.s] = s
+    points[:, IrregularityPoint.deviation.columns] = deviations
+    points[:, IrregularityPoint.slope.columns] = slopes
+    return np.concatenate((IrregularityHeader.pack(points=len(s), interpolation=interpolation), points.ravel()))
 
 
 def split_rails(rails):
-    """(s, offsets, slopes, interpolation) of a packed rails array: the inverse of `pack_rails`."""
-    n = int(rails[RailsHeader.nodes])
-    nodes = rails[R_HEAD:R_HEAD + n * R_NODE].reshape(n, R_NODE)
-    return (nodes[:, RailNode.s], nodes[:, RailNode.offset.columns], nodes[:, RailNode.slope.columns],
-            int(rails[RailsHeader.interpolation]))
+    """(s, deviations, slopes, interpolation) of a packed rails array: the inverse of `pack_rails`."""
+    n = int(rails[IrregularityHeader.points])
+    view = IrregularityPoint.split(rails[R_HEAD:R_HEAD + n * R_POINT].reshape(n, R_POINT))
+    return view["s"], view["deviation"], view["slope"], int(rails[IrregularityHeader.interpolation])
 
 
 @core
-def rail_offset(rails, side, s):
-    """(lateral offset, vertical offset, lateral slope, vertical slope) of rail `side` (0 left, 1 right) at s.
+def rail_deviation(rails, side, s):
+    """(lateral deviation, vertical deviation, lateral slope, vertical slope) of rail `side` (0 left, 1 right)
+    at s; zero outside the points.
 
-    By hand in the core (a bisection and one cubic): this runs for every wheelset at every evaluation of
-    the equations of motion, where numpy.interp and scipy's splines cannot be called.
+    By hand in the core (a bisection and one cubic): it runs for every wheel at every evaluation of the
+    equations of motion, where numpy.interp and scipy's splines cannot be called.
     """
-    n = int(rails[RailsHeader.nodes])
-    if n == 0:
-        return 0.0, 0.0, 0.0, 0.0
-    first = rails[R_HEAD + RailNode.s]
-    last = rails[R_HEAD + (n - 1) * R_NODE + RailNode.s]
-    if s < first or s > last:
+    n = int(rails[IrregularityHeader.points])
+    if n == 0 or s < rails[R_HEAD + IrregularityPoint.s] or s > rails[R_HEAD + (n - 1) * R_POINT + IrregularityPoint.s]:
         return 0.0, 0.0, 0.0, 0.0
     lo = 0
     hi = n - 1
     while hi - lo > 1:
         mid = (lo + hi) // 2
-        if rails[R_HEAD + mid * R_NODE + RailNode.s] <= s:
+        if rails[R_HEAD + mid * R_POINT + IrregularityPoint.s] <= s:
             lo = mid
         else:
             hi = mid
-    a = R_HEAD + lo * R_NODE
-    b = R_HEAD + hi * R_NODE
-    lat = RailValues.left_lateral if side == 0 else RailValues.right_lateral
-    ver = RailValues.left_vertical if side == 0 else RailValues.right_vertical
-    h = rails[b + RailNode.s] - rails[a + RailNode.s]
-    if int(rails[RailsHeader.interpolation]) == LINEAR:
-        la = rails[a + RailNode.offset + lat]
-        va = rails[a + RailNode.offset + ver]
-        dla = rails[a + RailNode.slope + lat]
-        dva = rails[a + RailNode.slope + ver]
-        return la + dla * (s - rails[a + RailNode.s]), va + dva * (s - rails[a + RailNode.s]), dla, dva
-    u = (s - rails[a + RailNode.s]) / h
-    lv, ls = _hermite(rails[a + RailNode.offset + lat], rails[b + RailNode.offset + lat],
-                      rails[a + RailNode.slope + lat], rails[b + RailNode.slope + lat], h, u)
-    vv, vs = _hermite(rails[a + RailNode.offset + ver], rails[b + RailNode.offset + ver],
-                      rails[a + RailNode.slope + ver], rails[b + RailNode.slope + ver], h, u)
-    return lv, vv, ls, vs
+    a = R_HEAD + lo * R_POINT
+    b = R_HEAD + hi * R_POINT
+    lat = RailDeviation.left_lateral if side == 0 else RailDeviation.right_lateral
+    ver = RailDeviation.left_vertical if side == 0 else RailDeviation.right_vertical
+    da = a + IrregularityPoint.deviation
+    db = b + IrregularityPoint.deviation
+    ma = a + IrregularityPoint.slope
+    mb = b + IrregularityPoint.slope
+    u = s - rails[a + IrregularityPoint.s]
+    if int(rails[IrregularityHeader.interpolation]) == LINEAR:
+        return rails[da + lat] + rails[ma + lat] * u, rails[da + ver] + rails[ma + ver] * u, rails[ma + lat], \
+            rails[ma + ver]
+    h = rails[b + IrregularityPoint.s] - rails[a + IrregularityPoint.s]
+    y_lat, m_lat = _hermite(rails[da + lat], rails[db + lat], rails[ma + lat], rails[mb + lat], h, u / h)
+    y_ver, m_ver = _hermite(rails[da + ver], rails[db + ver], rails[ma + ver], rails[mb + ver], h, u / h)
+    return y_lat, y_ver, m_lat, m_ver
 
 
 @core
@@ -157,3 +135,14 @@ def _hermite(ya, yb, ma, mb, h, u):
         + (u3 - u2) * h * mb
     slope = (6.0 * u2 - 6.0 * u) * (ya - yb) / h + (3.0 * u2 - 4.0 * u + 1.0) * ma + (3.0 * u2 - 2.0 * u) * mb
     return value, slope
+
+
+@core
+def rail_deviations(rails, s, out):
+    """The four channels (RailDeviation order) at every s into out (len(s) x 4): the core's own
+    interpolation, for plots and checks of what the wheels meet."""
+    for i in range(s.shape[0]):
+        for side in range(2):
+            lateral, vertical, _, _ = rail_deviation(rails, side, s[i])
+            out[i, 2 * side] = lateral
+            out[i, 2 * side + 1] = vertical

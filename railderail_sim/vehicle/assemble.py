@@ -220,8 +220,8 @@ def vehicle_array(vp: VehicleParameters, cg, lift_tolerance):
 
 def build_model(vehicle: VehicleParameters, track: TrackParameters, contact: ContactParameters,
                 lift_tolerance=1.0e-3, irregularity=None):
-    """Pack a scenario's parameters into a Model; `irregularity`: the packed rail offsets
-    (`track.rails.pack_rails`), None for ideal rails."""
+    """Pack a scenario's parameters into a Model; `irregularity`: a `track.irregularity.Irregularity`, or
+    None for ideal rails."""
     bodies = body_table(vehicle)
     bush, damp, bump, arb = element_tables(vehicle, bodies)
     cg = contact_geometry(contact, track, vehicle.rolling_radius)
@@ -229,6 +229,6 @@ def build_model(vehicle: VehicleParameters, track: TrackParameters, contact: Con
                                track.transition_out, track.straight_out, track.radius, track.cant_height,
                                track.direction, track.rail_spacing)
     return Model(bodies=bodies, vp=vehicle_array(vehicle, cg, lift_tolerance), bush=bush, damp=damp,
-                 bump=bump, arb=arb, track=trk, rails=rails.pack_rails() if irregularity is None else irregularity,
+                 bump=bump, arb=arb, track=trk, rails=rails.pack_rails() if irregularity is None else irregularity.pack(),
                  cg=cg, cp=contact_array(contact, vehicle.static_wheel_load),
                  vehicle=vehicle, track_parameters=track, contact=contact)

@@ -377,7 +377,7 @@ def rhs(x, dx, model, sp, buffers, tracked):
             for side in range(2):
                 # each wheel on its own rail (track.rails): the pose relative to the rail, the velocities in
                 # the rail's axes (turned by the small angles a, c) and the force and moment back
-                ly, lz, a, c = rails.rail_offset(model.rails, side, sw)
+                ly, lz, a, c = rails.rail_deviation(model.rails, side, sw)
                 pose = (x[o + Dof.lateral] - ly, x[o + Dof.vertical] - lz, x[o + Dof.roll], x[o + Dof.yaw] - a)
                 motion = (vtx + a * vty + c * vtz, vty - a * vtx, vtz - c * vtx,
                           wx + a * wy + c * wz, wy - a * wx, wz - c * wx, spin, v)

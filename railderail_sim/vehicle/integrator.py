@@ -112,8 +112,8 @@ def fill_row(row, t, x, v, model, recs):
         b = WHEELSETS[w]
         o = State.positions + N_DOF * b
         # relative to the track's actual centre line and direction: the mean of the two rails
-        yl, _, al, _ = rails.rail_offset(model.rails, 0, s + bodies[b, BodyTable.station])
-        yr, _, ar, _ = rails.rail_offset(model.rails, 1, s + bodies[b, BodyTable.station])
+        yl, _, al, _ = rails.rail_deviation(model.rails, 0, s + bodies[b, BodyTable.station])
+        yr, _, ar, _ = rails.rail_deviation(model.rails, 1, s + bodies[b, BodyTable.station])
         r = OutputRow.wheelsets + w * WS_SIZE
         row[r + WheelsetOutput.wheelset_lateral] = x[o + Dof.lateral] - 0.5 * (yl + yr)
         # attack angle: + when the front of the wheelset points toward the outer rail
@@ -171,7 +171,7 @@ def _check_derailment(x, v, t, model, recs, last, event):
             elif lift >= hf:
                 mech = MECH_WHEEL_UNLOADING
             if mech > 0:
-                rail_y, _, rail_slope, _ = rails.rail_offset(model.rails, side, sw)
+                rail_y, _, rail_slope, _ = rails.rail_deviation(model.rails, side, sw)
                 event[Event.time] = t
                 event[Event.position] = sw
                 event[Event.wheelset] = w

@@ -17,18 +17,19 @@ from ..atomic import atomic_write
 from ..contact import geometry as geo
 from ..contact import wheelset as ws
 from ..contact.hertz import hertz_shape
-from ..contact.layout import ContactConstants, Patch, Wheel
+from ..contact.layout import ContactConstants, GeometryHeader, Patch, Wheel
 from ..parameters import ContactParameters, TrackParameters, VehicleParameters, vehicle_parameters
 from ..ranges import check_range
 from ..track import alignment
-from ..track.rails import pack_rails
+from ..track.irregularity import Irregularity
+from ..track.rails import rail_deviation
 from . import integrator as itg
 from .assemble import build_model
 from .integrator import Event, StepControl, Stepper
 from .layout import N_DOF, N_OUT, N_STATE, WHEELSETS, Body, BodyTable, Dof, OutputRow, State, WheelsetOutput
 
 KMH = 1.0 / 3.6
-RADIUS_RANGE = (300.0, 20000.0)          # m; curves tighter than 300 m are outside the profile tables' use
+RADIUS_RANGE = (150.0, 20000.0)          # m
 SPEED_RANGE_KMH = (30.0, 800.0)          # the creepage normalisation and tolerances are set for this range
 RTOL = 1.0e-7                            # relative error per step; see docs/vehicle-model.md (tolerance study)
 ATOL_DISPLACEMENT = 1.0e-8               # m and rad per step; velocities and rates get 100x this in 1/s
@@ -81,7 +82,7 @@ class Scenario:
     track: TrackParameters = field(default_factory=TrackParameters)
     contact: ContactParameters = field(default_factory=ContactParameters)
     speed_table: np.ndarray = field(default_factory=lambda: constant_speed(300.0))
-    irregularity: np.ndarray = field(default_factory=pack_rails)   # the rails' offsets (track.rails)
+    irregularity: Irregularity = None       # the rails' deviations (track.irregularity); None: ideal rails
     rtol: float = RTOL
     atol: float = ATOL_DISPLACEMENT
     output_rate: float = 200.0              # Hz
@@ -143,6 +144,26 @@ def set_rolling(x, speed, rolling_radius):
         x[State.velocities + N_DOF * b + Dof.pitch] = speed / rolling_radius
 
 
+def on_the_rails(x, model, speed):
+    """Put every wheelset on its rails where it starts (track.rails): shifted and turned with the mean of
+    the two rails, rolled by their height difference over the rolling circles' distance, moving with them
+    at `speed`; the bogies and the car body keep their places (the suspension takes up the difference in
+    the first moments). Without irregularity nothing changes."""
+    half = model.cg[GeometryHeader.rolling_circle_distance]
+    for b in WHEELSETS:
+        o, ov = State.positions + N_DOF * b, State.velocities + N_DOF * b
+        sb = x[State.s] + model.bodies[b, BodyTable.station]
+        yl, zl, al, cl = rail_deviation(model.rails, 0, sb)
+        yr, zr, ar, cr = rail_deviation(model.rails, 1, sb)
+        x[o + Dof.lateral] += 0.5 * (yl + yr)
+        x[o + Dof.vertical] += 0.5 * (zl + zr)
+        x[o + Dof.roll] += 0.5 * (zl - zr) / half
+        x[o + Dof.yaw] += 0.5 * (al + ar)
+        x[ov + Dof.lateral] += speed * 0.5 * (al + ar)
+        x[ov + Dof.vertical] += speed * 0.5 * (cl + cr)
+        x[ov + Dof.roll] += speed * 0.5 * (cl - cr) / half
+
+
 class Simulation:
     """The stepper over the numba core; holds the state and all preallocated buffers."""
 
@@ -156,8 +177,9 @@ class Simulation:
         z0, self.rolling_radius = static_state(self.model)
         State.split(self.x)["positions"][:, Dof.vertical] = z0
         self.x[State.s] = sc.start_position
-        set_rolling(self.x, float(np.interp(sc.start_position, self.speed_table[:, 0], self.speed_table[:, 1])),
-                    self.rolling_radius)
+        speed = float(np.interp(sc.start_position, self.speed_table[:, 0], self.speed_table[:, 1]))
+        set_rolling(self.x, speed, self.rolling_radius)
+        on_the_rails(self.x, self.model, speed)
         self.t = 0.0
         self.rows_written = 0
         line_end = alignment.end_of_line(self.model.track)

@@ -1,0 +1,507 @@
+"""Track irregularities as data: the published spectra, random samples of them, the CSV file format and the
+array the numba core reads (docs/track-irregularity.md).
+
+Channels and components. An irregularity is the deviation of each rail's position from the ideal track, in
+the track frame of docs/design.md (lateral + to the left, vertical + up), as four channels of s: left
+lateral yL, left vertical zL, right lateral yR, right vertical zR. The spectra describe four components:
+  vertical profile  v = (zL + zR) / 2
+  cross-level       c = zL - zR   a height difference, + when the left rail is the higher one
+  alignment         a = (yL + yR) / 2
+  gauge             g = yL - yR   + for a widening: the left rail further left, the right rail further right
+so that zL = v + c/2, zR = v - c/2, yL = a + g/2, yR = a - g/2. (The spectra are those of zero-mean Gaussian
+processes and carry no sign; the signs matter for files and for the core's geometry.)
+
+Spectra: one-sided power spectral densities S(Omega) of the spatial angular frequency Omega (rad/m), the
+variance being the integral of S over 0 < Omega < infinity; `Spectrum.psd` gives every component in
+m^2/(rad/m), the cross-level as the height difference c.
+  erri-low, erri-high  ERRI B176 (ORE), the levels of low and high disturbance (`erri_psd`). Its cross-level
+                       is an angle (rad^2/(rad/m)); c = 2b times the angle, b = 0.75 m the half distance of
+                       the rails, so 2b is the 1.500 m rail spacing of TrackParameters (EN 13803).
+  fra-1 .. fra-6       FRA track classes (Hamid et al. 1983, `fra_psd`), A in cm^2 rad/m; cross-level and
+                       gauge as height and width differences.
+  china-hsr            TB/T 3352-2014, ballastless high-speed track (`tbt3352_psd_f` in the standard's own
+                       units: f in 1/m, S in mm^2/(1/m); its cross-level is a height difference in mm, not an
+                       angle). S_Omega(Omega) = S_f(Omega / 2 pi) / (2 pi) with mm^2 -> m^2 (`tbt3352_psd`).
+Every constant is in ERRI, FRA or TBT3352 below with its unit, source and how sure it is (V verified in a
+primary source, S documented in secondary sources, A assumed), as in parameters.py. No primary table was
+reachable for this work (docs/track-irregularity.md says what was checked where). Where public
+implementations disagree we follow the values the ones citing the primary sources agree on: ERRI low A_v
+4.032e-7, high 10.80e-7 m rad, every high-level amplitude above the low one (some scripts swap the levels or
+write 1.08e-7 for 10.80e-7); FRA Hamid's profile table with k = 0.25 and Omega_c = 0.8245 (some scripts
+invent class values or give the FRA classes ERRI's formula); China the piecewise power law of TB/T 3352
+(some scripts give it ERRI's form with an invented A).
+
+Samples (`generate`): each component an independent sum of cosines, sum_k a_k cos(Omega_k s + phi_k), on
+the lines Omega_k = k dOmega of a period P = N step, N the first fast FFT length (2^a 3^b 5^c) not below
+the n points of the sample, so that dOmega = 2 pi / P < 2 pi / length (no repetition within the sample);
+phases uniform in [0, 2 pi) from numpy.random.default_rng(seed), drawn component after component. The
+amplitude a_k = sqrt(2 S_k dOmega) with S_k the mean of S over the line's cell ((k -+ 1/2) dOmega, clipped
+to the band; 4-point Gauss): the cells tile the band, so the variance is the integral of S over the band
+(exactly over a whole period; the sample is the first n of the N points). Values and their exact
+derivatives d/ds at the points come out of one inverse real FFT each, bit-identical for the same inputs.
+Wavelengths longer than 2 P cannot be held; the sample's `band_m` is the band it holds.
+"""
+from __future__ import annotations
+
+from array import array
+from dataclasses import dataclass
+from functools import partial
+import math
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from ..atomic import atomic_write
+from ..ranges import check_range
+from .rails import HERMITE, RailDeviation, pack_rails, rail_deviations
+
+COMPONENTS = ("vertical", "cross_level", "alignment", "gauge")
+COMPONENT_TITLES = {"vertical": "vertical profile", "cross_level": "cross-level (rails' height difference)",
+                    "alignment": "alignment", "gauge": "gauge"}
+CHANNELS = tuple(RailDeviation.names())
+CSV_HEADER = "s_m,left_lateral_mm,left_vertical_mm,right_lateral_mm,right_vertical_mm"
+LENGTH_M = (10.0, 200e3)         # accepted sample length
+STEP_M = (0.05, 1.0)             # accepted grid step
+BAND_LIMITS_M = (0.5, 1000.0)    # a band's wavelengths must lie inside
+MAX_FILE_MM = 500.0              # a file value beyond this is a unit error, not a track
+SEEDS = (0, 999_999)             # accepted seeds
+TAPER_M = 50.0                   # a generated sample's fade-in and fade-out (`taper`)
+NONE = "none"                    # no irregularity: the ideal rails
+LINE_MARGIN_M = 25.0             # a run's sample reaches this far beyond the end of its line
+UNIFORM_TOLERANCE_M = 1e-9       # steps equal to this are one uniform step (Welch needs one)
+
+SOURCES = {
+    "ERRI": "ERRI B176/DT 290, Bogies with steered or steering wheelsets, Report 1, Utrecht 1993 (the ORE B176 "
+            "spectra, after Frederich, Rail International 1985), as tabulated by Claus H., Schiehlen W., "
+            "Modeling and simulation of railway bogie structural vibrations, Vehicle System Dynamics "
+            "(IAVSD 1997 supplement), 1998; the same values in public implementations that agree",
+    "FRA": "Hamid A., Rasmussen K., Baluja M., Yang T-L., Analytical descriptions of track geometry "
+           "variations, US Federal Railroad Administration report (1983), as reproduced in Garg V.K., "
+           "Dukkipati R.V., Dynamics of Railway Vehicle Systems (1984) and in public implementations",
+    "TBT3352": "TB/T 3352-2014, PSD of ballastless track irregularities of high-speed railway (China), "
+               "the average spectrum, as quoted by three public implementations that agree",
+    "model": "modelling choice of this project (docs/track-irregularity.md)",
+}
+
+
+@dataclass(frozen=True)
+class Constant:
+    """A constant of a spectrum: value (a number, or a tuple such as one value per level or class), unit,
+    source (a key of SOURCES), sure (V, S or A) and a note."""
+    value: object
+    unit: str
+    source: str
+    sure: str
+    note: str = ""
+
+
+ERRI_LEVELS = ("low", "high")
+ERRI = {
+    "omega_c": Constant(0.8246, "rad/m", "ERRI", "S", "break frequency of every component"),
+    "omega_r": Constant(0.0206, "rad/m", "ERRI", "S", "low-frequency roll-off"),
+    "omega_s": Constant(0.4380, "rad/m", "ERRI", "S", "break of the cross-level and gauge spectra"),
+    "b": Constant(0.75, "m", "ERRI", "S", "half the distance of the rails; 2b = 1.500 m, the rail spacing"),
+    "A_v": Constant((4.032e-7, 10.80e-7), "m rad", "ERRI", "S", "vertical profile (and cross-level), low, high"),
+    "A_a": Constant((2.119e-7, 6.125e-7), "m rad", "ERRI", "S", "alignment, low, high"),
+    "A_g": Constant((0.532e-7, 1.032e-7), "m rad", "ERRI", "S", "gauge, low, high"),
+    "band": Constant((1.0, 150.0), "m", "model", "A", "no band found in the sources reached"),
+}
+FRA_CLASSES = (1, 2, 3, 4, 5, 6)
+FRA = {
+    "k": Constant(0.25, "-", "FRA", "S", "the report's factor of every formula"),
+    "omega_c": Constant(0.8245, "rad/m", "FRA", "S", "break frequency of every class"),
+    "A_v": Constant((1.2107, 1.0181, 0.6816, 0.5376, 0.2095, 0.0339), "cm^2 rad/m", "FRA", "S",
+                    "vertical profile (and cross-level), classes 1..6"),
+    "A_a": Constant((3.3634, 1.2107, 0.4128, 0.3027, 0.0762, 0.0339), "cm^2 rad/m", "FRA", "A",
+                    "alignment, classes 1..6; unconfirmed: found in no source reached"),
+    "omega_s": Constant((0.6046, 0.9308, 0.8520, 1.1312, 0.8209, 0.4380), "rad/m", "FRA", "A",
+                        "break of cross-level and gauge, classes 1..6; unconfirmed: found in no source "
+                        "reached"),
+    "band": Constant((1.524, 304.8), "m", "FRA", "S", "5 ft .. 1000 ft, the wavelengths of the report's fits"),
+}
+FRA_CROSS_LEVEL_FACTOR = Constant(4.0, "-", "FRA", "A", "cross-level and gauge S = 4 k A_v Omega_c^2 / "
+                                  "((Omega^2 + Omega_c^2)(Omega^2 + Omega_s^2)), the gauge with A_v too; "
+                                  "unconfirmed: found in no source reached")
+TBT3352 = {  # S_f = A_i / f^n_i between the breaks, f in 1/m, S_f in mm^2/(1/m)
+    "vertical": Constant(((0.0187, 0.0474, 0.1533), (1.0544e-5, 3.5588e-3, 1.9784e-2, 3.9488e-4),
+                          (3.3891, 1.9271, 1.3643, 3.4516)), "1/m; mm^2 (1/m)^(n-1); -", "TBT3352", "S",
+                         "breaks, A, n; adjacent pieces meet at the breaks within 0.4 %"),
+    "alignment": Constant(((0.0450, 0.1234), (3.9513e-3, 1.1047e-2, 7.5633e-4), (1.8670, 1.5354, 2.8171)),
+                          "1/m; mm^2 (1/m)^(n-1); -", "TBT3352", "S", "breaks, A, n; pieces meet within 0.03 %"),
+    "cross_level": Constant(((0.0258, 0.1163), (3.6148e-3, 4.3685e-2, 4.5867e-3), (1.7278, 1.0461, 2.0939)),
+                            "1/m; mm^2 (1/m)^(n-1); -", "TBT3352", "S",
+                            "breaks, A, n of the rails' height difference in mm; pieces meet within 0.13 %"),
+    "gauge": Constant(((0.1090, 0.2938), (5.4978e-2, 5.0701e-3, 1.8778e-4), (0.8282, 1.9037, 4.5948)),
+                      "1/m; mm^2 (1/m)^(n-1); -", "TBT3352", "S", "breaks, A, n; pieces meet within 0.04 %"),
+    "frequencies": Constant((0.005, 0.5), "1/m", "TBT3352", "S",
+                            "where the fit holds: wavelengths 2 .. 200 m; the standard's text (as reproduced "
+                            "publicly) excludes wavelengths below 2 m and extrapolates beyond 120 m"),
+}
+
+
+def constants_table():
+    """Rows (name, value, unit, source, sure, note) of every constant, for documentation."""
+    groups = {"erri": ERRI, "fra": FRA, "tbt3352": TBT3352}
+    rows = [(f"{group}.{key}", c.value, c.unit, c.source, c.sure, c.note)
+            for group, table in groups.items() for key, c in table.items()]
+    c = FRA_CROSS_LEVEL_FACTOR
+    return rows + [("fra.cross_level_factor", c.value, c.unit, c.source, c.sure, c.note)]
+
+
+def _component(component):
+    if component not in COMPONENTS:
+        raise ValueError(f"component {component!r} is not one of {', '.join(COMPONENTS)}")
+    return component
+
+
+def erri_psd(component, omega, level):
+    """ERRI B176 PSD of a component at omega (rad/m) for level 'low' or 'high': m^2/(rad/m), the cross-level
+    as an angle in rad^2/(rad/m)."""
+    i = ERRI_LEVELS.index(level)
+    w2 = np.square(np.asarray(omega, dtype=float))
+    wc2, wr2, ws2 = ERRI["omega_c"].value ** 2, ERRI["omega_r"].value ** 2, ERRI["omega_s"].value ** 2
+    shape = wc2 / ((w2 + wr2) * (w2 + wc2))
+    if _component(component) == "vertical":
+        return ERRI["A_v"].value[i] * shape
+    if component == "alignment":
+        return ERRI["A_a"].value[i] * shape
+    amplitude = ERRI["A_v"].value[i] / ERRI["b"].value ** 2 if component == "cross_level" else ERRI["A_g"].value[i]
+    return amplitude * shape * w2 / (w2 + ws2)
+
+
+def fra_psd(component, omega, track_class):
+    """FRA PSD of a component at omega (rad/m) for track class 1..6: m^2/(rad/m), the cross-level and the
+    gauge as height and width differences."""
+    i = FRA_CLASSES.index(track_class)
+    w2 = np.square(np.asarray(omega, dtype=float))
+    k, wc2, cm2 = FRA["k"].value, FRA["omega_c"].value ** 2, 1e-4
+    if _component(component) in ("vertical", "alignment"):
+        amplitude = FRA["A_v" if component == "vertical" else "A_a"].value[i] * cm2
+        return k * amplitude * wc2 / (w2 * (w2 + wc2))
+    amplitude = FRA_CROSS_LEVEL_FACTOR.value * k * FRA["A_v"].value[i] * cm2
+    return amplitude * wc2 / ((w2 + wc2) * (w2 + FRA["omega_s"].value[i] ** 2))
+
+
+def tbt3352_psd_f(component, f):
+    """TB/T 3352 PSD in the standard's units: f in 1/m, S in mm^2/(1/m) (cross-level: the rails' height
+    difference in mm); NaN outside the frequencies where the fit holds."""
+    breaks, amplitudes, exponents = TBT3352[_component(component)].value
+    f = np.asarray(f, dtype=float)
+    piece = np.searchsorted(breaks, f, side="right")
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.asarray(amplitudes)[piece] / f ** np.asarray(exponents)[piece]
+    lo, hi = TBT3352["frequencies"].value
+    return np.where((f >= lo) & (f <= hi), s, np.nan)
+
+
+def tbt3352_psd(component, omega):
+    """TB/T 3352 PSD at omega (rad/m) in m^2/(rad/m): S_f(omega / 2 pi) / (2 pi), mm^2 -> m^2."""
+    return tbt3352_psd_f(component, np.asarray(omega, dtype=float) / (2.0 * math.pi)) * 1e-6 / (2.0 * math.pi)
+
+
+@dataclass(frozen=True)
+class Spectrum:
+    """A named spectrum: `psd(component, omega)` in m^2/(rad/m) with the cross-level as the height
+    difference c; `band_m` its default band (shortest, longest wavelength in m); `validity_m` the
+    wavelengths outside which it is undefined (None: the formula holds for every wavelength)."""
+    name: str
+    title: str
+    band_m: tuple
+    validity_m: tuple | None
+    psd: Callable
+
+
+def _erri_rail_psd(component, omega, level):
+    scale = (2.0 * ERRI["b"].value) ** 2 if component == "cross_level" else 1.0
+    return scale * erri_psd(component, omega, level)
+
+
+def _spectra():
+    table = {f"erri-{level}": Spectrum(f"erri-{level}", f"ERRI B176, {level} level", ERRI["band"].value, None,
+                                       partial(_erri_rail_psd, level=level)) for level in ERRI_LEVELS}
+    table.update({f"fra-{c}": Spectrum(f"fra-{c}", f"FRA track class {c}", FRA["band"].value, None,
+                                       partial(fra_psd, track_class=c)) for c in FRA_CLASSES})
+    lo, hi = TBT3352["frequencies"].value
+    table["china-hsr"] = Spectrum("china-hsr", "TB/T 3352-2014, ballastless high-speed track", (1 / hi, 1 / lo),
+                                  (1 / hi, 1 / lo), tbt3352_psd)
+    return table
+
+
+SPECTRA = _spectra()
+
+
+def spectrum_named(name):
+    if name not in SPECTRA:
+        raise ValueError(f"spectrum {name!r} is not one of {', '.join(SPECTRA)}")
+    return SPECTRA[name]
+
+
+def checked_band(spectrum, band_m, step_m):
+    """The band (shortest, longest wavelength, m) checked: inside BAND_LIMITS_M and the spectrum's validity,
+    shortest < longest, and at least two grid steps per shortest wavelength (Nyquist)."""
+    if band_m is None:
+        band_m = spectrum.band_m
+    short, long_ = (check_range("band wavelength", w, *BAND_LIMITS_M, "m") for w in band_m)
+    if short >= long_:
+        raise ValueError(f"band {short:g}..{long_:g} m: the shortest wavelength must come first and be the "
+                         f"smaller")
+    if spectrum.validity_m is not None:
+        lo, hi = spectrum.validity_m
+        if short < lo * (1 - 1e-12) or long_ > hi * (1 + 1e-12):
+            raise ValueError(f"band {short:g}..{long_:g} m is outside the accepted range [{lo:g}, {hi:g}] m "
+                             f"of {spectrum.name}")
+    if short < 2.0 * step_m:
+        raise ValueError(f"band shortest wavelength {short:g} m needs a step of at most {short / 2:g} m "
+                         f"(the step is {step_m:g} m)")
+    return short, long_
+
+
+GAUSS_X, GAUSS_W = np.polynomial.legendre.leggauss(4)
+
+
+def fast_length(n):
+    """The smallest 2^a 3^b 5^c >= n, a length the FFT does fast."""
+    best = 1 << (n - 1).bit_length()
+    p5 = 1
+    while p5 < best:
+        p35 = p5
+        while p35 < best:
+            best = min(best, p35 << (math.ceil(n / p35) - 1).bit_length())
+            p35 *= 3
+        p5 *= 5
+    return best
+
+
+def line_amplitudes(spectrum, component, n, step, band):
+    """(k, a_k, held) of the lines k dOmega (dOmega = 2 pi / (n step), below the grid's Nyquist frequency)
+    whose cells ((k -+ 1/2) dOmega) meet the band: a_k = sqrt(2 x the PSD's integral over the cell within the
+    band); held = (lowest, highest) frequency the cells cover, in rad/m."""
+    d_omega = 2.0 * math.pi / (n * step)
+    lo, hi = 2.0 * math.pi / band[1], 2.0 * math.pi / band[0]
+    k = np.arange(max(1, math.floor(lo / d_omega + 0.5)), min((n - 1) // 2, math.ceil(hi / d_omega - 0.5)) + 1)
+    left = np.maximum((k - 0.5) * d_omega, lo)
+    right = np.minimum((k + 0.5) * d_omega, hi)
+    keep = right > left
+    if not keep.any():
+        raise ValueError(f"band {band[0]:g}..{band[1]:g} m holds no line of the sample's grid (lines every "
+                         f"{d_omega:.4g} rad/m): widen the band or lengthen the sample")
+    k, left, right = k[keep], left[keep], right[keep]
+    half = 0.5 * (right - left)
+    nodes = (left + half)[:, None] + half[:, None] * GAUSS_X
+    variance = half * (spectrum.psd(component, nodes) @ GAUSS_W)
+    return k, np.sqrt(2.0 * variance), (left[0], right[-1])
+
+
+def generate(spectrum, length_m, seed, step_m=0.25, band_m=None, taper_m=TAPER_M):
+    """A random sample (`Irregularity`, cubic Hermite) of a spectrum (a name of SPECTRA) over 0..length_m at
+    step_m, from the seed; band_m (shortest, longest wavelength) defaults to the spectrum's band. The sample
+    fades in and out over taper_m (at most a quarter of it) at its ends (`taper`), so that a run meets no
+    step where it begins."""
+    spec = spectrum_named(spectrum)
+    length = check_range("length", length_m, *LENGTH_M, "m")
+    step = check_range("step", step_m, *STEP_M, "m")
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not SEEDS[0] <= seed <= SEEDS[1]:
+        raise ValueError(f"seed {seed!r} is outside the accepted range: an integer in [{SEEDS[0]}, {SEEDS[1]}]")
+    band = checked_band(spec, band_m, step)
+    n = math.ceil(length / step - 1e-9) + 1
+    period_points = fast_length(n)
+    d_omega = 2.0 * math.pi / (period_points * step)
+    rng = np.random.default_rng(seed)
+    components, slopes, held = {}, {}, None
+    for name in COMPONENTS:
+        k, a, held = line_amplitudes(spec, name, period_points, step, band)
+        lines = np.zeros(period_points // 2 + 1, dtype=complex)
+        lines[k] = 0.5 * period_points * a * np.exp(1j * rng.uniform(0.0, 2.0 * math.pi, size=k.size))
+        components[name] = np.fft.irfft(lines, period_points)[:n]
+        slopes[name] = np.fft.irfft(1j * d_omega * np.arange(lines.size) * lines, period_points)[:n]
+    s = step * np.arange(n)
+    band_held = (float(2.0 * math.pi / held[1]), float(2.0 * math.pi / held[0]))
+    values, slopes = taper(s, rails_from_components(components), rails_from_components(slopes),
+                           min(taper_m, 0.25 * (s[-1] - s[0])))
+    return Irregularity(s, values, slopes,
+                        name=f"{spec.name} seed {seed}",
+                        description=f"{spec.title}, random phases",
+                        seed=int(seed), spectrum=spec.name, band_m=band_held)
+
+
+def taper(s, values, slopes, taper_m):
+    """Values and slopes (n, 4) times a raised-cosine window that rises from 0 over the first taper_m of s and
+    falls to 0 over the last (m; 0: none). The slopes stay exact: w y' + w' y."""
+    check_range("taper", taper_m, 0.0, 0.5 * (s[-1] - s[0]), "m")
+    if taper_m == 0.0:
+        return values, slopes
+    u = np.clip(np.minimum(s - s[0], s[-1] - s) / taper_m, 0.0, 1.0)
+    w = 0.5 * (1.0 - np.cos(math.pi * u))
+    dw = np.where(u < 1.0, 0.5 * math.pi / taper_m * np.sin(math.pi * u), 0.0) \
+        * np.where(s - s[0] <= s[-1] - s, 1.0, -1.0)
+    return w[:, None] * values, w[:, None] * slopes + dw[:, None] * values
+
+
+def lateral_kink(start, length, amplitude, step=0.25):
+    """Both rails moved sideways by one period of a cosine, A/2 (1 - cos(2 pi (s - start) / L)) over
+    start <= s <= start + L (m): a smooth (C1) alignment defect of peak A to the left in the middle, the
+    limit-cycle method's excitation. Cubic Hermite on a `step` grid with the exact slopes (the largest
+    error of the shape, A (2 pi step / L)^4 / 384, is 2e-9 m for 10 mm over 20 m)."""
+    if not (length > 0.0 and step > 0.0):
+        raise ValueError(f"lateral kink: length {length:g} m and step {step:g} m must be positive")
+    n = max(int(round(length / step)), 2) + 1
+    s = np.linspace(start, start + length, n)
+    w = 2.0 * np.pi / length
+    lateral = 0.5 * amplitude * (1.0 - np.cos(w * (s - start)))
+    slope = 0.5 * amplitude * w * np.sin(w * (s - start))
+    zero = np.zeros(n)
+    return Irregularity(s, np.column_stack((lateral, zero, lateral, zero)),
+                        np.column_stack((slope, zero, slope, zero)), name=f"kink {amplitude * 1e3:g} mm",
+                        description=f"lateral kink of {amplitude * 1e3:g} mm over {length:g} m from s = {start:g} m")
+
+
+def resolve(source, seed, line_length_m):
+    """The irregularity of a run configured with `source`: None for "none", the file of that path (.csv),
+    or a sample of the spectrum of that name (SPECTRA) from the seed, over the line and LINE_MARGIN_M
+    beyond its end, where the leading wheelset runs when the car body reaches it."""
+    if source == NONE:
+        return None
+    if source in SPECTRA:
+        return generate(source, line_length_m + LINE_MARGIN_M, seed)
+    if str(source).lower().endswith(".csv"):
+        return read_csv(source)
+    raise ValueError(f"irregularity {source!r} is not {NONE!r}, a spectrum ({', '.join(SPECTRA)}) or a .csv file")
+
+
+def rails_from_components(c):
+    """(n, 4) rail channels in CHANNELS order from the components v, c, a, g (module docstring)."""
+    return np.stack((c["alignment"] + 0.5 * c["gauge"], c["vertical"] + 0.5 * c["cross_level"],
+                     c["alignment"] - 0.5 * c["gauge"], c["vertical"] - 0.5 * c["cross_level"]), axis=-1)
+
+
+@dataclass(frozen=True, eq=False)
+class Irregularity:
+    """Rail position deviations: s (n,) in m, strictly increasing; values (n, 4) in m, channels in CHANNELS
+    order; slopes (n, 4) d/ds for cubic Hermite interpolation, or None for linear interpolation (files);
+    zero outside s[0]..s[-1]. seed, spectrum and band_m (wavelengths held) describe a generated sample."""
+    s: np.ndarray
+    values: np.ndarray
+    slopes: np.ndarray | None = None
+    name: str = ""
+    description: str = ""
+    seed: int | None = None
+    spectrum: str | None = None
+    band_m: tuple | None = None
+
+    def __post_init__(self):
+        for name in ("s", "values") + (("slopes",) if self.slopes is not None else ()):
+            object.__setattr__(self, name, np.asarray(getattr(self, name), dtype=float))
+        n = len(self.s)
+        if n < 2 or self.values.shape != (n, 4) or (self.slopes is not None and self.slopes.shape != (n, 4)):
+            raise ValueError(f"irregularity {self.name!r}: needs n >= 2 points with (n, 4) values and slopes")
+        if not np.all(np.diff(self.s) > 0):
+            raise ValueError(f"irregularity {self.name!r}: s must increase strictly")
+
+    def at(self, s):
+        """The (..., 4) channels at s (m) as the core interpolates them (`rails.rail_deviation`)."""
+        s = np.asarray(s, dtype=float)
+        out = np.zeros((s.size, 4))
+        rail_deviations(self.pack(), s.ravel(), out)
+        return out.reshape(s.shape + (4,))
+
+    def components(self):
+        """{component: (n,) array} of the vertical profile, cross-level, alignment and gauge at the points."""
+        yl, zl, yr, zr = self.values.T
+        return {"vertical": 0.5 * (zl + zr), "cross_level": zl - zr, "alignment": 0.5 * (yl + yr),
+                "gauge": yl - yr}
+
+    def uniform_step(self):
+        """The points' spacing if it is uniform within UNIFORM_TOLERANCE_M, else 0."""
+        steps = np.diff(self.s)
+        step = (self.s[-1] - self.s[0]) / (len(self.s) - 1)
+        return float(step) if np.all(np.abs(steps - step) <= UNIFORM_TOLERANCE_M) else 0.0
+
+    def pack(self):
+        """The core's `rails` array (`rails.pack_rails`): linear without slopes, else cubic Hermite."""
+        if self.slopes is None:
+            return pack_rails(self.s, self.values)
+        return pack_rails(self.s, self.values, self.slopes, HERMITE)
+
+    def summary(self):
+        """RMS of the channels and components in mm, with the sample's description."""
+        def rms(x):
+            return float(np.sqrt(np.mean(np.square(x)))) * 1e3
+        return {"name": self.name, "description": self.description, "spectrum": self.spectrum, "seed": self.seed,
+                "points": len(self.s), "length_m": float(self.s[-1] - self.s[0]), "step_m": self.uniform_step(),
+                "band_m": self.band_m,
+                "rms_mm": {**{c: rms(self.values[:, j]) for j, c in enumerate(CHANNELS)},
+                           **{c: rms(x) for c, x in self.components().items()}}}
+
+
+def welch_psd(irregularity, component, segment_m):
+    """Welch estimate of a component's one-sided PSD per rad/m (scipy.signal.welch, Hann segments of about
+    segment_m with half overlap): (omega in rad/m, S in m^2/(rad/m)); needs uniform points."""
+    from scipy.signal import welch
+
+    step = irregularity.uniform_step()
+    if step == 0.0:
+        raise ValueError(f"irregularity {irregularity.name!r}: a Welch estimate needs uniformly spaced points")
+    x = irregularity.components()[_component(component)]
+    f, p = welch(x, fs=1.0 / step, nperseg=min(len(x), int(round(segment_m / step))))
+    return 2.0 * math.pi * f[1:], p[1:] / (2.0 * math.pi)
+
+
+def write_csv(irregularity, path):
+    """Write the file format (docs/track-irregularity.md): CSV_HEADER, then s in m and the channels in mm,
+    linear between the points; atomically."""
+    table = np.column_stack((irregularity.s, irregularity.values * 1e3)).tolist()
+    row = ",".join(["%.6f"] * (1 + len(CHANNELS))) + "\n"     # s in m and the channels in mm, to 1 nm
+    with atomic_write(path) as handle:
+        handle.write(CSV_HEADER + "\n")
+        handle.writelines(row % tuple(values) for values in table)
+
+
+def read_csv(path):
+    """An `Irregularity` (linear) from a file of the format; a bad file is a one-line ValueError naming the
+    file, the line and the value."""
+    where = f"irregularity file {str(path)!r}"
+    names = CSV_HEADER.split(",")
+    values = array("d")            # flat, 8 bytes a number: a long file costs no Python objects per value
+    number = 0
+    try:
+        with open(path, encoding="utf-8-sig") as handle:
+            for number, line in enumerate(handle, start=1):
+                if number == 1:
+                    if line.strip() != CSV_HEADER:
+                        raise ValueError(f"{where}, line 1: header {line.strip()[:80]!r} is not {CSV_HEADER!r}")
+                    continue
+                if not line.strip():
+                    continue
+                fields = line.split(",")
+                if len(fields) != len(names):
+                    raise ValueError(f"{where}, line {number}: {len(fields)} values {line.strip()[:80]!r}, "
+                                     f"expected {len(names)} ({CSV_HEADER})")
+                s = _number(where, number, names[0], fields[0])
+                if len(values) and s <= values[-len(names)]:
+                    raise ValueError(f"{where}, line {number}: s_m {s:g} m does not increase (the line before: "
+                                     f"{values[-len(names)]:g} m)")
+                values.append(s)
+                values.extend(_number(where, number, name, text) for name, text in zip(names[1:], fields[1:]))
+    except (OSError, UnicodeDecodeError) as error:
+        raise ValueError(f"{where} cannot be read ({getattr(error, 'strerror', None) or error})") from None
+    if number == 0:
+        raise ValueError(f"{where}, line 1: empty, expected the header {CSV_HEADER!r}")
+    table = np.frombuffer(values, dtype=float).reshape(-1, len(names))
+    if len(table) < 2:
+        raise ValueError(f"{where}, line {number}: {len(table)} data row(s) after the header, at least 2 needed")
+    return Irregularity(table[:, 0].copy(), table[:, 1:] * 1e-3, None, name=Path(path).stem,
+                        description=f"read from {Path(path).name}")
+
+
+def _number(where, number, name, text):
+    try:
+        value = float(text)
+    except ValueError:
+        raise ValueError(f"{where}, line {number}: {name} {text.strip()[:40]!r} is not a number") from None
+    if not math.isfinite(value):
+        raise ValueError(f"{where}, line {number}: {name} {text.strip()!r} is not a finite number")
+    if name != "s_m" and abs(value) > MAX_FILE_MM:
+        raise ValueError(f"{where}, line {number}: {name} {value:g} mm is outside the accepted range "
+                         f"[{-MAX_FILE_MM:g}, {MAX_FILE_MM:g}] mm")
+    return value
