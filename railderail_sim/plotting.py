@@ -291,6 +291,38 @@ def position_figure(path, series, ylabel, markers=(), xlabel="position of the ca
         ax.legend()
 
 
+def run_figure(result, path):
+    """One run against track position (`vehicle.simulate.Result`): the rails' deviations (if irregular),
+    the front wheelset's lateral displacement and attack angle, and each of its wheels' Q/P and lift."""
+    irregular = result.scenario.irregularity is not None
+    position = result.position
+    with figure(path, (8.0, 9.0 if irregular else 7.0)) as fig:
+        axes = fig.subplots(4 if irregular else 3, 1, sharex=True)
+        if irregular:
+            deviation = result.scenario.irregularity.at(position) * 1e3
+            for j, name in enumerate(("left lateral", "left vertical", "right lateral", "right vertical")):
+                axes[0].plot(position, deviation[:, j], lw=0.6, label=name)
+            axes[0].set_ylabel("rail deviation at s (mm)")
+            axes[0].legend(ncol=4, fontsize="small")
+        ax_y, ax_qp, ax_lift = axes[-3:]
+        ax_y.plot(position, result.wheelset_lateral[:, 0] * 1e3, lw=0.8, label="lateral displacement (mm)")
+        ax_y.plot(position, result.attack_angle[:, 0] * 1e3, lw=0.8, label="attack angle (mrad)")
+        ax_y.set_ylabel("front wheelset")
+        ax_y.legend(fontsize="small")
+        for k, side in enumerate(("left", "right")):
+            ax_qp.plot(position, result.wheel("derailment_coefficient")[:, k], lw=0.6, label=f"{side} wheel")
+            ax_lift.plot(position, result.wheel("wheel_lift")[:, k] * 1e3, lw=0.6, label=f"{side} wheel")
+        ax_qp.set_ylabel("Q/P, front wheelset")
+        ax_qp.legend(fontsize="small")
+        ax_lift.set_ylabel("wheel lift, front wheelset (mm)")
+        ax_lift.set_xlabel("position of the car-body centre (m)")
+        event = result.derailment
+        fig.suptitle(f"R {result.scenario.track.radius:.0f} m, {result.speed[0] * 3.6:.0f} km/h"
+                     + (f", {result.scenario.irregularity.name}" if irregular else ", ideal track")
+                     + (f": derailed, wheelset {event['wheelset']} {event['wheel_side']}, "
+                        f"{event['mechanism'].replace('_', ' ')}" if event else ""))
+
+
 # ------------------------------------------------------------------------------------------------
 # track
 # ------------------------------------------------------------------------------------------------

@@ -101,6 +101,7 @@ def test_method_figures(tmp_path):
     (["root-locus", "--points", "5"], "railderail_sim.methods.root_locus.root_locus"),
     (["limit-cycle"], "railderail_sim.methods.limit_cycle.limit_cycle"),
     (["sweep", "--radii", "1000"], "railderail_sim.methods.sweep.sweep"),
+    (["simulate"], "railderail_sim.vehicle.simulate.simulate"),
 ])
 @pytest.mark.parametrize("plot, words", [
     ("/no/such/folder/x.png", ["'/no/such/folder/x.png'", "does not exist"]),
@@ -117,3 +118,11 @@ def test_bad_plot_file_fails_before_the_method_runs(monkeypatch, capsys, command
     assert captured.out == "" and len(lines) == 1 and lines[0].startswith("railderail: error: plot file")
     for word in words:
         assert word in lines[0]
+
+
+def test_simulate_plots_a_run_on_irregular_track(tmp_path, capsys):
+    path = tmp_path / "run.png"
+    assert main(["simulate", "--speed-kmh", "200", "--irregularity", "china-hsr", "--irregularity-seed", "2",
+                 "--plot", str(path)]) in (0, None)
+    capsys.readouterr()
+    assert path.read_bytes()[:8] == PNG_MAGIC and path.stat().st_size > 20_000

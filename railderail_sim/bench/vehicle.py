@@ -4,7 +4,8 @@ compile_s is measured in a fresh subprocess with an empty numba cache directory 
 user pays once); the real-time factors are simulated time / wall time on one core after compilation,
 for the default scenario (R = 1000 m, constant 300 km/h on the Table 2 line, which derails in this model,
 so the run ends there) and for the whole line at 250 km/h, with Hertz and with discrete contact, at the
-default tolerances and at the looser atol 1e-7 / rtol 1e-6 of the tolerance study.
+default tolerances and at the looser atol 1e-7 / rtol 1e-6 of the tolerance study; and the whole line at
+250 km/h on rigid track with an ERRI B176 high-level irregularity (seed 1, `track.irregularity`).
 """
 from dataclasses import replace
 import os
@@ -14,6 +15,8 @@ import sys
 import tempfile
 import time
 
+from ..parameters import TrackParameters
+from ..track.irregularity import resolve
 from ..vehicle import integrator as itg
 from ..vehicle.simulate import Simulation, scenario
 
@@ -45,6 +48,9 @@ def run():
     out["default_scenario_simulated_s"] = sim.t
     out["steps_per_simulated_s"] = sim.steps[0] / sim.t
     out["real_time_factor_hertz_250kmh_whole_line"] = _rtf(scenario(radius=1000.0, speed_kmh=250.0))[0]
+    irregular = replace(scenario(radius=1000.0, speed_kmh=250.0),
+                        irregularity=resolve("erri-high", 1, TrackParameters().line_length))
+    out["real_time_factor_rigid_irregular"] = _rtf(irregular)[0]
     out["real_time_factor_discrete"] = _rtf(scenario(radius=1000.0, speed_kmh=300.0, contact_model="discrete"))[0]
     out["peak_memory_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
     return out

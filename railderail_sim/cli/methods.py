@@ -76,10 +76,13 @@ def simulate_command(parser):
     parser.add_argument("--right", action="store_true", help="curve to the right (default: left)")
     parser.add_argument("--out", help="write the time histories to this .npz file (docs/output-format.md)")
     parser.add_argument("--rate", type=float, default=200.0, help="output rate (Hz)")
+    parser.add_argument("--plot", metavar="FILE.png",
+                        help="the run against position: rails, front wheelset, Q/P, lift (.png, .pdf or .svg)")
     _track_args(parser, "along the line")
 
     def run(args):
         from ..vehicle.simulate import simulate
+        plot = _plot_path(args)
         sc = base_scenario(args, radius=args.radius, direction=-1 if args.right else 1)
         sc = replace(sc, speed_table=constant_speed(args.speed_kmh), output_rate=args.rate).validated()
         if args.out and not args.out.endswith(".npz"):
@@ -87,6 +90,8 @@ def simulate_command(parser):
         r = simulate(sc)
         if args.out:
             r.save(args.out)
+        if plot:
+            plotting.run_figure(r, plot)
         s = r.summary()
         human = "\n".join(f"{k:28s} {v}" for k, v in s.items())
         _emit(args, s, human)
