@@ -23,7 +23,7 @@ from rclpy.node import Node
 from rclpy.task import Future
 
 from railderail_sim import ros_interface as m
-from railderail_sim.parameters import FRICTION_RANGE
+from railderail_sim.parameters import FRICTION_RANGE, TRACK_MODELS
 from railderail_sim.ros_interface import REAL_TIME_FACTOR_RANGE, ParameterSpec as P
 from railderail_sim.track.irregularity import SEEDS, SPECTRA, resolve
 from railderail_sim.vehicle.assemble import NORMAL_MODELS
@@ -48,6 +48,8 @@ PARAMETERS = (
     P("irregularity", "none", "track irregularity: none, a spectrum (" + ", ".join(SPECTRA) + "; a random sample "
       "along the line) or the path of a CSV file (docs/track-irregularity.md)", read_only=True),
     P("irregularity_seed", 0, "seed of a generated irregularity", "", SEEDS, read_only=True),
+    P("track", "rigid", "rigid rails, or elastic: a co-running rail mass under each wheel (docs/elastic-track.md)",
+      choices=TRACK_MODELS, read_only=True),
     P("publish_rate", 200.0, "wheelset states and contact forces per second of simulated time", "Hz",
       PUBLISH_RATE_RANGE, read_only=True),
     P("status_rate", 50.0, "vehicle status messages per second of simulated time, at most publish_rate", "Hz",
@@ -80,7 +82,7 @@ def build_scenario(p):
         base = staircase_scenario(base, p["radius"], Staircase(start_kmh=p["speed_kmh"], step_kmh=p["step_kmh"],
                                                                hold_m=p["hold_m"]))
     irregularity = resolve(p["irregularity"], p["irregularity_seed"], base.track.line_length)
-    return replace(base, output_rate=p["publish_rate"], irregularity=irregularity).validated()
+    return replace(base, output_rate=p["publish_rate"], irregularity=irregularity, track_model=p["track"]).validated()
 
 
 class SimulatorNode(Node):

@@ -46,6 +46,17 @@ SOURCES = {
     "Iwnicki": "Iwnicki S. (ed.), Handbook of Railway Vehicle Dynamics, CRC 2006 (friction 0.3 dry rail)",
     "HuntCrossley": "Hunt K.H., Crossley F.R.E., Coefficient of restitution interpreted as damping in "
                     "vibroimpact, J. Appl. Mech. 42 (1975) 440-445",
+    "Zhai2004": "Zhai W.M., Wang K.Y., Lin J.H., Modelling and experiment of railway ballast vibrations, "
+                "J. Sound Vib. 270 (2004) 673-683, Table 1 (ballasted track, per rail seat), as republished "
+                "in public vehicle-track code",
+    "ZhaiBook": "Zhai W., Vehicle-Track Coupled Dynamics, typical ballasted-track parameters (fastening and "
+                "sleeper lateral, rail torsion geometry), as republished in public vehicle-track code",
+    "ACE2021": "Adv. Civ. Eng. 2021, art. 8847633, Table 2: CHN60 rail section (60.64 kg/m, I 3.217e-5 and "
+               "5.24e-6 m^4, polar 3.741e-5 m^4)",
+    "SV2019": "Shock Vib. 2019, art. 2015465, Table 2: the rail's torsional rigidity GK 1.9587e5 N m^2",
+    "Winkler": "own reduction of the track to one co-running mass per wheel (docs/elastic-track.md): the rail "
+               "on a Winkler foundation of its seats (Hetenyi, Beams on Elastic Foundation, 1946), point "
+               "stiffness 2k/beta; masses and dampers by Rayleigh's method on the static deflection shape",
     "model": "modelling choice of this project, explained in docs/vehicle-model.md",
 }
 
@@ -329,3 +340,105 @@ class ContactParameters:
 GRAVITY = 9.81  # m/s^2, standard value used throughout
 FRICTION_RANGE = (0.0, 1.0)     # accepted wheel-rail friction coefficients, (0, 1]
 CANT_RANGE_MM = (0.0, 200.0)    # accepted cant heights (mm); EN 13803 allows up to 180 mm (200 mm on ballastless track)
+
+
+TRACK_MODELS = ("rigid", "elastic")
+
+
+@dataclass(frozen=True)
+class ElasticTrackParameters:
+    """The elastic track (`track.elastic`): one co-running rail per wheel, reduced from the rail and the
+    rail seats of a ballasted high-speed track (docs/elastic-track.md). The fields are the published
+    values of the rail and of one rail seat; the co-running rail's mass, stiffness and damping under a
+    wheel (`vertical`, `lateral`, `roll`) are their Winkler-beam reduction (source "Winkler", A)."""
+    rail_mass: float = _p(60.64, "kg/m", "ACE2021", "V", "60 kg/m rail (CHN60; 60E1 60.2 kg/m)")
+    rail_density: float = _p(7850.0, "kg/m^3", "Johnson", "V", "steel")
+    youngs_modulus: float = _p(2.059e11, "Pa", "Zhai2004", "S")
+    vertical_second_moment: float = _p(3.217e-5, "m^4", "ACE2021", "V", "bending in the vertical plane")
+    lateral_second_moment: float = _p(5.24e-6, "m^4", "ACE2021", "V", "bending in the track plane")
+    polar_second_moment: float = _p(3.741e-5, "m^4", "ACE2021", "V", "gives the rail's roll inertia per metre")
+    torsional_rigidity: float = _p(1.9587e5, "N m^2", "SV2019", "V", "GK of the CHN60 rail")
+    sleeper_spacing: float = _p(0.60, "m", "Zhai2004", "S")
+    half_sleeper_mass: float = _p(125.5, "kg", "Zhai2004", "S", "between the pad and the ballast")
+    ballast_mass: float = _p(531.4, "kg", "Zhai2004", "S", "per rail seat, between the ballast and the subgrade")
+    pad_vertical_stiffness: float = _p(6.5e7, "N/m", "Zhai2004", "S", "per rail seat")
+    pad_vertical_damping: float = _p(7.5e4, "N s/m", "Zhai2004", "S")
+    ballast_vertical_stiffness: float = _p(1.3775e8, "N/m", "Zhai2004", "S", "per rail seat")
+    ballast_vertical_damping: float = _p(5.88e4, "N s/m", "Zhai2004", "S")
+    subgrade_vertical_stiffness: float = _p(7.75e7, "N/m", "Zhai2004", "S", "per rail seat")
+    subgrade_vertical_damping: float = _p(3.115e4, "N s/m", "Zhai2004", "S")
+    pad_lateral_stiffness: float = _p(3.0e7, "N/m", "ZhaiBook", "S", "fastening, per rail seat")
+    pad_lateral_damping: float = _p(5.0e4, "N s/m", "ZhaiBook", "S")
+    sleeper_lateral_stiffness: float = _p(5.0e7, "N/m", "ZhaiBook", "S", "sleeper in the ballast, per sleeper "
+                                                                             "(half of it under each rail)")
+    sleeper_lateral_damping: float = _p(4.0e4, "N s/m", "ZhaiBook", "S", "per sleeper")
+    pad_half_width: float = _p(0.075, "m", "ZhaiBook", "S", "half the distance of the pad's vertical reactions")
+    lateral_reaction_arm: float = _p(0.082, "m", "ZhaiBook", "S", "the pad's lateral reaction below the roll centre")
+    roll_centre_depth: float = _p(0.0945, "m", "ZhaiBook", "S", "the rail's torsion centre below the rail top")
+    roll_inertia_scale: float = _p(10.0, "-", "model", "A",
+                                   "numerical mass scaling of the rail's roll inertia: its roll mode, overdamped "
+                                   "by the creep forces, would need steps below 0.3 ms (docs/elastic-track.md "
+                                   "shows the results unchanged)")
+
+    def _series(self, *layers):
+        """(stiffness, damping) of spring-damper layers (k_i, c_i) in series: 1/k = sum 1/k_i, and each
+        damper dissipating at its spring's share of the deflection, c = k^2 sum c_i / k_i^2."""
+        k = 1.0 / sum(1.0 / ki for ki, _ in layers)
+        return k, k * k * sum(c / (ki * ki) for ki, c in layers)
+
+    def _co_running(self, seat, mass_per_metre, second_moment):
+        """(mass, stiffness, damping) under a wheel of a rail on seats (k, c) every sleeper_spacing: the
+        point stiffness 2k'/beta of the Winkler beam (k' = k / spacing, beta = (k' / 4EI)^(1/4)); the mass
+        and the damping of the static deflection shape, whose square integrates to 3/(2 beta)."""
+        k, c = seat[0] / self.sleeper_spacing, seat[1] / self.sleeper_spacing
+        beta = (k / (4.0 * self.youngs_modulus * second_moment)) ** 0.25
+        return 1.5 * mass_per_metre / beta, 2.0 * k / beta, 1.5 * c / beta
+
+    @property
+    def vertical(self):
+        """(mass kg, stiffness N/m, damping N s/m) of the co-running rail vertically: the rail, and the
+        sleeper and the ballast at the square of their share of the rail's deflection."""
+        pad = (self.pad_vertical_stiffness, self.pad_vertical_damping)
+        ballast = (self.ballast_vertical_stiffness, self.ballast_vertical_damping)
+        subgrade = (self.subgrade_vertical_stiffness, self.subgrade_vertical_damping)
+        seat = self._series(pad, ballast, subgrade)
+        sleeper_share = seat[0] / self._series(ballast, subgrade)[0]
+        ballast_share = seat[0] / subgrade[0]
+        mass = self.rail_mass + (sleeper_share ** 2 * self.half_sleeper_mass
+                                 + ballast_share ** 2 * self.ballast_mass) / self.sleeper_spacing
+        return self._co_running(seat, mass, self.vertical_second_moment)
+
+    @property
+    def lateral(self):
+        """(mass, stiffness, damping) laterally: the fastening in series with half the sleeper's lateral
+        support; the rail, and the half sleeper at the square of its share."""
+        pad = (self.pad_lateral_stiffness, self.pad_lateral_damping)
+        sleeper = (0.5 * self.sleeper_lateral_stiffness, 0.5 * self.sleeper_lateral_damping)
+        seat = self._series(pad, sleeper)
+        mass = self.rail_mass + (seat[0] / sleeper[0]) ** 2 * self.half_sleeper_mass / self.sleeper_spacing
+        return self._co_running(seat, mass, self.lateral_second_moment)
+
+    @property
+    def roll(self):
+        """(inertia kg m^2, stiffness N m/rad, damping N m s/rad) in roll about the torsion centre: the
+        seat's restraint (its vertical pad reactions at +-pad_half_width, its lateral one at the arm below
+        the centre) on the rail's torsion (decay rate lambda = sqrt(k' / GK)): point stiffness 2 GK lambda,
+        inertia and damping of the shape exp(-lambda |x|), 1/lambda times their per-metre values (the inertia
+        times roll_inertia_scale)."""
+        b2, a2 = self.pad_half_width ** 2, self.lateral_reaction_arm ** 2
+        k = (self.pad_vertical_stiffness * b2 + self.pad_lateral_stiffness * a2) / self.sleeper_spacing
+        c = (self.pad_vertical_damping * b2 + self.pad_lateral_damping * a2) / self.sleeper_spacing
+        lam = math.sqrt(k / self.torsional_rigidity)
+        inertia = self.roll_inertia_scale * self.rail_density * self.polar_second_moment / lam
+        return inertia, 2.0 * self.torsional_rigidity * lam, c / lam
+
+    def describe(self):
+        """Rows (name, value, unit, source, sure, note) for reports, with the co-running values."""
+        rows = [(f.name, getattr(self, f.name), f.metadata["unit"], f.metadata["source"], f.metadata["sure"],
+                 f.metadata["note"]) for f in fields(self)]
+        for name, units in (("vertical", ("kg", "N/m", "N s/m")), ("lateral", ("kg", "N/m", "N s/m")),
+                            ("roll", ("kg m^2", "N m/rad", "N m s/rad"))):
+            what = ("inertia" if name == "roll" else "mass", "stiffness", "damping")
+            for w, value, unit in zip(what, getattr(self, name), units):
+                rows.append((f"co_running_{name}_{w}", value, unit, "Winkler", "A", "per wheel, derived"))
+        return rows

@@ -51,6 +51,7 @@ def run():
     irregular = replace(scenario(radius=1000.0, speed_kmh=250.0),
                         irregularity=resolve("erri-high", 1, TrackParameters().line_length))
     out["real_time_factor_rigid_irregular"] = _rtf(irregular)[0]
+    out["real_time_factor_elastic_irregular"] = _rtf(replace(irregular, track_model="elastic"))[0]
     out["real_time_factor_discrete"] = _rtf(scenario(radius=1000.0, speed_kmh=300.0, contact_model="discrete"))[0]
     out["peak_memory_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
     return out

@@ -9,8 +9,8 @@ import math
 import sys
 
 from .. import jsonout, plotting
-from ..parameters import (CANT_RANGE_MM, FRICTION_RANGE, VEHICLE_SETS, ContactParameters, TrackParameters,
-                          vehicle_parameters)
+from ..parameters import (CANT_RANGE_MM, FRICTION_RANGE, TRACK_MODELS, VEHICLE_SETS, ContactParameters,
+                          TrackParameters, vehicle_parameters)
 from ..track import irregularity as ir
 from ..ranges import check_range
 from ..vehicle.assemble import CONTACT_GEOMETRIES
@@ -32,7 +32,10 @@ def _common(parser):
 
 
 def _track_args(parser, line, cant=True):
-    """--irregularity and --irregularity-seed (`line`: where a generated sample lies) and --cant-mm."""
+    """--track, --irregularity and --irregularity-seed (`line`: where a generated sample lies) and --cant-mm."""
+    parser.add_argument("--track", default="rigid", choices=TRACK_MODELS,
+                        help="rigid rails, or the elastic track: a co-running rail mass under each wheel "
+                             "(docs/elastic-track.md); default %(default)s")
     if cant:
         parser.add_argument("--cant-mm", type=float, default=None,
                             help=f"cant height (mm, {CANT_RANGE_MM[0]:g}-{CANT_RANGE_MM[1]:g}; default: Table 2's "
@@ -56,6 +59,7 @@ def base_scenario(args, line_length_m=None, **track):
     if hasattr(args, "irregularity"):
         irregularity = ir.resolve(args.irregularity, args.irregularity_seed, line_length_m or tp.line_length)
     return Scenario(vehicle=vehicle_parameters(args.vehicle_set), track=tp, irregularity=irregularity,
+                    track_model=getattr(args, "track", "rigid"),
                     contact=ContactParameters(wheel_profile=args.wheel, normal_model=args.contact,
                                               creep_model=args.creep, friction_coefficient=args.friction,
                                               contact_geometry=args.geometry))

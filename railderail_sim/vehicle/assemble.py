@@ -4,7 +4,7 @@ This is where the vehicle's topology lives: which body is attached to which, whe
 Nominal attachment points are given in vehicle coordinates on straight level track (x forward from the
 car-body centre, y left, z up from the rail top) and converted to each body's own coordinates.
 """
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 import functools
 import math
 
@@ -12,11 +12,13 @@ import numpy as np
 
 from .. import profiles
 from ..contact import creep, geometry, table, wheelset
-from ..contact.hertz import combined_modulus
-from ..contact.layout import ContactConstants, GeometryHeader
-from ..parameters import FRICTION_RANGE, GRAVITY, ContactParameters, TrackParameters, VehicleParameters
+from ..contact.hertz import combined_modulus, hertz_shape
+from ..contact.layout import ContactConstants, GeometryHeader, Patch
+from ..parameters import (FRICTION_RANGE, GRAVITY, TRACK_MODELS, ContactParameters, ElasticTrackParameters,
+                          TrackParameters, VehicleParameters)
 from ..ranges import check_range
 from ..track import alignment, rails
+from ..track.layout import ElasticTrack
 from .dynamics import ModelArrays
 from .layout import (BOGIES, BUMP_POINTS, CAR_BODY, N_DAMPER, WHEELSETS, AntiRollBar, BodyTable, BumpStop,
                      Bushing, Damper, State, VehicleConstants)
@@ -39,17 +41,21 @@ class Model:
     arb: np.ndarray
     track: np.ndarray
     rails: np.ndarray
+    support: np.ndarray
     cg: np.ndarray
     cp: np.ndarray
     vehicle: VehicleParameters
     track_parameters: TrackParameters
     contact: ContactParameters
+    track_model: str
+    elastic: ElasticTrackParameters
 
     @property
     def arrays(self):
         """The arrays of the core, as `dynamics.rhs` and `integrator.advance` take them."""
         return ModelArrays(bodies=self.bodies, vp=self.vp, bush=self.bush, damp=self.damp, bump=self.bump,
-                           arb=self.arb, track=self.track, rails=self.rails, cg=self.cg, cp=self.cp)
+                           arb=self.arb, track=self.track, rails=self.rails, support=self.support, cg=self.cg,
+                           cp=self.cp)
 
     @property
     def static_wheel_load(self):
@@ -218,17 +224,62 @@ def vehicle_array(vp: VehicleParameters, cg, lift_tolerance):
                                  lift_tolerance=lift_tolerance)
 
 
+def static_contact(cg, cp, load):
+    """The centred wheelset with `load` (N) on each wheel, rigid rails: its vertical displacement (the rigid
+    contact less the Hertz approach, m), the centred wheel's rolling radius (m) and the Hertz contact's
+    stiffness dN/dd = 1.5 N / d at that load (N/m)."""
+    scratch = wheelset.contact_scratch(cg)
+    z_rigid, _, _, _ = geometry.rigid_contact(cg, 0.0, 0.0, scratch.gap, scratch.ys)
+    patches = scratch.patches
+    n, _ = geometry.find_patches(cg, 0.0, z_rigid - 1e-7, 0.0, 0.0, scratch.gap, scratch.ys, patches,
+                                 wheelset.candidates()[0])
+    k = int(np.argmin(patches[:n, Patch.gap]))
+    _, _, coefficient = hertz_shape(patches[k, Patch.curvature_a], patches[k, Patch.curvature_b],
+                                    cp[ContactConstants.combined_modulus])
+    slope = patches[k, Patch.slope]
+    approach = (load / coefficient) ** (2.0 / 3.0)
+    return z_rigid - approach * math.sqrt(1.0 + slope * slope), float(patches[k, Patch.radius]), 1.5 * load / approach
+
+
+def elastic_contact_damping(elastic: ElasticTrackParameters, contact_stiffness, load):
+    """Hunt-Crossley chi (s/m) on elastic track, set from the track: the contact, a spring in series with
+    the track's, damped in the same ratio as the track's vertical mode, c = c_v sqrt(k_contact / k_v); at
+    the static load chi = c / load (docs/elastic-track.md)."""
+    _, k_v, c_v = elastic.vertical
+    return c_v * math.sqrt(contact_stiffness / k_v) / load
+
+
+def support_array(track_model, elastic: ElasticTrackParameters, cg):
+    """The track's constants (track.elastic.ElasticTrack) for track_model "rigid" or "elastic"."""
+    if track_model not in TRACK_MODELS:
+        raise ValueError(f"track model {track_model!r} is unknown; choose one of {', '.join(TRACK_MODELS)}")
+    if track_model == "rigid":
+        return ElasticTrack.pack(roll_centre_lateral=cg[GeometryHeader.rail_axis_y])
+    (my, ky, cy), (mz, kz, cz), (ir, kr, cr) = elastic.lateral, elastic.vertical, elastic.roll
+    return ElasticTrack.pack(elastic=1.0, lateral_mass=my, vertical_mass=mz, roll_inertia=ir, lateral_stiffness=ky,
+                             vertical_stiffness=kz, roll_stiffness=kr, lateral_damping=cy, vertical_damping=cz,
+                             roll_damping=cr, roll_centre_depth=elastic.roll_centre_depth,
+                             roll_centre_lateral=cg[GeometryHeader.rail_axis_y])
+
+
 def build_model(vehicle: VehicleParameters, track: TrackParameters, contact: ContactParameters,
-                lift_tolerance=1.0e-3, irregularity=None):
+                lift_tolerance=1.0e-3, irregularity=None, track_model="rigid", elastic=ElasticTrackParameters()):
     """Pack a scenario's parameters into a Model; `irregularity`: a `track.irregularity.Irregularity`, or
-    None for ideal rails."""
+    None for ideal rails; `track_model` "rigid" or "elastic" (the co-running rails of `elastic`; the contact
+    damping then comes from the track, `elastic_contact_damping`)."""
     bodies = body_table(vehicle)
     bush, damp, bump, arb = element_tables(vehicle, bodies)
     cg = contact_geometry(contact, track, vehicle.rolling_radius)
+    if track_model == "elastic":
+        load = vehicle.static_wheel_load
+        _, _, stiffness = static_contact(cg, contact_array(contact), load)
+        contact = replace(contact, contact_damping=elastic_contact_damping(elastic, stiffness, load))
     trk = alignment.pack_track(track.straight_in, track.transition_in, track.curve_length,
                                track.transition_out, track.straight_out, track.radius, track.cant_height,
                                track.direction, track.rail_spacing)
     return Model(bodies=bodies, vp=vehicle_array(vehicle, cg, lift_tolerance), bush=bush, damp=damp,
-                 bump=bump, arb=arb, track=trk, rails=rails.pack_rails() if irregularity is None else irregularity.pack(),
-                 cg=cg, cp=contact_array(contact, vehicle.static_wheel_load),
-                 vehicle=vehicle, track_parameters=track, contact=contact)
+                 bump=bump, arb=arb, track=trk, rails=rails.pack_rails() if irregularity is None
+                 else irregularity.pack(),
+                 support=support_array(track_model, elastic, cg), cg=cg,
+                 cp=contact_array(contact, vehicle.static_wheel_load), vehicle=vehicle, track_parameters=track,
+                 contact=contact, track_model=track_model, elastic=elastic)

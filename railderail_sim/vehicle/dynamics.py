@@ -25,11 +25,13 @@ from ..jit import core
 from ..contact import wheelset as ws
 from ..record import Record
 from ..track import alignment as trk, rails
+from ..track import elastic as track_elastic
+from ..track.layout import N_RAIL_DOF, ElasticTrack, RailDof
 from .layout import (AntiRollBar, BodyTable, BumpStop, Bushing, Damper, Dof, N_BODY, N_DOF, State, Vector,
                      VehicleConstants, WHEELSETS)
 
 # the model's arrays (built by vehicle.assemble), as the core's functions take them
-ModelArrays = namedtuple("ModelArrays", "bodies vp bush damp bump arb track rails cg cp")
+ModelArrays = namedtuple("ModelArrays", "bodies vp bush damp bump arb track rails support cg cp")
 # buffers of one right-hand side: per-body kinematics, one wheel's contact scratch, each wheel's contact
 # candidates (contact.layout.Candidates) and wheel record (contact.layout.Wheel)
 RhsBuffers = namedtuple("RhsBuffers", "kin contact cands recs")
@@ -336,7 +338,7 @@ def rhs(x, dx, model, sp, buffers, tracked):
     buffers.cands (one `contact.layout.Candidates` per wheel): contact minima written by a full search (tracked
     False) and followed by the cheap local search when `tracked` (the inner stages of one step).
     """
-    bodies, vp, track = model.bodies, model.vp, model.track
+    bodies, vp, track, support = model.bodies, model.vp, model.track, model.support
     kin, cands, recs = buffers.kin, buffers.cands, buffers.recs
     v, dvds = kinematics(x, bodies, track, sp, kin)
     suspension(x, dx, model, kin)
@@ -375,21 +377,50 @@ def rhs(x, dx, model, sp, buffers, tracked):
         if is_ws:
             sw = s + bodies[b, BodyTable.station]
             for side in range(2):
-                # each wheel on its own rail (track.rails): the pose relative to the rail, the velocities in
-                # the rail's axes (turned by the small angles a, c) and the force and moment back
-                ly, lz, a, c = rails.rail_deviation(model.rails, side, sw)
-                pose = (x[o + Dof.lateral] - ly, x[o + Dof.vertical] - lz, x[o + Dof.roll], x[o + Dof.yaw] - a)
-                motion = (vtx + a * vty + c * vtz, vty - a * vtx, vtz - c * vtx,
-                          wx + a * wy + c * wz, wy - a * wx, wz - c * wx, spin, v)
                 k = 2 * (b - WHEELSETS[0]) + side
+                # each wheel on its own rail: the rail frame is the track frame moved by the rail's irregularity
+                # (track.rails: offsets ly, lz, slopes a, c) and by its elastic deflection (track.elastic:
+                # roll centre moved by yr, zr and rolled by pr about it). The pose and the velocities are taken
+                # relative to that frame and resolved in its axes; the force and moment are turned back.
+                ly, lz, a, c = rails.rail_deviation(model.rails, side, sw)
+                dfl = x[State.rail_deflections + k * N_RAIL_DOF:State.rail_deflections + (k + 1) * N_RAIL_DOF]
+                rate = x[State.rail_rates + k * N_RAIL_DOF:State.rail_rates + (k + 1) * N_RAIL_DOF]
+                yr, zr, pr = dfl[RailDof.lateral], dfl[RailDof.vertical], dfl[RailDof.roll]
+                # the wheelset centre from the rail's roll centre
+                ry = x[o + Dof.lateral] - ly - yr - (1.0 - 2.0 * side) * support[ElasticTrack.roll_centre_lateral]
+                rz = bodies[b, BodyTable.height] + x[o + Dof.vertical] - lz - zr \
+                    + support[ElasticTrack.roll_centre_depth]
+                pose = (x[o + Dof.lateral] - ly - yr + pr * rz, x[o + Dof.vertical] - lz - zr - pr * ry,
+                        x[o + Dof.roll] - pr, x[o + Dof.yaw] - a)
+                uy = vty - rate[RailDof.lateral] + rate[RailDof.roll] * rz
+                uz = vtz - rate[RailDof.vertical] - rate[RailDof.roll] * ry
+                qx = wx - rate[RailDof.roll]
+                motion = (vtx + a * uy + c * uz, uy - a * vtx + pr * uz, uz - c * vtx - pr * uy,
+                          qx + a * wy + c * wz, wy - a * qx + pr * wz, wz - c * qx - pr * wy, spin, v)
                 f0, f1, f2, m0, m1, m2 = ws.wheel_forces(model.cg, model.cp, side, pose, motion, buffers.contact,
                                                          cands[k], tracked, recs[k])
+                gy = f1 + a * f0 - pr * f2
+                gz = f2 + c * f0 + pr * f1
+                hx = m0 - a * m1 - c * m2
                 cx += f0 - a * f1 - c * f2
-                cy += f1 + a * f0
-                cz += f2 + c * f0
-                cmx += m0 - a * m1 - c * m2
-                cmy += m1 + a * m0
-                cmz += m2 + c * m0
+                cy += gy
+                cz += gz
+                cmx += hx
+                cmy += m1 + a * m0 - pr * m2
+                cmz += m2 + c * m0 + pr * m1
+                if support[ElasticTrack.elastic] > 0.5:
+                    # the rail takes the reaction: the wheel's force, and its moment about the roll centre
+                    ay, az, ar = track_elastic.rail_accelerations(support, dfl, rate, gy, gz,
+                                                                  hx + ry * gz - rz * gy)
+                    for q in range(N_RAIL_DOF):
+                        dx[State.rail_deflections + k * N_RAIL_DOF + q] = rate[q]
+                    dx[State.rail_rates + k * N_RAIL_DOF + RailDof.lateral] = ay
+                    dx[State.rail_rates + k * N_RAIL_DOF + RailDof.vertical] = az
+                    dx[State.rail_rates + k * N_RAIL_DOF + RailDof.roll] = ar
+                else:
+                    for q in range(N_RAIL_DOF):
+                        dx[State.rail_deflections + k * N_RAIL_DOF + q] = 0.0
+                        dx[State.rail_rates + k * N_RAIL_DOF + q] = 0.0
             fx += cx
             fy += cy
             fz += cz

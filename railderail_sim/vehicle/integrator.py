@@ -21,6 +21,8 @@ from ..jit import core
 from ..contact import wheelset as ws
 from ..record import Record
 from ..track import alignment as trk, rails
+from ..track import elastic as track_elastic
+from ..track.layout import N_RAIL_DOF, ElasticTrack, RailDof
 from . import dynamics as dyn
 from .layout import (BodyTable, Dof, N_BODY, N_DAMPER, N_DOF, N_STATE, N_WHEEL, N_WHEELSET, OutputRow,
                      State, VehicleConstants, WheelsetOutput, WHEELSETS)
@@ -68,6 +70,7 @@ LIMIT_ANGLE = 0.5              # rad
 LIMIT_VELOCITY = 30.0          # m/s, lateral/vertical
 LIMIT_RATE = 60.0              # rad/s
 LIMIT_DAMPER = 0.5             # m
+LIMIT_RAIL = 0.05              # m, a rail's deflection (track.elastic; some mm in service)
 LIMIT_SPIN = 1000.0            # rad/s, a wheelset's spin (about 240 rad/s at 400 km/h)
 
 # the stepper's buffers: the right-hand side's (dynamics.RhsBuffers), the seven stage derivatives, the
@@ -114,6 +117,9 @@ def fill_row(row, t, x, v, model, recs):
         # relative to the track's actual centre line and direction: the mean of the two rails
         yl, _, al, _ = rails.rail_deviation(model.rails, 0, s + bodies[b, BodyTable.station])
         yr, _, ar, _ = rails.rail_deviation(model.rails, 1, s + bodies[b, BodyTable.station])
+        if model.support[ElasticTrack.elastic] > 0.5:
+            yl += track_elastic.head_shift(model.support, x, State.rail_deflections + 2 * w * N_RAIL_DOF)
+            yr += track_elastic.head_shift(model.support, x, State.rail_deflections + (2 * w + 1) * N_RAIL_DOF)
         r = OutputRow.wheelsets + w * WS_SIZE
         row[r + WheelsetOutput.wheelset_lateral] = x[o + Dof.lateral] - 0.5 * (yl + yr)
         # attack angle: + when the front of the wheelset points toward the outer rail
@@ -123,6 +129,8 @@ def fill_row(row, t, x, v, model, recs):
         o = OutputRow.wheels + k * W_SIZE
         for q in range(W_SIZE):
             row[o + q] = recs[k, q]
+    for i in range(N_WHEEL * N_RAIL_DOF):
+        row[OutputRow.rails + i] = x[State.rail_deflections + i]
 
 
 @core
@@ -172,6 +180,8 @@ def _check_derailment(x, v, t, model, recs, last, event):
                 mech = MECH_WHEEL_UNLOADING
             if mech > 0:
                 rail_y, _, rail_slope, _ = rails.rail_deviation(model.rails, side, sw)
+                if model.support[ElasticTrack.elastic] > 0.5:
+                    rail_y += track_elastic.head_shift(model.support, x, State.rail_deflections + k * N_RAIL_DOF)
                 event[Event.time] = t
                 event[Event.position] = sw
                 event[Event.wheelset] = w
@@ -217,6 +227,16 @@ def _check_divergence(x, t, event):
                 bad = i
                 break
     if bad < 0:
+        for k in range(N_WHEEL * N_RAIL_DOF):
+            lim_p = LIMIT_ANGLE if k % N_RAIL_DOF == RailDof.roll else LIMIT_RAIL
+            lim_v = LIMIT_RATE if k % N_RAIL_DOF == RailDof.roll else LIMIT_VELOCITY
+            if abs(x[State.rail_deflections + k]) > lim_p:
+                bad = State.rail_deflections + k
+                break
+            if abs(x[State.rail_rates + k]) > lim_v:
+                bad = State.rail_rates + k
+                break
+    if bad < 0:
         return False
     event[Event.time] = t
     event[Event.position] = x[State.s]
@@ -257,6 +277,11 @@ def advance(x, t, duration, out_dt, first_row, model, sp, control, work, out):
     buffers = work.rhs
     cands, recs = buffers.cands, buffers.recs
     n = x.shape[0]
+    # the RMS error counts the states that move: a frozen state (the rigid track's rails) has atol = inf
+    counted = 0
+    for i in range(n):
+        if math.isfinite(atol[i]):
+            counted += 1
     rows = 0
     nout = out.shape[0]
     k0 = ks[0]
@@ -299,7 +324,7 @@ def advance(x, t, duration, out_dt, first_row, model, sp, control, work, out):
                 sc = atol[i] + rtol * max(abs(x[i]), abs(xt[i]))
                 r = h * e / sc
                 err += r * r
-            err = math.sqrt(err / n)
+            err = math.sqrt(err / counted)
             if err <= 1.0 and math.isfinite(err):
                 stepper[Stepper.accepted] += 1.0
                 for i in range(n):

@@ -10,6 +10,7 @@ import enum
 
 from ..contact.layout import Wheel
 from ..record import Record
+from ..track.layout import RailDof
 
 
 class Body(enum.IntEnum):
@@ -51,6 +52,9 @@ class State(Record):
                   "velocity, in track axes", (N_BODY,), Dof)
     dampers = "m", "elongation of the damper part of each series spring-damper element", (N_DAMPER,)
     s = "m", "distance of the car-body centre along the line"
+    rail_deflections = ("m, rad", "each wheel's co-running rail: its deflection (track.elastic; frozen at zero on "
+                        "rigid track)", (N_WHEEL,), RailDof)
+    rail_rates = "m/s, rad/s", "the rates of the rail deflections", (N_WHEEL,), RailDof
 
 
 N_STATE = State.size()
@@ -150,6 +154,7 @@ class OutputRow(Record):
     body_states = "m, rad", "every body's position, as in the state vector", (N_BODY,), Dof
     wheelsets = "-", "each wheelset's pose relative to the rails", (N_WHEELSET,), WheelsetOutput
     wheels = "-", "each wheel's contact record, [wheelset 0 left, wheelset 0 right, ...]", (N_WHEEL,), Wheel
+    rails = "m, rad", "each wheel's rail deflection (elastic track; zero on rigid track)", (N_WHEEL,), RailDof
 
 
 N_OUT = OutputRow.size()

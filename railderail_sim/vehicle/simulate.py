@@ -14,19 +14,18 @@ import numpy as np
 
 from .. import jsonout
 from ..atomic import atomic_write
-from ..contact import geometry as geo
-from ..contact import wheelset as ws
-from ..contact.hertz import hertz_shape
-from ..contact.layout import ContactConstants, GeometryHeader, Patch, Wheel
-from ..parameters import ContactParameters, TrackParameters, VehicleParameters, vehicle_parameters
+from ..contact.layout import GeometryHeader, Wheel
+from ..parameters import (TRACK_MODELS, ContactParameters, ElasticTrackParameters, TrackParameters, VehicleParameters,
+                          vehicle_parameters)
 from ..ranges import check_range
 from ..track import alignment
 from ..track.irregularity import Irregularity
+from ..track.layout import N_RAIL_DOF, ElasticTrack, RailDof
 from ..track.rails import rail_deviation
 from . import integrator as itg
-from .assemble import build_model
+from .assemble import build_model, static_contact
 from .integrator import Event, StepControl, Stepper
-from .layout import N_DOF, N_OUT, N_STATE, WHEELSETS, Body, BodyTable, Dof, OutputRow, State, WheelsetOutput
+from .layout import N_DOF, N_OUT, N_STATE, N_WHEEL, WHEELSETS, Body, BodyTable, Dof, OutputRow, State, WheelsetOutput
 
 KMH = 1.0 / 3.6
 RADIUS_RANGE = (150.0, 20000.0)          # m
@@ -83,6 +82,8 @@ class Scenario:
     contact: ContactParameters = field(default_factory=ContactParameters)
     speed_table: np.ndarray = field(default_factory=lambda: constant_speed(300.0))
     irregularity: Irregularity = None       # the rails' deviations (track.irregularity); None: ideal rails
+    track_model: str = "rigid"              # "rigid" or "elastic" (co-running rails, track.elastic)
+    elastic_track: ElasticTrackParameters = field(default_factory=ElasticTrackParameters)
     rtol: float = RTOL
     atol: float = ATOL_DISPLACEMENT
     output_rate: float = 200.0              # Hz
@@ -92,6 +93,8 @@ class Scenario:
     lift_tolerance: float = 1.0e-3          # m, see integrator._check_derailment
 
     def validated(self):
+        if self.track_model not in TRACK_MODELS:
+            raise ValueError(f"track model {self.track_model!r} is unknown; choose one of {', '.join(TRACK_MODELS)}")
         if not math.isinf(self.track.radius):
             check_range("curve radius", self.track.radius, *RADIUS_RANGE, "m")
         if not (1e-10 <= self.rtol <= 1e-2) or not (1e-12 <= self.atol <= 1e-3):
@@ -125,17 +128,8 @@ def straight_track(**changes):
 def static_state(model):
     """Vertical displacement of the centred car at rest (rigid contact minus the Hertz approach, m) and the
     rolling radius of the centred wheel (m)."""
-    cg = model.cg
-    scratch = ws.contact_scratch(cg)
-    z_rigid, _, _, _ = geo.rigid_contact(cg, 0.0, 0.0, scratch.gap, scratch.ys)
-    patches = scratch.patches
-    n, _ = geo.find_patches(cg, 0.0, z_rigid - 1e-7, 0.0, 0.0, scratch.gap, scratch.ys, patches, ws.candidates()[0])
-    k = int(np.argmin(patches[:n, Patch.gap]))
-    _, _, stiff = hertz_shape(patches[k, Patch.curvature_a], patches[k, Patch.curvature_b],
-                              model.cp[ContactConstants.combined_modulus])
-    slope = patches[k, Patch.slope]
-    approach = (model.static_wheel_load / stiff) ** (2.0 / 3.0)
-    return z_rigid - approach * math.sqrt(1.0 + slope * slope), float(patches[k, Patch.radius])
+    z0, radius, _ = static_contact(model.cg, model.cp, model.static_wheel_load)
+    return z0, radius
 
 
 def set_rolling(x, speed, rolling_radius):
@@ -164,18 +158,29 @@ def on_the_rails(x, model, speed):
         x[ov + Dof.roll] += speed * 0.5 * (cl - cr) / half
 
 
+def on_the_elastic_track(x, model):
+    """Start on elastic track at its static deflection: each rail pressed down by the static wheel load and
+    the whole car lowered with it (the rails' roll and lateral deflection settle in the first moments)."""
+    sink = model.static_wheel_load / model.support[ElasticTrack.vertical_stiffness]
+    State.split(x)["rail_deflections"][:, RailDof.vertical] = -sink
+    State.split(x)["positions"][:, Dof.vertical] -= sink
+
+
 class Simulation:
     """The stepper over the numba core; holds the state and all preallocated buffers."""
 
     def __init__(self, sc: Scenario, model=None):
         self.scenario = sc.validated()
         self.model = model if model is not None else build_model(sc.vehicle, sc.track, sc.contact,
-                                                                 sc.lift_tolerance, sc.irregularity)
+                                                                 sc.lift_tolerance, sc.irregularity,
+                                                                 sc.track_model, sc.elastic_track)
         self.speed_table = np.ascontiguousarray(sc.speed_table, dtype=np.float64)
         self.work = itg.workspace(self.model.cg)
         self.x = np.zeros(N_STATE)
         z0, self.rolling_radius = static_state(self.model)
         State.split(self.x)["positions"][:, Dof.vertical] = z0
+        if self.model.track_model == "elastic":
+            on_the_elastic_track(self.x, self.model)
         self.x[State.s] = sc.start_position
         speed = float(np.interp(sc.start_position, self.speed_table[:, 0], self.speed_table[:, 1]))
         set_rolling(self.x, speed, self.rolling_radius)
@@ -183,7 +188,8 @@ class Simulation:
         self.t = 0.0
         self.rows_written = 0
         line_end = alignment.end_of_line(self.model.track)
-        self.control = StepControl(atol=state_tolerances(sc.atol), rtol=sc.rtol, h_min=MIN_STEP, h_max=MAX_STEP,
+        self.control = StepControl(atol=state_tolerances(sc.atol, self.model.support), rtol=sc.rtol, h_min=MIN_STEP,
+                                   h_max=MAX_STEP,
                                    s_end=line_end if math.isnan(sc.end_position) else sc.end_position,
                                    stop_on_derailment=sc.stop_on_derailment)
         self.status = itg.RUNNING
@@ -245,12 +251,23 @@ class Simulation:
                     speed_kmh=float(e[Event.speed]) / KMH)
 
 
-def state_tolerances(atol):
+def state_tolerances(atol, support=None):
     """Absolute error tolerance per state: atol for displacements, angles and damper states (m, rad),
-    100 atol for velocities and rates (1/s), 1e3 atol for the track position."""
+    100 atol for velocities and rates (1/s), 1e3 atol for the track position. The rails' states (elastic
+    `support`, track.elastic.ElasticTrack) like the bodies', their roll atol / roll-centre depth (the same
+    displacement at the rail top); on rigid track (support None or not elastic) inf: not counted by the
+    error control, they stay 0."""
     tol = np.full(N_STATE, atol)
     tol[State.velocities.columns] = 100.0 * atol
     tol[State.s] = 1e3 * atol
+    tol[State.rail_rates.columns] = 100.0 * atol
+    if support is None or support[ElasticTrack.elastic] < 0.5:
+        tol[State.rail_deflections.columns] = np.inf
+        tol[State.rail_rates.columns] = np.inf
+    else:
+        roll = np.arange(N_WHEEL) * N_RAIL_DOF + RailDof.roll
+        tol[State.rail_deflections + roll] /= support[ElasticTrack.roll_centre_depth]
+        tol[State.rail_rates + roll] /= support[ElasticTrack.roll_centre_depth]
     return tol
 
 
@@ -263,6 +280,12 @@ def state_name(i):
             return f"{Body(body).name} {Dof(dof).name} {what}"
     if State.dampers <= i < State.dampers.stop:
         return f"damper {i - State.dampers} elongation"
+    for block in (State.rail_deflections, State.rail_rates):
+        if block <= i < block.stop:
+            wheel, dof = divmod(i - block, N_RAIL_DOF)
+            what = "deflection" if block is State.rail_deflections else "rate"
+            return (f"rail of wheelset_{wheel // 2}'s {('left', 'right')[wheel % 2]} wheel {RailDof(dof).name} "
+                    f"{what}")
     return "track position"
 
 
