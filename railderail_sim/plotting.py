@@ -278,6 +278,26 @@ def critical_speed_figure(results, path):
         ax.legend()
 
 
+def real_track_figure(summaries, path):
+    """Critical derailment speed against radius for each (track model, irregularity) of a real-track study
+    (`methods.real_track.summary`): the mean over seeds, the bars from the lowest to the highest."""
+    with figure(path, (7.5, 4.8)) as fig:
+        ax = fig.subplots()
+        groups = {}
+        for s in summaries:
+            groups.setdefault((s["model"], s["irregularity"]), []).append(s)
+        for (model, irregularity), ss in groups.items():
+            r = np.array([s["radius_m"] for s in ss])
+            mean = np.array([s["mean_kmh"] for s in ss], dtype=float)
+            low = mean - np.array([s["min_kmh"] for s in ss], dtype=float)
+            high = np.array([s["max_kmh"] for s in ss], dtype=float) - mean
+            ax.errorbar(r, mean, yerr=np.nan_to_num([low, high]), capsize=3, marker="o" if model == "rigid" else "s",
+                        ls="-" if model == "rigid" else "--", label=f"{model}, {irregularity}")
+        ax.set_xlabel("curve radius (m)")
+        ax.set_ylabel("critical derailment speed (km/h)")
+        ax.legend(fontsize="small")
+
+
 def position_figure(path, series, ylabel, markers=(), xlabel="position of the car-body centre (m)"):
     """Quantities against track position: `series` of (position, values, label), guides at `markers`."""
     with figure(path, (8.0, 4.5)) as fig:

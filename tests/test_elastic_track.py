@@ -11,7 +11,7 @@ import pytest
 from railderail_sim.contact.layout import ContactConstants
 from railderail_sim.parameters import ElasticTrackParameters
 from railderail_sim.track.layout import ElasticTrack
-from railderail_sim.track.irregularity import Irregularity
+from railderail_sim.track.irregularity import vertical_wave
 from railderail_sim.vehicle.assemble import static_contact
 from railderail_sim.vehicle.layout import State
 from railderail_sim.vehicle.simulate import (Simulation, output_arrays, scenario, simulate, state_tolerances,
@@ -71,14 +71,9 @@ def test_a_vertical_rail_wave_bounces_wheel_and_rail_as_their_receptances_say():
     # contact force swings by r / (contact + rail + wheel receptances), the rail a mass on its spring and
     # damper (and its roll seen at the contact's offset), the wheel its share of the wheelset on the axle box
     amplitude, wavelength, v = 2e-4, 1.0, 250.0 / 3.6
-    s = np.arange(0.0, 700.0, 0.025)
     k = 2.0 * np.pi / wavelength
-    wave = np.zeros((len(s), 4))
-    wave[:, 1] = wave[:, 3] = amplitude * np.sin(k * s)
-    slope = np.zeros_like(wave)
-    slope[:, 1] = slope[:, 3] = amplitude * k * np.cos(k * s)
     sc = replace(scenario(speed_kmh=250.0), track=straight_track(), end_position=600.0, track_model="elastic",
-                 irregularity=Irregularity(s, wave, slope))
+                 irregularity=vertical_wave(amplitude, wavelength, 700.0, 0.025))
     result = simulate(sc)
     after = result.position > 300.0
     load = result.wheel("vertical_force")[after]

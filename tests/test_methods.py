@@ -103,6 +103,9 @@ def test_cli_refuses_out_of_range_input(capsys):
     assert "seed -1 is outside the accepted range: an integer in [0, 999999]" in capsys.readouterr().err
     assert main(["trial", "--irregularity", "missing.csv"]) == 2
     assert "irregularity file 'missing.csv' cannot be read" in capsys.readouterr().err
+    with pytest.raises(SystemExit) as stop:
+        main(["simulate", "--track", "soft"])
+    assert stop.value.code == 2 and "invalid choice: 'soft'" in capsys.readouterr().err
 
 
 def _irregular_run(capsys, seed):
@@ -118,3 +121,33 @@ def test_simulate_on_irregular_track_is_reproducible_and_feels_it(capsys):
     smooth = json.loads(capsys.readouterr().out)
     # the rails' unevenness loads and unloads the wheels: peaks above the smooth track's
     assert first["max_vertical_force_n"] > 1.05 * smooth["max_vertical_force_n"]
+
+
+def test_real_track_study_writes_its_section_and_resumes(tmp_path, capsys):
+    args = ["real-track", "--tracks", "rigid", "--spectra", "erri-low", "--seeds", "1", "--radii", "1800",
+            "--no-sharp", "--workers", "1", "--out", str(tmp_path), "--json"]
+    assert main(args) in (0, None)
+    first = json.loads(capsys.readouterr().out)
+    rows = [json.loads(line) for line in open(tmp_path / "real-track.jsonl")]
+    assert [(r["model"], r["irregularity"], r["seed"], r["radius_m"]) for r in rows] == [
+        ("rigid", "none", 0, 1800.0), ("rigid", "erri-low", 1, 1800.0)]
+    smooth, rough = first["summary"][0], first["summary"][1]
+    assert (smooth["irregularity"], rough["irregularity"]) == ("none", "erri-low")
+    assert 350.0 < smooth["mean_kmh"] < 450.0 and rough["mean_kmh"] == rows[1]["critical_derailment_speed_kmh"]
+    text = (tmp_path / "real-track.md").read_text()
+    assert "| rigid | erri-low | 1800 |" in text and (tmp_path / "real_track.png").stat().st_size > 0
+    # a second run finds every case in the rows file and runs none again
+    assert main(args) in (0, None)
+    assert json.loads(capsys.readouterr().out) == first
+    assert len(open(tmp_path / "real-track.jsonl").readlines()) == 2
+
+
+def test_real_track_refuses_bad_lists(capsys):
+    assert main(["real-track", "--tracks", "soft"]) == 2
+    assert "--tracks: 'soft' is not one of rigid, elastic" in capsys.readouterr().err
+    assert main(["real-track", "--seeds", "1,x"]) == 2
+    assert "--seeds '1,x' is not a comma-separated list of integers" in capsys.readouterr().err
+    assert main(["real-track", "--seeds", ""]) == 2
+    assert "need at least one value each" in capsys.readouterr().err
+    assert main(["real-track", "--spectra", "erri-medium"]) == 2
+    assert "--spectra: 'erri-medium' is not one of" in capsys.readouterr().err

@@ -9,7 +9,7 @@ import pytest
 from railderail_sim.contact.geometry import rigid_contact
 from railderail_sim.contact.layout import GeometryHeader, Wheel
 from railderail_sim.track import rails as R
-from railderail_sim.track.irregularity import Irregularity, lateral_kink, resolve, write_csv
+from railderail_sim.track.irregularity import Irregularity, lateral_kink, resolve, vertical_wave, write_csv
 from railderail_sim.vehicle import dynamics as dyn
 from railderail_sim.vehicle.layout import N_DOF, N_STATE, WHEELSETS, BodyTable, Dof, State
 from railderail_sim.vehicle.simulate import (Simulation, output_arrays, scenario, simulate, static_state,
@@ -148,14 +148,9 @@ def test_a_vertical_rail_wave_loads_the_wheels_as_the_unsprung_mass_says():
     # both rails in a 0.2 mm, 2 m vertical sine at 250 km/h (34.7 Hz): each wheel's load swings by its share
     # of the wheelset's inertia, the axle box's spring and damper, raised by the Hertz contact's compliance
     amplitude, wavelength, v = 2e-4, 2.0, 250.0 / 3.6
-    s = np.arange(0.0, 700.0, 0.05)
     k = 2.0 * np.pi / wavelength
-    wave = np.zeros((len(s), 4))
-    wave[:, 1] = wave[:, 3] = amplitude * np.sin(k * s)
-    slope = np.zeros_like(wave)
-    slope[:, 1] = slope[:, 3] = amplitude * k * np.cos(k * s)
     sc = replace(scenario(speed_kmh=250.0), track=straight_track(), end_position=600.0,
-                 irregularity=Irregularity(s, wave, slope))
+                 irregularity=vertical_wave(amplitude, wavelength, 700.0, 0.05))
     result = simulate(sc)
     load = result.wheel("vertical_force")[result.position > 300.0]
     swing = 0.5 * (load.max(axis=0) - load.min(axis=0))

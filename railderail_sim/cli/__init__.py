@@ -53,6 +53,8 @@ COMMANDS: tuple[Command, ...] = (
             "railderail_sim.cli.methods:trial_command"),
     Command("sweep", "progressive trial over radii and other parameters, in parallel or on Dask (--json)",
             "railderail_sim.cli.methods:sweep_command"),
+    Command("real-track", "the progressive trial on rigid and elastic track with irregularities, several seeds "
+            "(report section)", "railderail_sim.cli.methods:real_track_command"),
     Command("report", "write the report: every method beside the paper's numbers (--out DIR)",
             "railderail_sim.cli.methods:report_command"),
     Command("track-irregularity", "a random track irregularity from a spectrum, as a CSV file (--plot)",

@@ -1,14 +1,18 @@
-"""Subcommands simulate, root-locus, limit-cycle, trial, sweep and report: parse, call `methods`, print.
+"""Subcommands simulate, root-locus, limit-cycle, trial, sweep, real-track and report: parse, call `methods`,
+print.
 
 Every command takes the vehicle parameter set, wheel profile, contact model and friction; --json prints
 one JSON object on stdout through the project's JSON encoder (speeds in km/h named *_kmh, SI elsewhere,
 a speed never reached as null); --plot checks its file name before any computation (`plotting`).
 """
 from dataclasses import replace
+import json
 import math
+import os
 import sys
 
 from .. import jsonout, plotting
+from ..atomic import atomic_write
 from ..parameters import (CANT_RANGE_MM, FRICTION_RANGE, TRACK_MODELS, VEHICLE_SETS, ContactParameters,
                           TrackParameters, vehicle_parameters)
 from ..track import irregularity as ir
@@ -267,4 +271,61 @@ def report_command(parser):
         from ..methods.report import write_report
         path = write_report(args.out, quick=args.quick, workers=args.workers)
         print(f"report written to {path}")
+    return run
+
+
+def real_track_command(parser):
+    """The rows go to OUT/real-track.jsonl as each track's radii finish; a second run with the same --out keeps
+    the rows it finds and runs only the missing cases, so that a long study can be stopped and resumed."""
+    parser.add_argument("--out", default="report", help="output directory (default %(default)s)")
+    parser.add_argument("--tracks", default="rigid,elastic", help="track models, comma-separated")
+    parser.add_argument("--spectra", default="erri-low,erri-high",
+                        help=f"irregularity spectra, comma-separated ({', '.join(ir.SPECTRA)})")
+    parser.add_argument("--seeds", default="1,2,3", help="irregularity seeds, comma-separated")
+    parser.add_argument("--radii", default="800,1000,1200,1400,1600,1800", help="curve radii (m), comma-separated")
+    parser.add_argument("--no-sharp", action="store_true", help="leave out the sharp-curve case")
+    parser.add_argument("--workers", type=int, default=None, help="local processes (default: CPU count)")
+    parser.add_argument("--json", action="store_true", help="print the summary as one JSON object")
+
+    def run(args):
+        from ..methods import real_track as rt
+        from ..parameters import TRACK_MODELS
+        from ..vehicle.simulate import RADIUS_RANGE
+        models = [m for m in args.tracks.split(",") if m]
+        for m in models:
+            if m not in TRACK_MODELS:
+                raise ValueError(f"--tracks: {m!r} is not one of {', '.join(TRACK_MODELS)}")
+        spectra = [s for s in args.spectra.split(",") if s]
+        for s in spectra:
+            if s not in ir.SPECTRA:
+                raise ValueError(f"--spectra: {s!r} is not one of {', '.join(ir.SPECTRA)}")
+        try:
+            seeds = [ir.check_seed(int(v)) for v in args.seeds.split(",") if v.strip()]
+        except ValueError as e:
+            raise ValueError(str(e) if "seed" in str(e) else
+                             f"--seeds {args.seeds!r} is not a comma-separated list of integers") from None
+        if not (models and spectra and seeds):
+            raise ValueError("--tracks, --spectra and --seeds need at least one value each")
+        radii = [check_range("curve radius", r, *RADIUS_RANGE, "m") for r in _floats(args.radii, "--radii")]
+        os.makedirs(args.out, exist_ok=True)
+        cache = os.path.join(args.out, "real-track.jsonl")
+        known = [json.loads(line) for line in open(cache)] if os.path.exists(cache) else []
+
+        def done(row):
+            with open(cache, "a") as f:
+                f.write(jsonout.dumps(row) + "\n")
+
+        tracks = rt.tracks(models, spectra, seeds)
+        rows = rt.study(tracks, radii, workers=args.workers, progress=not args.json, known=known, done=done)
+        sharp = [] if args.no_sharp else rt.sharp_curve(rt.tracks(models, spectra[-1:], seeds[:1]),
+                                                        workers=args.workers, progress=not args.json,
+                                                        known=known, done=done)
+        summaries = rt.summary(rows)
+        plotting.real_track_figure(summaries, os.path.join(args.out, "real_track.png"))
+        with atomic_write(os.path.join(args.out, "real-track.md")) as f:
+            f.write("\n".join(rt.markdown(rows, sharp, "real_track.png")) + "\n")
+        if args.json:
+            print(jsonout.dumps(dict(summary=summaries, sharp_curve=sharp), indent=1))
+        else:
+            print(f"real-track section written to {os.path.join(args.out, 'real-track.md')}")
     return run

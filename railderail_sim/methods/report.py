@@ -354,7 +354,8 @@ def write_report(out="report", quick=False, workers=None):
     lines += [
         "Model: CRH3 car (Yu 2022 Table 1 masses and dimensions), suspension set `hs19` (docs/vehicle-model.md),",
         "LM wheel (reconstructed, docs/profiles.md) on UIC60 at 1:40, Hertz normal contact with Shen-Hedrick-Elkins",
-        "creep, friction 0.3, ideal rigid track of Table 2. Nothing was tuned to the paper.",
+        "creep, friction 0.3, ideal rigid track of Table 2. Nothing was tuned to the paper. The same trial on",
+        "irregular and elastic track: real-track.md (`railderail real-track`).",
         "",
         "## Critical speeds on straight track",
         "",

@@ -293,6 +293,13 @@ def line_amplitudes(spectrum, component, n, step, band):
     return k, np.sqrt(2.0 * variance), (left[0], right[-1])
 
 
+def check_seed(seed):
+    """The seed, if it is an integer in SEEDS; else ValueError naming it and the range."""
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not SEEDS[0] <= seed <= SEEDS[1]:
+        raise ValueError(f"seed {seed!r} is outside the accepted range: an integer in [{SEEDS[0]}, {SEEDS[1]}]")
+    return seed
+
+
 def generate(spectrum, length_m, seed, step_m=0.25, band_m=None, taper_m=TAPER_M):
     """A random sample (`Irregularity`, cubic Hermite) of a spectrum (a name of SPECTRA) over 0..length_m at
     step_m, from the seed; band_m (shortest, longest wavelength) defaults to the spectrum's band. The sample
@@ -301,8 +308,7 @@ def generate(spectrum, length_m, seed, step_m=0.25, band_m=None, taper_m=TAPER_M
     spec = spectrum_named(spectrum)
     length = check_range("length", length_m, *LENGTH_M, "m")
     step = check_range("step", step_m, *STEP_M, "m")
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not SEEDS[0] <= seed <= SEEDS[1]:
-        raise ValueError(f"seed {seed!r} is outside the accepted range: an integer in [{SEEDS[0]}, {SEEDS[1]}]")
+    check_seed(seed)
     band = checked_band(spec, band_m, step)
     n = math.ceil(length / step - 1e-9) + 1
     period_points = fast_length(n)
@@ -354,6 +360,21 @@ def lateral_kink(start, length, amplitude, step=0.25):
     return Irregularity(s, np.column_stack((lateral, zero, lateral, zero)),
                         np.column_stack((slope, zero, slope, zero)), name=f"kink {amplitude * 1e3:g} mm",
                         description=f"lateral kink of {amplitude * 1e3:g} mm over {length:g} m from s = {start:g} m")
+
+
+def vertical_wave(amplitude, wavelength, length, step):
+    """Both rails in one vertical sine, amplitude sin(2 pi s / wavelength) over 0 <= s < length (m), cubic
+    Hermite on a `step` grid with the exact slopes: the dynamic wheel load's textbook input."""
+    if not (wavelength > 0.0 and length > 0.0 and 0.0 < step < wavelength):
+        raise ValueError(f"vertical wave: wavelength {wavelength:g} m, length {length:g} m and step {step:g} m "
+                         "must be positive, the step below the wavelength")
+    s = np.arange(0.0, length, step)
+    k = 2.0 * np.pi / wavelength
+    zero = np.zeros_like(s)
+    height, slope = amplitude * np.sin(k * s), amplitude * k * np.cos(k * s)
+    return Irregularity(s, np.column_stack((zero, height, zero, height)), np.column_stack((zero, slope, zero, slope)),
+                        name=f"wave {amplitude * 1e3:g} mm", description=f"vertical sine of {amplitude * 1e3:g} mm, "
+                                                                     f"{wavelength:g} m wavelength")
 
 
 def resolve(source, seed, line_length_m):

@@ -373,7 +373,7 @@ class Result:
                  max_lateral_force_n=float(np.max(a["lateral_force"])) if len(self.time) else 0.0,
                  max_vertical_force_n=float(np.max(a["vertical_force"])) if len(self.time) else 0.0,
                  max_derailment_coefficient=float(np.max(a["derailment_coefficient"])) if len(self.time) else 0.0,
-                 derailment=self.derailment)
+                 track_model=self.scenario.track_model, derailment=self.derailment)
         return s
 
     def save(self, path):
@@ -382,7 +382,9 @@ class Result:
                     radius_m=self.scenario.track.radius, vehicle_set=self.scenario.vehicle.name,
                     contact_model=self.scenario.contact.normal_model,
                     creep_model=self.scenario.contact.creep_model,
-                    wheel_profile=self.scenario.contact.wheel_profile,
+                    wheel_profile=self.scenario.contact.wheel_profile, track_model=self.scenario.track_model,
+                    irregularity=(self.scenario.irregularity.name if self.scenario.irregularity is not None
+                                  else "none"),
                     speed_table=self.scenario.speed_table.tolist(), rtol=self.scenario.rtol,
                     atol=self.scenario.atol)
         with atomic_write(path, "wb") as handle:
