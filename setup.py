@@ -25,12 +25,13 @@ setup(
     python_requires=">=3.11",
     packages=find_packages(include=["railderail_sim", "railderail_sim.*",
                                     "railderail_monitor", "railderail_monitor.*"]),
-    package_data={"railderail_sim": ["profiles/data/*"], "railderail_monitor": ["config/*.yaml"]},
+    package_data={"railderail_sim": ["profiles/data/*", "config/*.yaml"], "railderail_monitor": ["config/*.yaml"]},
     data_files=[
         ("share/ament_index/resource_index/packages", [f"resource/{PACKAGE}"]),
         (f"share/{PACKAGE}", ["package.xml"]),
-        # the monitor's parameter file where ROS users look for it (the node reads the package's copy)
-        (f"share/{PACKAGE}/config", ["railderail_monitor/config/monitor.yaml"]),
+        # the nodes' parameter files where ROS users and the launch file look for them (the package
+        # data are the same files: the monitor reads its defaults from its copy)
+        (f"share/{PACKAGE}/config", ["railderail_sim/config/simulator.yaml", "railderail_monitor/config/monitor.yaml"]),
         (f"lib/{PACKAGE}", ["ros2_run/simulator", "ros2_run/monitor"]),
     ],
     # Python libraries only: the ROS 2 packages (rclpy, messages) come from the ROS installation,

@@ -53,8 +53,8 @@ def test_msgs_package_xml():
 
 def test_wheel_layout(tmp_path):
     """What pip (and so colcon's ament files) get from setup.py: the ament marker, package.xml, the
-    `ros2 run` launchers in lib/railderail (executable), the monitor's parameter file (package data,
-    read by the node, and in share/railderail/config/), and no scripts besides the entry points."""
+    `ros2 run` launchers in lib/railderail (executable), the nodes' parameter files (package data, and
+    in share/railderail/config/), and no scripts besides the entry points."""
     source = tmp_path / "source"
     source.mkdir()
     for name in ("setup.py", "package.xml"):
@@ -78,10 +78,11 @@ def test_wheel_layout(tmp_path):
         assert mode & stat.S_IXUSR, f"lib/railderail/{launcher} is not executable"
     assert not [name for name in infos if name.startswith(data + "scripts/")]
     assert "railderail_sim/cli/__init__.py" in infos and "railderail_monitor/node.py" in infos
-    shipped = (ROOT / "railderail_monitor" / "config" / "monitor.yaml").read_bytes()
     with zipfile.ZipFile(wheel) as archive:
-        assert archive.read("railderail_monitor/config/monitor.yaml") == shipped
-        assert archive.read(data + "data/share/railderail/config/monitor.yaml") == shipped
+        for package, name in (("railderail_monitor", "monitor.yaml"), ("railderail_sim", "simulator.yaml")):
+            shipped = (ROOT / package / "config" / name).read_bytes()
+            assert archive.read(f"{package}/config/{name}") == shipped
+            assert archive.read(f"{data}data/share/railderail/config/{name}") == shipped
     for name, target in CONSOLE_SCRIPTS.items():
         assert f"{name} = {target}".encode() in entry_points
 
