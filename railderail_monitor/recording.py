@@ -17,7 +17,8 @@ decoding. The file is a standard MCAP with ROS 2 conventions, so the mcap CLI, F
 Durability: the file is written in place as OUT.mcap (no `.partial` name). Chunks are closed and
 the file flushed every `--flush-period` s (0.5): Ctrl-C or SIGTERM finish the file (summary and
 footer); after a SIGKILL or a power cut the messages up to the last flushed chunk are readable
-with a streaming reader (`railderail replay --allow-truncated`, `mcap recover`).
+with a streaming reader (`railderail replay --allow-truncated`), and `railderail recover` makes a
+complete file of them. The recorder does not overwrite such a cut-off file: it names the recover command.
 """
 from __future__ import annotations
 
@@ -119,6 +120,26 @@ def cdr_stamp_ns(data):
 
 
 # --- writer -------------------------------------------------------------------------------------
+
+MAGIC = b"\x89MCAP0\r\n"
+
+
+def cut_off(path):
+    """True if `path` is an MCAP file that lacks its footer: a recording cut off by a killed recorder."""
+    path = Path(path)
+    if not path.is_file() or path.stat().st_size < len(MAGIC):
+        return False
+    with open(path, "rb") as f:
+        head = f.read(len(MAGIC))
+        f.seek(-len(MAGIC), 2)
+        return head == MAGIC and f.read(len(MAGIC)) != MAGIC
+
+
+def recover_hint(path):
+    """The command that makes a complete copy of a cut-off recording (said by the recorder and the replay)."""
+    path = Path(path)
+    return f"railderail recover {path} {path.with_name(path.stem + '-recovered.mcap')}"
+
 
 class McapRecording:
     """An MCAP file of raw CDR messages; no ROS needed. Call `close()` (or use `with`)."""
@@ -242,6 +263,9 @@ class RecorderNode(Node):
     def __init__(self, path, metadata=None, flush_period_s=0.5, log=print):
         super().__init__("railderail_recorder")
         self.log = log
+        if cut_off(path):       # the only copy of a run that ended in a crash: not overwritten
+            raise ValueError(f"{path} is a cut-off recording (no MCAP footer: its recorder was killed); it is left "
+                             f"as it is: recover it with `{recover_hint(path)}`, or remove it, then record again")
         self.recording = McapRecording(path, metadata=metadata, flush_period_s=flush_period_s)
         self.subscriptions_by_topic = {}
         for topic, (type_name, _, _, sub_qos) in {**m.TOPICS, m.CLOCK: m.CLOCK_TOPIC}.items():
