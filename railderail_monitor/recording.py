@@ -35,6 +35,7 @@ import mcap.writer
 from mcap.writer import CompressionType
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.utilities import remove_ros_args
 from rosidl_adapter.parser import parse_message_string
 
 from railderail_sim import ros_interface as m
@@ -344,7 +345,9 @@ def command(parser: argparse.ArgumentParser):
 def main(argv=None):
     parser = argparse.ArgumentParser(prog="python -m railderail_monitor.recording", description=__doc__.split("\n")[0])
     run = command(parser)
-    args = parser.parse_args(argv)
+    # ROS arguments (`--ros-args -r __node:=NAME`, which `ros2 launch` adds) are for rclpy.init, which
+    # reads them from sys.argv
+    args = parser.parse_args(remove_ros_args(sys.argv[1:] if argv is None else argv))
     try:
         return run(args)
     except ValueError as error:

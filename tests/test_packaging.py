@@ -59,7 +59,7 @@ def test_wheel_layout(tmp_path):
     source.mkdir()
     for name in ("setup.py", "package.xml"):
         shutil.copy2(ROOT / name, source)
-    for name in ("resource", "ros2_run", "railderail_sim", "railderail_monitor"):
+    for name in ("resource", "ros2_run", "launch", "railderail_sim", "railderail_monitor"):
         shutil.copytree(ROOT / name, source / name,
                         ignore=shutil.ignore_patterns("__pycache__", "*.nbi", "*.nbc"))
     subprocess.run([sys.executable, "-m", "pip", "wheel", "--quiet", "--no-deps", "--no-index",
@@ -73,7 +73,7 @@ def test_wheel_layout(tmp_path):
 
     assert data + "data/share/ament_index/resource_index/packages/railderail" in infos
     assert data + "data/share/railderail/package.xml" in infos
-    for launcher in ("simulator", "monitor"):
+    for launcher in ("simulator", "monitor", "recorder"):
         mode = infos[f"{data}data/lib/railderail/{launcher}"].external_attr >> 16
         assert mode & stat.S_IXUSR, f"lib/railderail/{launcher} is not executable"
     assert not [name for name in infos if name.startswith(data + "scripts/")]
@@ -83,6 +83,8 @@ def test_wheel_layout(tmp_path):
             shipped = (ROOT / package / "config" / name).read_bytes()
             assert archive.read(f"{package}/config/{name}") == shipped
             assert archive.read(f"{data}data/share/railderail/config/{name}") == shipped
+        assert archive.read(f"{data}data/share/railderail/launch/demo.launch.py") == \
+            (ROOT / "launch" / "demo.launch.py").read_bytes()
     for name, target in CONSOLE_SCRIPTS.items():
         assert f"{name} = {target}".encode() in entry_points
 
