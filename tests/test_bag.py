@@ -59,7 +59,8 @@ def test_recorder_writes_a_rosbag2_bag_that_rosbags_reads(spawn, read_until, tmp
     alerts = topics[m.ALERTS]["topic_metadata"]
     assert alerts["offered_qos_profiles"][0]["durability"] == "transient_local"
     hashes = json.loads(msg_file("railderail_msgs", "Alert").with_suffix(".json").read_text())["type_hashes"]
-    assert alerts["type_description_hash"] == hashes[0]["hash_string"] and hashes[0]["hash_string"].startswith("RIHS01_")
+    assert alerts["type_description_hash"] == hashes[0]["hash_string"]
+    assert hashes[0]["hash_string"].startswith("RIHS01_")
 
     with Reader(folder) as reader:                       # rosbags' rosbag2 folder reader: metadata.yaml
         assert reader.message_count == info["message_count"] >= 200

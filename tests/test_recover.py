@@ -14,7 +14,6 @@ from rosbags.highlevel import AnyReader
 
 from railderail_monitor.recording import McapRecording, cut_off
 from railderail_monitor.recover import recover
-from railderail_monitor.replay import RecordingError
 from railderail_sim import ros_interface as m
 from railderail_sim.cli import main
 from test_recording import PUBLISHER, flushed
@@ -129,7 +128,8 @@ def test_a_killed_recorder_s_file_recovers_and_is_not_overwritten(spawn, read_un
     again = spawn([sys.executable, "-m", "railderail_monitor.recording", str(killed)])
     assert again.wait(timeout=60) == 2
     err = again.stderr.read()
-    assert "is a cut-off recording" in err and f"railderail recover {killed} {tmp_path / 'killed-recovered.mcap'}" in err
+    assert "is a cut-off recording" in err
+    assert f"railderail recover {killed} {tmp_path / 'killed-recovered.mcap'}" in err
     assert cut_off(killed)
 
     fixed = tmp_path / "killed-recovered.mcap"
