@@ -10,6 +10,7 @@ from rosidl_adapter.parser import parse_message_file
 
 from railderail_monitor.criteria import default_limits
 from railderail_monitor.recording import msg_file
+from railderail_monitor.viewer import WHEELSET_COLORS
 from railderail_sim import ros_interface as m
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -100,4 +101,7 @@ def test_the_same_wheel_has_the_same_colour_in_every_plot():
             if match:
                 colours.setdefault(match.group(2), set()).add(series["color"])
     assert len(colours) == 8 and all(len(c) == 1 for c in colours.values())
-    assert len({c.pop() for c in colours.values()}) == 8
+    colours = {int(k): c.pop() for k, c in colours.items()}
+    assert len(set(colours.values())) == 8
+    # the hues of the Rerun views: a wheelset's left wheel in its colour there
+    assert [colours[2 * w] for w in range(4)] == ["#%02x%02x%02x" % c for c in WHEELSET_COLORS]
