@@ -1,9 +1,10 @@
 """railderail: a ROS 2 package (ament_python, built by colcon) that is pip-installable too.
 
 Commands: `railderail`, `railderail-simulator` and `railderail-monitor` are console scripts
-(installed to bin/). `ros2 run railderail simulator|monitor` finds the two small launchers of
-ros2_run/, installed as data files to lib/railderail/ (where `ros2 run` looks), so that a pip
-install puts no generic `simulator`/`monitor` names on PATH.
+(installed to bin/). `ros2 run railderail simulator|monitor|recorder` finds the small launchers of
+ros2_run/, installed as data files to lib/railderail/ (where `ros2 run` and launch files look), so
+that a pip install puts no generic `simulator`/`monitor` names on PATH. `ros2 launch railderail
+demo.launch.py` finds launch/demo.launch.py in share/railderail/launch/.
 """
 import re
 from pathlib import Path
@@ -25,13 +26,15 @@ setup(
     python_requires=">=3.11",
     packages=find_packages(include=["railderail_sim", "railderail_sim.*",
                                     "railderail_monitor", "railderail_monitor.*"]),
-    package_data={"railderail_sim": ["profiles/data/*"], "railderail_monitor": ["config/*.yaml"]},
+    package_data={"railderail_sim": ["profiles/data/*", "config/*.yaml"], "railderail_monitor": ["config/*.yaml"]},
     data_files=[
         ("share/ament_index/resource_index/packages", [f"resource/{PACKAGE}"]),
         (f"share/{PACKAGE}", ["package.xml"]),
-        # the monitor's parameter file where ROS users look for it (the node reads the package's copy)
-        (f"share/{PACKAGE}/config", ["railderail_monitor/config/monitor.yaml"]),
-        (f"lib/{PACKAGE}", ["ros2_run/simulator", "ros2_run/monitor"]),
+        # the nodes' parameter files where ROS users and the launch file look for them (the package
+        # data are the same files: the monitor reads its defaults from its copy)
+        (f"share/{PACKAGE}/config", ["railderail_sim/config/simulator.yaml", "railderail_monitor/config/monitor.yaml"]),
+        (f"share/{PACKAGE}/launch", ["launch/demo.launch.py"]),
+        (f"lib/{PACKAGE}", ["ros2_run/simulator", "ros2_run/monitor", "ros2_run/recorder"]),
     ],
     # Python libraries only: the ROS 2 packages (rclpy, messages) come from the ROS installation,
     # or in the pip-only set-up from the ros-jazzy-* wheels of requirements.txt.

@@ -247,14 +247,18 @@ class AlertRecord:
         return asdict(self)
 
 
+def level_text(criterion, value):
+    """A value of a criterion as the alerts and the views write it: the same rounding everywhere."""
+    if criterion == "wheel_lift":
+        return f"{value * 1e3:.1f} mm"
+    if criterion == "attack_angle":
+        return f"{value:.4f} rad"
+    return f"{value:.3f}"
+
+
 def describe(criterion, severity, value, threshold, wheelset, wheel_side, rail):
     where = f"wheelset {wheelset}" + (f" {wheel_side}" if wheel_side else "") + (f" ({rail})" if rail else "")
-    if criterion == "wheel_lift":
-        amount = f"{value * 1e3:.1f} mm >= {threshold * 1e3:.1f} mm"
-    elif criterion == "attack_angle":
-        amount = f"{value:.4f} rad >= {threshold:.4f} rad"
-    else:
-        amount = f"{value:.3f} >= {threshold:.3f}"
+    amount = f"{level_text(criterion, value)} >= {level_text(criterion, threshold)}"
     return f"{SEVERITY_NAMES[severity]}: {criterion.replace('_', ' ')} {amount} on {where}"
 
 

@@ -8,7 +8,8 @@ decoding. The file is a standard MCAP with ROS 2 conventions, so the mcap CLI, F
 
 - schema per type: name `pkg/msg/Type`, encoding `ros2msg`, text = the installed `.msg` file and,
   for every type it uses (recursively), a line of 80 `=`, `MSG: pkg/Type` and that `.msg`;
-- channel per topic: message encoding `cdr`, metadata `offered_qos_profiles` left out;
+- channel per topic: message encoding `cdr`, metadata as rosbag2's MCAP storage writes it: the
+  QoS its publishers offer (`offered_qos_profiles`, a YAML list) and the type's hash (`topic_type_hash`);
 - log_time = publish_time = the message's header stamp (simulation time, ns), for the clock its
   time; a message with no stamp gets the latest stamp seen. So the file's timeline is simulation
   time (it starts near 0 ns, i.e. 1970 for tools that show dates);
@@ -17,12 +18,14 @@ decoding. The file is a standard MCAP with ROS 2 conventions, so the mcap CLI, F
 Durability: the file is written in place as OUT.mcap (no `.partial` name). Chunks are closed and
 the file flushed every `--flush-period` s (0.5): Ctrl-C or SIGTERM finish the file (summary and
 footer); after a SIGKILL or a power cut the messages up to the last flushed chunk are readable
-with a streaming reader (`railderail replay --allow-truncated`, `mcap recover`).
+with a streaming reader (`railderail replay --allow-truncated`), and `railderail recover` makes a
+complete file of them. The recorder does not overwrite such a cut-off file: it names the recover command.
 """
 from __future__ import annotations
 
 import argparse
 import datetime
+import json
 import os
 import re
 import struct
@@ -31,12 +34,16 @@ import time
 from pathlib import Path
 
 import mcap.writer
+import yaml
 from mcap.writer import CompressionType
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.utilities import remove_ros_args
 from rosidl_adapter.parser import parse_message_string
 
 from railderail_sim import ros_interface as m
+
+from .bag import bag_file, write_bag_metadata
 
 SEPARATOR = "=" * 80
 STAMP_TYPES = ("std_msgs/Header", "builtin_interfaces/Time")     # a leading stamp: the message's time
@@ -118,7 +125,61 @@ def cdr_stamp_ns(data):
     return sec * 1_000_000_000 + nanosec
 
 
+def _duration(ns):
+    return {"sec": ns // 1_000_000_000, "nsec": ns % 1_000_000_000}
+
+
+def qos_dict(qos):
+    """An rclpy QoSProfile as rosbag2 writes it (metadata version 9: policies by name, durations as
+    {sec, nsec})."""
+    return {"history": qos.history.short_key, "depth": qos.depth, "reliability": qos.reliability.short_key,
+            "durability": qos.durability.short_key, "deadline": _duration(qos.deadline.nanoseconds),
+            "lifespan": _duration(qos.lifespan.nanoseconds), "liveliness": qos.liveliness.short_key,
+            "liveliness_lease_duration": _duration(qos.liveliness_lease_duration.nanoseconds),
+            "avoid_ros_namespace_conventions": qos.avoid_ros_namespace_conventions}
+
+
+def type_hash(type_name):
+    """The RIHS01 hash of an installed message type, from its share/PKG/msg/TYPE.json ('' when
+    unknown, as rosbag2 writes it)."""
+    package, name = split_type(type_name)
+    try:
+        description = json.loads(msg_file(package, name).with_suffix(".json").read_text())
+    except (FileNotFoundError, ValueError):
+        return ""
+    full = f"{package}/msg/{name}"
+    return next((h["hash_string"] for h in description.get("type_hashes", []) if h.get("type_name") == full), "")
+
+
+def channel_metadata(type_name, offered_qos):
+    """The metadata rosbag2's MCAP storage (rosbag2_storage_mcap) gives a channel: the offered QoS as a
+    YAML list, which `ros2 bag play` offers again (the latched topics stay transient local), and the
+    type hash."""
+    return {"offered_qos_profiles": yaml.safe_dump([qos_dict(offered_qos)] if offered_qos is not None else []),
+            "topic_type_hash": type_hash(type_name)}
+
+
 # --- writer -------------------------------------------------------------------------------------
+
+MAGIC = b"\x89MCAP0\r\n"
+
+
+def cut_off(path):
+    """True if `path` is an MCAP file that lacks its footer: a recording cut off by a killed recorder."""
+    path = Path(path)
+    if not path.is_file() or path.stat().st_size < len(MAGIC):
+        return False
+    with open(path, "rb") as f:
+        head = f.read(len(MAGIC))
+        f.seek(-len(MAGIC), 2)
+        return head == MAGIC and f.read(len(MAGIC)) != MAGIC
+
+
+def recover_hint(path):
+    """The command that makes a complete copy of a cut-off recording (said by the recorder and the replay)."""
+    path = Path(path)
+    return f"railderail recover {path} {path.with_name(path.stem + '-recovered.mcap')}"
+
 
 class McapRecording:
     """An MCAP file of raw CDR messages; no ROS needed. Call `close()` (or use `with`)."""
@@ -145,7 +206,9 @@ class McapRecording:
         self.writer.add_metadata("railderail", {k: str(v) for k, v in meta.items()})
         self.flush()
 
-    def add_topic(self, topic, type_name):
+    def add_topic(self, topic, type_name, offered_qos=None):
+        """Add a topic of a type; `offered_qos`, the QoSProfile its publishers offer, goes into the
+        channel's metadata."""
         if topic in self.channels:
             return self.channels[topic][0]
         if type_name not in self.schemas:
@@ -153,7 +216,7 @@ class McapRecording:
                                                                    schema_text(type_name).encode()),
                                        stamped(type_name))
         schema_id, has_stamp = self.schemas[type_name]
-        channel = self.writer.register_channel(topic, "cdr", schema_id)
+        channel = self.writer.register_channel(topic, "cdr", schema_id, channel_metadata(type_name, offered_qos))
         self.channels[topic] = (channel, has_stamp)
         self.sequence[topic] = 0
         return channel
@@ -212,8 +275,8 @@ def record_run(path, result, limits=None, metadata=None):
     meta = {f"monitor.{k}": v for k, v in limits.as_dict().items()}
     meta.update(metadata or {})
     with McapRecording(path, metadata=meta) as rec:
-        for topic, (type_name, *_) in m.TOPICS.items():
-            rec.add_topic(topic, type_name)
+        for topic, (type_name, _, offered, _) in m.TOPICS.items():
+            rec.add_topic(topic, type_name, offered)
         n = len(result.time)
         for i in range(n):
             rec.write(m.STATES, serialize_message(convert.states(a, i, i)))
@@ -237,23 +300,28 @@ def record_run(path, result, limits=None, metadata=None):
 class RecorderNode(Node):
     """The recorder node `railderail_recorder`: subscribes raw to every railderail topic and
     /clock, and to any new topic under /railderail/; its file is complete once `destroy_node`
-    returns (`log` gets the line that says what it wrote)."""
+    returns (`log` gets the line that says what it wrote). With `bag` true it then writes the
+    rosbag2 metadata.yaml beside the file (railderail_monitor/bag.py)."""
 
-    def __init__(self, path, metadata=None, flush_period_s=0.5, log=print):
+    def __init__(self, path, metadata=None, flush_period_s=0.5, log=print, bag=False):
         super().__init__("railderail_recorder")
         self.log = log
+        self.bag = bag
+        if cut_off(path):       # the only copy of a run that ended in a crash: not overwritten
+            raise ValueError(f"{path} is a cut-off recording (no MCAP footer: its recorder was killed); it is left "
+                             f"as it is: recover it with `{recover_hint(path)}`, or remove it, then record again")
         self.recording = McapRecording(path, metadata=metadata, flush_period_s=flush_period_s)
         self.subscriptions_by_topic = {}
-        for topic, (type_name, _, _, sub_qos) in {**m.TOPICS, m.CLOCK: m.CLOCK_TOPIC}.items():
-            self.subscribe(topic, type_name, sub_qos)
+        for topic, (type_name, _, pub_qos, sub_qos) in {**m.TOPICS, m.CLOCK: m.CLOCK_TOPIC}.items():
+            self.subscribe(topic, type_name, sub_qos, pub_qos)
         self.create_timer(1.0, self.discover)
         self.create_timer(flush_period_s, self.recording.flush)
         self.get_logger().info(f"recording {len(self.subscriptions_by_topic)} topics to {self.recording.path}")
 
-    def subscribe(self, topic, type_name, qos):
+    def subscribe(self, topic, type_name, qos, offered):
         if topic in self.subscriptions_by_topic:
             return
-        self.recording.add_topic(topic, type_name)
+        self.recording.add_topic(topic, type_name, offered)
         self.subscriptions_by_topic[topic] = self.create_subscription(
             m.message_class(type_name), topic, lambda data: self.recording.write(topic, data), qos, raw=True)
 
@@ -271,7 +339,7 @@ class RecorderNode(Node):
                              reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
                              durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE)
             try:
-                self.subscribe(topic, types[0], qos)
+                self.subscribe(topic, types[0], qos, qos)
                 self.get_logger().info(f"recording {topic} ({types[0]}) too")
             except (FileNotFoundError, ImportError, AttributeError, ValueError) as error:
                 self.get_logger().warning(f"cannot record {topic}: {error}")
@@ -281,6 +349,8 @@ class RecorderNode(Node):
         r.close()
         self.log(f"[railderail_recorder] wrote {r.messages} messages ({r.bytes / 1e6:.2f} MB of CDR) "
                  f"on {len(r.channels)} topics to {r.path}")
+        if self.bag:
+            self.log(f"[railderail_recorder] wrote {write_bag_metadata(r.path)} (rosbag2)")
         super().destroy_node()
 
 
@@ -295,7 +365,9 @@ def _metadata(pairs):
 
 
 def add_arguments(parser):
-    parser.add_argument("out", metavar="OUT.mcap", help="file to write (its folder is created)")
+    parser.add_argument("out", metavar="OUT.mcap", nargs="?", help="file to write (its folder is created)")
+    parser.add_argument("--bag-dir", metavar="DIR", help="instead of OUT.mcap: a rosbag2 bag, DIR/DIR_0.mcap and "
+                        "DIR/metadata.yaml (for ros2 bag info/play); DIR must be new or empty")
     parser.add_argument("--metadata", action="append", metavar="KEY=VALUE",
                         help="add KEY=VALUE to the file's `railderail` metadata record (repeatable)")
     parser.add_argument("--flush-period", type=float, default=0.5,
@@ -303,24 +375,36 @@ def add_arguments(parser):
 
 
 def command(parser: argparse.ArgumentParser):
-    """`railderail record OUT.mcap`."""
+    """`railderail record OUT.mcap` or `railderail record --bag-dir DIR`."""
     add_arguments(parser)
 
     def run(args):
         if not 0.01 <= args.flush_period <= 60.0:
             raise ValueError(f"--flush-period {args.flush_period:g} s is outside 0.01-60 s")
-        if not args.out.endswith(".mcap"):
+        if (args.out is None) == (args.bag_dir is None):
+            raise ValueError("give either OUT.mcap or --bag-dir DIR")
+        if args.bag_dir is not None:
+            folder = Path(args.bag_dir)
+            if folder.exists() and (not folder.is_dir() or any(folder.iterdir())):
+                raise ValueError(f"--bag-dir {folder}: it exists and is not an empty folder (a bag is a new folder)")
+            out = bag_file(folder)
+        elif not args.out.endswith(".mcap"):
             raise ValueError(f"{args.out}: the recording's name must end in .mcap")
+        else:
+            out = args.out
         metadata = _metadata(args.metadata)
         log = lambda text: print(text, file=sys.stderr, flush=True)  # noqa: E731
-        return m.run_node("railderail record", lambda: RecorderNode(args.out, metadata, args.flush_period, log))
+        return m.run_node("railderail record", lambda: RecorderNode(out, metadata, args.flush_period, log,
+                                                                    bag=args.bag_dir is not None))
     return run
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(prog="python -m railderail_monitor.recording", description=__doc__.split("\n")[0])
     run = command(parser)
-    args = parser.parse_args(argv)
+    # ROS arguments (`--ros-args -r __node:=NAME`, which `ros2 launch` adds) are for rclpy.init, which
+    # reads them from sys.argv
+    args = parser.parse_args(remove_ros_args(sys.argv[1:] if argv is None else argv))
     try:
         return run(args)
     except ValueError as error:

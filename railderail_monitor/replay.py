@@ -34,9 +34,8 @@ from railderail_sim.ranges import check_range
 from railderail_sim.ros_interface import ALERTS, DERAILMENT, FINAL_STATUS, FORCES, REAL_TIME_FACTOR_RANGE, STATES, STATUS
 
 from .criteria import Limits, default_limits, Monitor, lead_times
-from .recording import schema_definitions, schema_text, split_type
+from .recording import MAGIC, recover_hint, schema_definitions, schema_text, split_type
 
-MAGIC = b"\x89MCAP0\r\n"
 # what the mcap readers raise on a cut or damaged file (besides McapError)
 READ_ERRORS = (McapError, struct.error, EOFError, ValueError, KeyError)
 
@@ -151,7 +150,8 @@ def read_recording(path, allow_truncated=False, decode=True):
             if not messages:
                 raise RecordingError(problem + ": nothing to replay")
             if not allow_truncated:
-                raise RecordingError(problem + ": add --allow-truncated to use them")
+                raise RecordingError(problem + f": add --allow-truncated to use them, or make a complete copy: "
+                                     f"{recover_hint(path)}")
     ours = {topic for topic, type_name, *_ in messages if type_name.startswith("railderail_msgs/")}
     if not ours:
         found = ", ".join(f"{t} ({n})" for t, (n, _) in Recording(path, messages).topics().items()) or "none"

@@ -5,17 +5,22 @@ read. Live (the viewer node: `railderail view` spawns a viewer, `--connect URL` 
 `--rrd OUT.rrd`).
 
 Entities (timeline `sim_time`, simulation time):
-  plots/attack_angle           front-to-rear wheelsets, rad; limit line(s) beside
-  plots/wheel_lift_mm          8 wheels, mm; warning and critical lines
-  plots/derailment_coefficient 8 wheels Q/P; 0.8 and Nadal's limit
-  plots/unloading_ratio        8 wheels dP/P0; 0.60 and 0.65
-  plots/lateral_force_kN, plots/vertical_force_kN   8 wheels, kN
+  plots/attack_angle_mrad/values   front-to-rear wheelsets, mrad; the warning line once the
+                                   attack angle reaches half of it (so that the data sets the scale)
+  plots/NAME/left, plots/NAME/right    the left and the right wheels of the four wheelsets, for NAME
+                                   wheel_lift_mm, derailment_coefficient (Q/P), unloading_ratio (dP/P0),
+                                   lateral_force_kN (Q), vertical_force_kN (P); levels in
+                                   plots/NAME/limit_warning and limit_critical, named as the alerts
+                                   round them (criteria.level_text)
   plots/speed_kmh
   alerts                       text log (WARN = warning level, ERROR = critical, CRITICAL = derailment)
-  scene/...                    the track frame at the car: rails, car body, bogies, wheelsets and the
-                               contact patches (colour: Q/P against its levels); displacements and
-                               angles are drawn `exaggeration` times (10) larger, the patches 10 times
-Scene frames are drawn at `scene_rate` (25 Hz of simulated time); plots take every sample.
+  scene/...                    the track frame at the car: rails, a wire-frame car body, bogies, labelled
+                               wheelsets (wheels coloured by their lift levels) and the contact patches
+                               (coloured by the worst level their wheel reached: Q/P, lift, unloading);
+                               displacements and angles drawn `exaggeration` times (10) larger, patches 10 times
+One colour per wheelset in every plot; left and right wheels in side-by-side panels. Every plot shows
+the run so far (from its start to the time cursor). Scene frames are drawn at `scene_rate` (25 Hz of
+simulated time); plots take every sample.
 """
 from __future__ import annotations
 
@@ -33,9 +38,10 @@ from railderail_sim import ros_interface as m
 from railderail_sim.parameters import TrackParameters, VehicleParameters
 from railderail_sim.ros_interface import seconds
 
-from .criteria import Limits, default_limits, SEVERITY_CRITICAL, unloading_ratio
+from .criteria import Limits, default_limits, level_text, SEVERITY_CRITICAL, unloading_ratio
 
-WHEELS = [f"ws{w}_{side}" for w in range(4) for side in ("left", "right")]
+WHEELSETS = [f"ws{w}" for w in range(4)]
+SIDES = ("left", "right")                  # wheel k is wheelset k // 2, side k % 2
 TIMELINE = "sim_time"
 # schematic geometry (m) of the built-in car and track; body sizes only for the picture
 _CAR, _TRACK = VehicleParameters(), TrackParameters()
@@ -45,6 +51,16 @@ RAIL_Y = _TRACK.rail_spacing / 2.0                                          # ra
 WHEEL_RADIUS = _CAR.rolling_radius
 GREEN, ORANGE, RED, GREY = (60, 180, 75), (245, 130, 48), (230, 25, 75), (128, 128, 128)
 LEVEL_COLORS = (ORANGE, RED)
+# one colour per wheelset in every plot, none of them the levels' orange and red (the Foxglove layout
+# uses the same hues)
+WHEELSET_COLORS = [(31, 119, 180), (148, 103, 189), (23, 190, 207), (227, 119, 194)]
+# per-wheel plots: (entity, criterion of its levels or None, scale from SI, title)
+WHEEL_PLOTS = (("wheel_lift_mm", "wheel_lift", 1e3, "wheel lift (mm)"),
+               ("derailment_coefficient", "derailment_coefficient", 1.0, "Q/P"),
+               ("unloading_ratio", "wheel_unloading", 1.0, "unloading ratio dP/P0"),
+               ("lateral_force_kN", None, 1e-3, "Q (kN)"),
+               ("vertical_force_kN", None, 1e-3, "P (kN)"))
+ATTACK = "attack_angle_mrad"
 
 
 def _arr(x):
@@ -74,25 +90,50 @@ class RunViewer:
         self.status = None
         self.forces = None
         self.curve_sign = 0.0
+        self.attack_limit_shown = False
+        self.derailed_at = None          # time of the derailment event, once it came
+        self.final_entry = None          # a derailed run's final status waiting for the derailment event
         self.pending = 0
         self.closed = False
         self.scene = self._new_scene()
 
     # --- sinks ------------------------------------------------------------------------------
     def blueprint(self):
-        plots = [rrb.TimeSeriesView(origin=f"/plots/{name}", name=title) for name, title in (
-            ("attack_angle", "attack angle (rad)"), ("wheel_lift_mm", "wheel lift (mm)"),
-            ("derailment_coefficient", "Q/P"), ("unloading_ratio", "unloading ratio dP/P0"))]
-        forces = [rrb.TimeSeriesView(origin=f"/plots/{name}", name=title) for name, title in (
-            ("lateral_force_kN", "Q (kN)"), ("vertical_force_kN", "P (kN)"), ("speed_kmh", "speed (km/h)"))]
+        # every plot shows the run so far, from its start to the time cursor: the data it draws and the
+        # x range it opens with (else a plot of a long run opens zoomed on a few seconds)
+        so_far = dict(start=rrb.TimeRangeBoundary.infinite(), end=rrb.TimeRangeBoundary.cursor_relative())
+
+        def plot(origin, name, contents="$origin/**"):
+            return rrb.TimeSeriesView(origin=origin, name=name, contents=contents,
+                                      time_ranges=[rrb.VisibleTimeRange(TIMELINE, **so_far)],
+                                      axis_x=rrb.TimeAxis(view_range=rrb.TimeRange(**so_far)),
+                                      plot_legend=rrb.PlotLegend(corner=rrb.Corner2D.LeftTop))
+
+        def sides(entity, title):
+            limits = ["$origin/limit_warning", "$origin/limit_critical"]
+            return rrb.Horizontal(*(plot(f"/plots/{entity}", f"{title}, {side} wheels", [f"$origin/{side}", *limits])
+                                    for side in SIDES))
+
+        rows = {entity: sides(entity, title) for entity, _, _, title in WHEEL_PLOTS}
+        attack = plot(f"/plots/{ATTACK}", "attack angle (mrad), warning at "
+                      + level_text("attack_angle", self.limits.attack_angle))
+        # the car looked at from behind its outer side, a little above: the whole car and its patches in view
+        eye = rrb.EyeControls3D(kind=rrb.Eye3DKind.Orbital, position=[-15.0, -13.0, 6.0], look_target=[0.0, 0.0, 0.8],
+                                eye_up=[0.0, 0.0, 1.0])
+        scene = rrb.Spatial3DView(origin="/scene", name=f"car on the track (displacements x{self.exaggeration:g})",
+                                  eye_controls=eye)
         return rrb.Blueprint(
-            rrb.Horizontal(
-                rrb.Vertical(rrb.Spatial3DView(origin="/scene", name="car on the track (displacements x"
-                                               f"{self.exaggeration:g})"),
-                             rrb.TextLogView(origin="/alerts", name="alerts"), row_shares=[3, 2]),
-                rrb.Vertical(*plots),
-                rrb.Vertical(*forces),
-                column_shares=[4, 4, 3]),
+            rrb.Vertical(
+                rrb.Horizontal(
+                    rrb.Vertical(scene, plot("/plots/speed_kmh", "speed (km/h)"), attack, row_shares=[4, 1, 2]),
+                    rrb.Vertical(rows["wheel_lift_mm"], rows["derailment_coefficient"], rows["unloading_ratio"]),
+                    rrb.Vertical(rows["lateral_force_kN"], rows["vertical_force_kN"]),
+                    column_shares=[4, 5, 4]),
+                # the whole width, so that an alert's sentence is read whole
+                rrb.TextLogView(origin="/alerts", name="alerts"),
+                row_shares=[4, 1]),
+            # the time cursor follows the data: at the latest sample live, at the end (the derailment) of a file
+            rrb.TimePanel(timeline=TIMELINE, play_state="following", state="collapsed"),
             collapse_panels=True)
 
     def save(self, path):
@@ -114,8 +155,10 @@ class RunViewer:
         log("/scene/track/rails", rr.LineStrips3D(rails, radii=0.035, colors=[GREY, GREY]), static=True)
         sleepers = [[[x, -1.3, -0.1], [x, 1.3, -0.1]] for x in np.arange(-15.0, 15.01, 0.6)]
         log("/scene/track/sleepers", rr.LineStrips3D(sleepers, radii=0.04, colors=[(150, 110, 80)]), static=True)
+        # a wire frame: a solid body hides the bogies and patches and takes every hover
         log("/scene/track/car/body", rr.Boxes3D(half_sizes=[[12.8, 1.65, 1.3]], centers=[[0.0, 0.0, 2.45]],
-                                                colors=[(70, 110, 200, 120)], fill_mode="solid"), static=True)
+                                                colors=[(70, 110, 200)], radii=0.02, fill_mode="majorwireframe"),
+            static=True)
         for b, name in enumerate(("front", "rear")):
             log(f"/scene/track/car/bogie_{name}", rr.Boxes3D(half_sizes=[[1.7, 1.1, 0.2]], colors=[(90, 90, 90)],
                                                              fill_mode="solid"), static=True)
@@ -125,28 +168,33 @@ class RunViewer:
                                     rotation_axis_angles=[rr.RotationAxisAngle(axis=[1, 0, 0], degrees=90)] * 3,
                                     colors=[GREEN, GREEN, (60, 60, 60)], fill_mode="solid")
             log(f"/scene/track/wheelset_{w}", wheels, static=True)
-        series = {
-            "attack_angle": ([f"ws{w}" for w in range(4)], "attack_angle", 1.0),
-            "wheel_lift_mm": (WHEELS, "wheel_lift", 1e3),
-            "derailment_coefficient": (WHEELS, "derailment_coefficient", 1.0),
-            "unloading_ratio": (WHEELS, "wheel_unloading", 1.0),
-        }
-        for entity, (names, criterion, scale) in series.items():
-            log(f"/plots/{entity}/values", rr.SeriesLines(names=names), static=True)
-            for (sev, thr), color in zip(self.limits.levels(criterion), LEVEL_COLORS):
-                label = "critical" if sev == SEVERITY_CRITICAL else "warning"
-                log(f"/plots/{entity}/limit_{label}", rr.SeriesLines(colors=[color], widths=[2.5],
-                                                                     names=[f"{label} {thr * scale:.4g}"]),
-                    static=True)
-        for entity in ("lateral_force_kN", "vertical_force_kN"):
-            log(f"/plots/{entity}", rr.SeriesLines(names=WHEELS), static=True)
-        log("/plots/speed_kmh", rr.SeriesLines(names=["speed"]), static=True)
+            log(f"/scene/track/wheelset_{w}/label", rr.Points3D([[0.0, 0.0, WHEEL_RADIUS + 0.15]], radii=0.02,
+                                                                labels=[f"ws{w}"], show_labels=True), static=True)
+        log(f"/plots/{ATTACK}/values", rr.SeriesLines(names=WHEELSETS, colors=WHEELSET_COLORS), static=True)
+        self._static_limits(ATTACK, "attack_angle", 1e3)
+        for entity, criterion, scale, _ in WHEEL_PLOTS:
+            for side in SIDES:
+                log(f"/plots/{entity}/{side}", rr.SeriesLines(names=WHEELSETS, colors=WHEELSET_COLORS), static=True)
+            if criterion is not None:
+                self._static_limits(entity, criterion, scale)
+        log("/plots/speed_kmh", rr.SeriesLines(names=["speed"], colors=[GREY]), static=True)
+
+    def _static_limits(self, entity, criterion, scale):
+        for (sev, thr), color in zip(self.limits.levels(criterion), LEVEL_COLORS):
+            label = "critical" if sev == SEVERITY_CRITICAL else "warning"
+            self.rec.log(f"/plots/{entity}/limit_{label}", rr.SeriesLines(
+                colors=[color], widths=[2.5], names=[f"{label} {level_text(criterion, thr)}"]), static=True)
 
     # --- input ------------------------------------------------------------------------------
     def _append(self, entity, t, values):
         times, vals = self.buffers.setdefault(entity, ([], []))
         times.append(t)
         vals.append(values)
+
+    def _wheels(self, entity, t, values):
+        """Eight wheel values into the entity's left and right series."""
+        self._append(f"/plots/{entity}/left", t, values[0::2])
+        self._append(f"/plots/{entity}/right", t, values[1::2])
 
     def _limits(self, entity, criterion, t, scale=1.0):
         """Threshold lines: two points per flushed batch (its first and last time) are enough."""
@@ -166,10 +214,14 @@ class RunViewer:
 
     def on_states(self, msg):
         t = seconds(msg.header.stamp)
-        self._append("/plots/attack_angle/values", t, _arr(msg.attack_angle))
-        self._limits("attack_angle", "attack_angle", t)
+        attack = _arr(msg.attack_angle)
+        self._append(f"/plots/{ATTACK}/values", t, attack * 1e3)
+        # its 0.06 rad line would flatten attack angles of a few mrad: drawn once they reach half of it
+        self.attack_limit_shown |= bool(abs(attack[0]) >= 0.5 * self.limits.attack_angle)
+        if self.attack_limit_shown:
+            self._limits(ATTACK, "attack_angle", t, 1e3)
         lift = _arr(msg.wheel_lift)
-        self._append("/plots/wheel_lift_mm/values", t, lift * 1e3)
+        self._wheels("wheel_lift_mm", t, lift * 1e3)
         self._limits("wheel_lift_mm", "wheel_lift", t, 1e3)
         if t - self.last_scene >= self.scene_period - 1e-9:
             self.last_scene = t
@@ -179,13 +231,12 @@ class RunViewer:
     def on_forces(self, msg):
         t = seconds(msg.header.stamp)
         self.forces = msg
-        self._append("/plots/derailment_coefficient/values", t, _arr(msg.derailment_coefficient))
+        self._wheels("derailment_coefficient", t, _arr(msg.derailment_coefficient))
         self._limits("derailment_coefficient", "derailment_coefficient", t)
-        self._append("/plots/unloading_ratio/values", t,
-                     unloading_ratio(_arr(msg.vertical_force), self.limits.static_wheel_load))
+        self._wheels("unloading_ratio", t, unloading_ratio(_arr(msg.vertical_force), self.limits.static_wheel_load))
         self._limits("unloading_ratio", "wheel_unloading", t)
-        self._append("/plots/lateral_force_kN", t, _arr(msg.lateral_force) * 1e-3)
-        self._append("/plots/vertical_force_kN", t, _arr(msg.vertical_force) * 1e-3)
+        self._wheels("lateral_force_kN", t, _arr(msg.lateral_force) * 1e-3)
+        self._wheels("vertical_force_kN", t, _arr(msg.vertical_force) * 1e-3)
 
     def on_status(self, msg):
         self.status = msg
@@ -201,15 +252,28 @@ class RunViewer:
 
     def on_derailment(self, event):
         d = m.derailment_dict(event)
+        self.derailed_at = d["time_s"]
         self.rec.set_time(TIMELINE, duration=d["time_s"])
         self.rec.log("/alerts", rr.TextLog(
             f"s = {d['track_position_m']:.1f} m: DERAILED: wheelset {d['wheelset']} {d['wheel_side']} "
             f"({d['rail_side']} rail), {d['mechanism'].replace('_', ' ')}, {d['speed_kmh']:.1f} km/h",
             level="CRITICAL"))
+        if self.final_entry is not None:
+            self._log_final(*self.final_entry)
 
     def on_final_status(self, msg):
-        self.rec.set_time(TIMELINE, duration=seconds(msg.header.stamp))
-        self.rec.log("/alerts", rr.TextLog(f"run stopped: {msg.message}", level="INFO"))
+        entry = (seconds(msg.header.stamp), f"run stopped: {msg.message}")
+        if msg.state == m.msgs.VehicleStatus.STATE_DERAILED and self.derailed_at is None:
+            self.final_entry = entry        # logged after the DERAILED line, whichever message comes first
+        else:
+            self._log_final(*entry)
+
+    def _log_final(self, t, text):
+        if self.derailed_at is not None:    # the log is sorted by time: after the derailment
+            t = max(t, self.derailed_at + 1e-6)
+        self.rec.set_time(TIMELINE, duration=t)
+        self.rec.log("/alerts", rr.TextLog(text, level="INFO"))
+        self.final_entry = None
 
     # --- scene ------------------------------------------------------------------------------
     def _scene(self, t, states, lift):
@@ -235,18 +299,19 @@ class RunViewer:
                 b["bogie_q"][k].append([0.0, 0.0, 0.0, 1.0])
         y, z = _arr(states.lateral_displacement), _arr(states.vertical_displacement)
         roll, yaw = _arr(states.roll), _arr(states.yaw)
-        thr = [x for _, x in self.limits.levels("wheel_lift")]
+        lift_level = [self._level("wheel_lift", x) for x in lift]
         for w in range(4):
             b["ws_t"][w].append([STATIONS[w], ex * y[w], WHEEL_RADIUS + ex * z[w]])
             b["ws_q"][w].append(_quat_xz(ex * roll[w], ex * yaw[w]))
             for k in (2 * w, 2 * w + 1):
-                b["ws_c"][w].append((GREEN, ORANGE, RED)[min(sum(lift[k] >= x for x in thr), 2)])
+                b["ws_c"][w].append((GREEN, ORANGE, RED)[lift_level[k]])
             b["ws_c"][w].append((60, 60, 60))
         f = self.forces
         count = 0
         if f is not None:
             qp = _arr(f.derailment_coefficient)
-            levels = [x for _, x in self.limits.levels("derailment_coefficient")]
+            unloading = unloading_ratio(_arr(f.vertical_force), self.limits.static_wheel_load)
+            derailed = self.derailed_at is not None and t >= self.derailed_at
             for k in range(8):
                 if f.contact_count[k] == 0:
                     continue
@@ -254,9 +319,16 @@ class RunViewer:
                 w = k // 2
                 b["patch_c"].append([STATIONS[w], side * (RAIL_Y + f.contact_position[k]) + ex * y[w], 0.005])
                 b["patch_h"].append([5.0 * f.patch_length[k], 5.0 * f.patch_width[k], 0.004])
-                b["patch_col"].append((GREEN, ORANGE, RED)[min(sum(qp[k] >= x for x in levels), 2)])
+                # the worst level the wheel has reached now, by any criterion; every patch red once derailed
+                level = 2 if derailed else max(lift_level[k], self._level("derailment_coefficient", qp[k]),
+                                                self._level("wheel_unloading", unloading[k]))
+                b["patch_col"].append((GREEN, ORANGE, RED)[level])
                 count += 1
         b["patch_n"].append(count)
+
+    def _level(self, criterion, value):
+        """0 below a criterion's levels, 1 at or above its first, 2 at or above its second."""
+        return min(sum(value >= x for _, x in self.limits.levels(criterion)), 2)
 
     def _new_scene(self):
         return dict(time=[], track=[], body_t=[], body_q=[], bogie_t=([], []), bogie_q=([], []),
@@ -301,6 +373,8 @@ class RunViewer:
     def close(self):
         if not self.closed:
             self.closed = True
+            if self.final_entry is not None:      # the derailment event never came
+                self._log_final(*self.final_entry)
             self.flush()
             self.rec.flush()
             self.rec.disconnect()

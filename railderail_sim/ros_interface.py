@@ -269,6 +269,43 @@ class ParameterSpec:
         return d
 
 
+def accepted_text(spec):
+    """What a ParameterSpec accepts, in words ('[150, 20000] m', 'one of hertz, discrete'; '' if anything)."""
+    parts = []
+    if spec.accepted is not None:
+        lo, hi = spec.accepted
+        right = ")" if math.isinf(hi) else "]"
+        parts.append(f"{'(' if spec.lo_open else '['}{lo:g}, {hi:g}{right}" + (f" {spec.unit}" if spec.unit else ""))
+    if spec.choices:
+        parts.append("one of " + ", ".join(spec.choices))
+    return "; ".join(parts)
+
+
+def yaml_value(value):
+    """A parameter value as rcl's YAML parser reads it back with the same type: strings quoted (so
+    that 'none' or 'true' stay strings), floats with a decimal point, NaN as .nan."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        return ".nan" if math.isnan(value) else repr(value)
+    if isinstance(value, int):
+        return str(value)
+    return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+def parameter_file(node_name, specs, header):
+    """The text of a ROS 2 parameter file (`--ros-args --params-file`) holding every parameter of a
+    node's table with its default, each under a comment with its unit, meaning and accepted values;
+    `header` is the list of comment lines at the top (without '# ')."""
+    lines = [f"# {line}" for line in header] + [f"{node_name}:", "  ros__parameters:"]
+    for spec in specs:
+        accepted = accepted_text(spec)
+        lines.append(f"    # {spec.unit or '-'}: {spec.description}." + (f" Accepted: {accepted}." if accepted else "")
+                     + (" Read-only." if spec.read_only else ""))
+        lines.append(f"    {spec.name}: {yaml_value(spec.default)}")
+    return "\n".join(lines) + "\n"
+
+
 def declare_parameters(node, specs, check=None, apply=None):
     """Declare a table of ParameterSpecs on `node`; return {name: value}, kept up to date.
 
@@ -352,4 +389,4 @@ def run_node(prog, make_node, args=None, spin=None):
 
 
 __all__ = ["msgs", "TOPICS", "RowConverter", "derailment_message", "alert_dict", "derailment_dict", "ParameterSpec",
-           "declare_parameters", "run_node"]
+           "parameter_file", "declare_parameters", "run_node"]

@@ -53,13 +53,13 @@ def test_msgs_package_xml():
 
 def test_wheel_layout(tmp_path):
     """What pip (and so colcon's ament files) get from setup.py: the ament marker, package.xml, the
-    `ros2 run` launchers in lib/railderail (executable), the monitor's parameter file (package data,
-    read by the node, and in share/railderail/config/), and no scripts besides the entry points."""
+    `ros2 run` launchers in lib/railderail (executable), the nodes' parameter files (package data, and
+    in share/railderail/config/), and no scripts besides the entry points."""
     source = tmp_path / "source"
     source.mkdir()
     for name in ("setup.py", "package.xml"):
         shutil.copy2(ROOT / name, source)
-    for name in ("resource", "ros2_run", "railderail_sim", "railderail_monitor"):
+    for name in ("resource", "ros2_run", "launch", "railderail_sim", "railderail_monitor"):
         shutil.copytree(ROOT / name, source / name,
                         ignore=shutil.ignore_patterns("__pycache__", "*.nbi", "*.nbc"))
     subprocess.run([sys.executable, "-m", "pip", "wheel", "--quiet", "--no-deps", "--no-index",
@@ -73,15 +73,18 @@ def test_wheel_layout(tmp_path):
 
     assert data + "data/share/ament_index/resource_index/packages/railderail" in infos
     assert data + "data/share/railderail/package.xml" in infos
-    for launcher in ("simulator", "monitor"):
+    for launcher in ("simulator", "monitor", "recorder"):
         mode = infos[f"{data}data/lib/railderail/{launcher}"].external_attr >> 16
         assert mode & stat.S_IXUSR, f"lib/railderail/{launcher} is not executable"
     assert not [name for name in infos if name.startswith(data + "scripts/")]
     assert "railderail_sim/cli/__init__.py" in infos and "railderail_monitor/node.py" in infos
-    shipped = (ROOT / "railderail_monitor" / "config" / "monitor.yaml").read_bytes()
     with zipfile.ZipFile(wheel) as archive:
-        assert archive.read("railderail_monitor/config/monitor.yaml") == shipped
-        assert archive.read(data + "data/share/railderail/config/monitor.yaml") == shipped
+        for package, name in (("railderail_monitor", "monitor.yaml"), ("railderail_sim", "simulator.yaml")):
+            shipped = (ROOT / package / "config" / name).read_bytes()
+            assert archive.read(f"{package}/config/{name}") == shipped
+            assert archive.read(f"{data}data/share/railderail/config/{name}") == shipped
+        assert archive.read(f"{data}data/share/railderail/launch/demo.launch.py") == \
+            (ROOT / "launch" / "demo.launch.py").read_bytes()
     for name, target in CONSOLE_SCRIPTS.items():
         assert f"{name} = {target}".encode() in entry_points
 

@@ -57,6 +57,8 @@ COMMANDS: tuple[Command, ...] = (
             "(report section)", "railderail_sim.cli.methods:real_track_command"),
     Command("report", "write the report: every method beside the paper's numbers (--out DIR)",
             "railderail_sim.cli.methods:report_command"),
+    Command("simulator-params", "the simulator node's parameter file: every parameter at its default, with comments",
+            "railderail_sim.cli.nodes:simulator_params_command"),
     Command("track-irregularity", "a random track irregularity from a spectrum, as a CSV file (--plot)",
             "railderail_sim.cli.track:irregularity_command"),
 )

@@ -1,0 +1,107 @@
+"""foxglove/railderail-layout.json: every panel placed, every topic and field path it plots or shows exists in
+the message definitions (msg_defs/msg, array indexes in range, plotted leaves numeric), and its threshold lines
+are the monitor's thresholds (the shipped monitor.yaml)."""
+import json
+import re
+from pathlib import Path
+
+import pytest
+from rosidl_adapter.parser import parse_message_file
+
+from railderail_monitor.criteria import default_limits
+from railderail_monitor.recording import msg_file
+from railderail_monitor.viewer import WHEELSET_COLORS
+from railderail_sim import ros_interface as m
+
+ROOT = Path(__file__).resolve().parents[1]
+LAYOUT = json.loads((ROOT / "foxglove" / "railderail-layout.json").read_text())
+NUMERIC = {"bool", "byte", "char", "int8", "uint8", "int16", "uint16", "int32", "uint32", "int64", "uint64",
+           "float32", "float64"}
+STEP = re.compile(r"^(\w+)(?:\[(\d+)\])?$")
+
+
+def definition(package, name):
+    """The fields of a message type: railderail_msgs from msg_defs/msg, the others as installed."""
+    path = ROOT / "msg_defs" / "msg" / f"{name}.msg" if package == "railderail_msgs" else msg_file(package, name)
+    return {f.name: f.type for f in parse_message_file(package, str(path)).fields}
+
+
+def leaf_type(path):
+    """The primitive type a message path such as /railderail/wheelset_states.wheel_lift[3] ends on
+    (AssertionError naming the path where it does not resolve)."""
+    topic, _, rest = path.partition(".")
+    assert topic in {**m.TOPICS, m.CLOCK: m.CLOCK_TOPIC}, f"{path}: no topic {topic}"
+    package, _, name = m.TOPICS[topic][0].split("/")
+    fields = definition(package, name)
+    steps = rest.split(".") if rest else []
+    field_type = None
+    for i, step in enumerate(steps):
+        match = STEP.match(step)
+        assert match, f"{path}: {step!r} is not a field or field[index]"
+        field, index = match.group(1), match.group(2)
+        assert fields is not None and field in fields, f"{path}: no field {field}"
+        field_type = fields[field]
+        if index is not None:
+            assert field_type.is_array and field_type.array_size, f"{path}: {field} is not a fixed-size array"
+            assert int(index) < field_type.array_size, f"{path}: {field} has {field_type.array_size} elements"
+        else:
+            assert not field_type.is_array or i == len(steps) - 1, f"{path}: {field} needs an index"
+        fields = None if field_type.is_primitive_type() else definition(field_type.pkg_name, field_type.type)
+    return field_type
+
+
+def panels(node):
+    return [node] if isinstance(node, str) else panels(node["first"]) + panels(node["second"])
+
+
+def test_every_panel_is_placed_once():
+    placed = panels(LAYOUT["layout"])
+    assert sorted(placed) == sorted(LAYOUT["configById"])
+
+
+def test_every_path_exists_in_the_message_definitions():
+    checked = 0
+    for panel, config in LAYOUT["configById"].items():
+        kind = panel.split("!")[0]
+        if "topicPath" in config:                          # Raw Messages: a whole topic or a field of it
+            leaf_type(config["topicPath"])
+            checked += 1
+        for series in config.get("paths", []):
+            value = series["value"]
+            if kind == "Plot" and re.fullmatch(r"-?\d+(\.\d*)?(e-?\d+)?", value):
+                continue                                   # a reference line (a threshold)
+            field_type = leaf_type(value)
+            if kind == "Plot":
+                assert field_type.is_primitive_type() and field_type.type in NUMERIC and not (
+                    field_type.is_array and "[" not in value.rsplit(".", 1)[1]), f"{panel}: {value} is not a number"
+            checked += 1
+    assert checked == 35      # 4 wheelsets, 3 x 8 wheels, speed and acceleration, 2 timelines, 3 whole topics
+
+
+def thresholds(panel):
+    return sorted(float(s["value"]) for s in LAYOUT["configById"][panel]["paths"]
+                  if not s["value"].startswith("/"))
+
+
+def test_threshold_lines_are_the_monitor_s():
+    L = default_limits()
+    P0 = L.static_wheel_load
+    assert thresholds("Plot!attack_angle") == [-L.attack_angle, L.attack_angle]
+    assert thresholds("Plot!wheel_lift") == [L.wheel_lift, L.wheel_lift_critical]
+    assert thresholds("Plot!derailment_coefficient") == [L.derailment_coefficient, L.derailment_coefficient_critical]
+    assert thresholds("Plot!wheel_unloading") == pytest.approx(
+        [(1 - L.wheel_unloading_critical) * P0, (1 - L.wheel_unloading) * P0, P0], rel=1e-12)
+
+
+def test_the_same_wheel_has_the_same_colour_in_every_plot():
+    colours = {}
+    for config in LAYOUT["configById"].values():
+        for series in config.get("paths", []):
+            match = re.search(r"\.(wheel_lift|derailment_coefficient|vertical_force)\[(\d)\]$", series["value"])
+            if match:
+                colours.setdefault(match.group(2), set()).add(series["color"])
+    assert len(colours) == 8 and all(len(c) == 1 for c in colours.values())
+    colours = {int(k): c.pop() for k, c in colours.items()}
+    assert len(set(colours.values())) == 8
+    # the hues of the Rerun views: a wheelset's left wheel in its colour there
+    assert [colours[2 * w] for w in range(4)] == ["#%02x%02x%02x" % c for c in WHEELSET_COLORS]
