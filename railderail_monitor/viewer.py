@@ -53,11 +53,11 @@ GREEN, ORANGE, RED, GREY = (60, 180, 75), (245, 130, 48), (230, 25, 75), (128, 1
 LEVEL_COLORS = (ORANGE, RED)
 # one colour per wheelset in every plot, none of them the levels' orange and red (the Foxglove layout
 # uses the same hues)
-WHEELSET_COLORS = [(31, 119, 180), (148, 103, 189), (23, 190, 207), (227, 119, 194)]
+WHEELSET_COLORS = [(31, 119, 180), (188, 189, 34), (148, 103, 189), (140, 86, 75)]   # blue, olive, purple, brown
 # per-wheel plots: (entity, criterion of its levels or None, scale from SI, title)
-WHEEL_PLOTS = (("wheel_lift_mm", "wheel_lift", 1e3, "wheel lift (mm)"),
+WHEEL_PLOTS = (("wheel_lift_mm", "wheel_lift", 1e3, "lift (mm)"),
                ("derailment_coefficient", "derailment_coefficient", 1.0, "Q/P"),
-               ("unloading_ratio", "wheel_unloading", 1.0, "unloading ratio dP/P0"),
+               ("unloading_ratio", "wheel_unloading", 1.0, "dP/P0"),
                ("lateral_force_kN", None, 1e-3, "Q (kN)"),
                ("vertical_force_kN", None, 1e-3, "P (kN)"))
 ATTACK = "attack_angle_mrad"
@@ -103,19 +103,24 @@ class RunViewer:
         # x range it opens with (else a plot of a long run opens zoomed on a few seconds)
         so_far = dict(start=rrb.TimeRangeBoundary.infinite(), end=rrb.TimeRangeBoundary.cursor_relative())
 
-        def plot(origin, name, contents="$origin/**"):
+        def plot(origin, name, contents="$origin/**", legend=True):
             return rrb.TimeSeriesView(origin=origin, name=name, contents=contents,
                                       time_ranges=[rrb.VisibleTimeRange(TIMELINE, **so_far)],
                                       axis_x=rrb.TimeAxis(view_range=rrb.TimeRange(**so_far)),
-                                      plot_legend=rrb.PlotLegend(corner=rrb.Corner2D.LeftTop))
+                                      plot_legend=rrb.PlotLegend(corner=rrb.Corner2D.LeftTop, visible=legend))
 
-        def sides(entity, title):
+        # the wheel panels carry no legend (it covered a third of each): the wheelsets' colours are the attack
+        # angle's legend, the same in every plot, and the level lines (orange warning / red critical) are given
+        # in the panel's title, short enough to be read whole
+        def sides(entity, criterion, title):
             limits = ["$origin/limit_warning", "$origin/limit_critical"]
-            return rrb.Horizontal(*(plot(f"/plots/{entity}", f"{title}, {side} wheels", [f"$origin/{side}", *limits])
-                                    for side in SIDES))
+            levels = "" if criterion is None else ": " + " / ".join(
+                level_text(criterion, thr) for _, thr in self.limits.levels(criterion))
+            return rrb.Horizontal(*(plot(f"/plots/{entity}", f"{title}, {side}{levels}", [f"$origin/{side}", *limits],
+                                         legend=False) for side in SIDES))
 
-        rows = {entity: sides(entity, title) for entity, _, _, title in WHEEL_PLOTS}
-        attack = plot(f"/plots/{ATTACK}", "attack angle (mrad), warning at "
+        rows = {entity: sides(entity, criterion, title) for entity, criterion, _, title in WHEEL_PLOTS}
+        attack = plot(f"/plots/{ATTACK}", "attack angle (mrad), warning "
                       + level_text("attack_angle", self.limits.attack_angle))
         # the car looked at from behind its outer side, a little above: the whole car and its patches in view
         eye = rrb.EyeControls3D(kind=rrb.Eye3DKind.Orbital, position=[-15.0, -13.0, 6.0], look_target=[0.0, 0.0, 0.8],
