@@ -47,8 +47,6 @@ class Model:
     vehicle: VehicleParameters
     track_parameters: TrackParameters
     contact: ContactParameters
-    track_model: str
-    elastic: ElasticTrackParameters
 
     @property
     def arrays(self):
@@ -56,6 +54,11 @@ class Model:
         return ModelArrays(bodies=self.bodies, vp=self.vp, bush=self.bush, damp=self.damp, bump=self.bump,
                            arb=self.arb, track=self.track, rails=self.rails, support=self.support, cg=self.cg,
                            cp=self.cp)
+
+    @property
+    def track_model(self):
+        """"rigid" or "elastic", as the support array says."""
+        return "elastic" if self.support[ElasticTrack.elastic] > 0.5 else "rigid"
 
     @property
     def static_wheel_load(self):
@@ -251,8 +254,6 @@ def elastic_contact_damping(elastic: ElasticTrackParameters, contact_stiffness, 
 
 def support_array(track_model, elastic: ElasticTrackParameters, cg):
     """The track's constants (track.elastic.ElasticTrack) for track_model "rigid" or "elastic"."""
-    if track_model not in TRACK_MODELS:
-        raise ValueError(f"track model {track_model!r} is unknown; choose one of {', '.join(TRACK_MODELS)}")
     if track_model == "rigid":
         return ElasticTrack.pack(roll_centre_lateral=cg[GeometryHeader.rail_axis_y])
     (my, ky, cy), (mz, kz, cz), (ir, kr, cr) = elastic.lateral, elastic.vertical, elastic.roll
@@ -267,6 +268,8 @@ def build_model(vehicle: VehicleParameters, track: TrackParameters, contact: Con
     """Pack a scenario's parameters into a Model; `irregularity`: a `track.irregularity.Irregularity`, or
     None for ideal rails; `track_model` "rigid" or "elastic" (the co-running rails of `elastic`; the contact
     damping then comes from the track, `elastic_contact_damping`)."""
+    if track_model not in TRACK_MODELS:
+        raise ValueError(f"track model {track_model!r} is unknown; choose one of {', '.join(TRACK_MODELS)}")
     bodies = body_table(vehicle)
     bush, damp, bump, arb = element_tables(vehicle, bodies)
     cg = contact_geometry(contact, track, vehicle.rolling_radius)
@@ -282,4 +285,4 @@ def build_model(vehicle: VehicleParameters, track: TrackParameters, contact: Con
                  else irregularity.pack(),
                  support=support_array(track_model, elastic, cg), cg=cg,
                  cp=contact_array(contact, vehicle.static_wheel_load), vehicle=vehicle, track_parameters=track,
-                 contact=contact, track_model=track_model, elastic=elastic)
+                 contact=contact)

@@ -22,7 +22,7 @@ from ..contact import wheelset as ws
 from ..record import Record
 from ..track import alignment as trk, rails
 from ..track import elastic as track_elastic
-from ..track.layout import N_RAIL_DOF, ElasticTrack, RailDof
+from ..track.layout import N_RAIL_DOF, RailDof
 from . import dynamics as dyn
 from .layout import (BodyTable, Dof, N_BODY, N_DAMPER, N_DOF, N_STATE, N_WHEEL, N_WHEELSET, OutputRow,
                      State, VehicleConstants, WheelsetOutput, WHEELSETS)
@@ -117,9 +117,9 @@ def fill_row(row, t, x, v, model, recs):
         # relative to the track's actual centre line and direction: the mean of the two rails
         yl, _, al, _ = rails.rail_deviation(model.rails, 0, s + bodies[b, BodyTable.station])
         yr, _, ar, _ = rails.rail_deviation(model.rails, 1, s + bodies[b, BodyTable.station])
-        if model.support[ElasticTrack.elastic] > 0.5:
-            yl += track_elastic.head_shift(model.support, x, State.rail_deflections + 2 * w * N_RAIL_DOF)
-            yr += track_elastic.head_shift(model.support, x, State.rail_deflections + (2 * w + 1) * N_RAIL_DOF)
+        # and their elastic deflection (zero on rigid track)
+        yl += track_elastic.head_shift(model.support, x, State.rail_deflections + 2 * w * N_RAIL_DOF)
+        yr += track_elastic.head_shift(model.support, x, State.rail_deflections + (2 * w + 1) * N_RAIL_DOF)
         r = OutputRow.wheelsets + w * WS_SIZE
         row[r + WheelsetOutput.wheelset_lateral] = x[o + Dof.lateral] - 0.5 * (yl + yr)
         # attack angle: + when the front of the wheelset points toward the outer rail
@@ -180,8 +180,7 @@ def _check_derailment(x, v, t, model, recs, last, event):
                 mech = MECH_WHEEL_UNLOADING
             if mech > 0:
                 rail_y, _, rail_slope, _ = rails.rail_deviation(model.rails, side, sw)
-                if model.support[ElasticTrack.elastic] > 0.5:
-                    rail_y += track_elastic.head_shift(model.support, x, State.rail_deflections + k * N_RAIL_DOF)
+                rail_y += track_elastic.head_shift(model.support, x, State.rail_deflections + k * N_RAIL_DOF)
                 event[Event.time] = t
                 event[Event.position] = sw
                 event[Event.wheelset] = w

@@ -15,7 +15,7 @@ import numpy as np
 from .. import jsonout
 from ..atomic import atomic_write
 from ..contact.layout import GeometryHeader, Wheel
-from ..parameters import (TRACK_MODELS, ContactParameters, ElasticTrackParameters, TrackParameters, VehicleParameters,
+from ..parameters import (ContactParameters, ElasticTrackParameters, TrackParameters, VehicleParameters,
                           vehicle_parameters)
 from ..ranges import check_range
 from ..track import alignment
@@ -93,8 +93,6 @@ class Scenario:
     lift_tolerance: float = 1.0e-3          # m, see integrator._check_derailment
 
     def validated(self):
-        if self.track_model not in TRACK_MODELS:
-            raise ValueError(f"track model {self.track_model!r} is unknown; choose one of {', '.join(TRACK_MODELS)}")
         if not math.isinf(self.track.radius):
             check_range("curve radius", self.track.radius, *RADIUS_RANGE, "m")
         if not (1e-10 <= self.rtol <= 1e-2) or not (1e-12 <= self.atol <= 1e-3):
