@@ -31,6 +31,7 @@ import re
 import struct
 import sys
 import time
+import weakref
 from pathlib import Path
 
 import mcap.writer
@@ -181,8 +182,15 @@ def recover_hint(path):
     return f"railderail recover {path} {path.with_name(path.stem + '-recovered.mcap')}"
 
 
+def _finish_file(writer, stream):
+    writer.finish()
+    stream.close()
+
+
 class McapRecording:
-    """An MCAP file of raw CDR messages; no ROS needed. Call `close()` (or use `with`)."""
+    """An MCAP file of raw CDR messages; no ROS needed. Call `close()` (or use `with`). A recording
+    still open when the interpreter exits is finished then (`weakref.finalize`), so a Ctrl-C that
+    lands while its owner is being built, before anyone holds it to close, still leaves a whole file."""
 
     def __init__(self, path, metadata=None, chunk_size=512 * 1024, flush_period_s=0.5,
                  compression=CompressionType.ZSTD):
@@ -191,6 +199,7 @@ class McapRecording:
         self.stream = open(self.path, "wb")
         self.writer = mcap.writer.Writer(self.stream, chunk_size=chunk_size, compression=compression)
         self.writer.start(profile="ros2", library=f"railderail recorder (mcap {mcap.__version__})")
+        self._finish = weakref.finalize(self, _finish_file, self.writer, self.stream)
         self.flush_period_s = flush_period_s
         self.last_flush = time.monotonic()
         self.schemas = {}
@@ -199,7 +208,6 @@ class McapRecording:
         self.last_stamp = 0
         self.messages = 0
         self.bytes = 0
-        self.closed = False
         meta = {"recorder": "railderail", "started_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(),
                 "log_time": "simulation time (header stamps)"}
         meta.update(metadata or {})
@@ -243,10 +251,7 @@ class McapRecording:
         self.last_flush = time.monotonic()
 
     def close(self):
-        if not self.closed:
-            self.closed = True
-            self.writer.finish()
-            self.stream.close()
+        self._finish()              # once: later calls do nothing
 
     def __enter__(self):
         return self

@@ -128,6 +128,29 @@ def test_record_run_is_a_ros2_mcap(short_run, tmp_path):
         assert meta["railderail"]["monitor.debounce_m"] == "2.0"
 
 
+UNCLOSED = """
+import sys
+from rclpy.serialization import serialize_message
+from railderail_sim import ros_interface as m
+from railderail_monitor.recording import McapRecording
+rec = McapRecording(sys.argv[1])
+rec.add_topic(m.STATES, m.TOPICS[m.STATES][0])
+rec.write(m.STATES, serialize_message(m.WheelsetStates(sample=7)))
+raise KeyboardInterrupt   # as a Ctrl-C while the recorder node is still being built
+"""
+
+
+def test_a_recording_nobody_closed_is_finished_when_the_process_ends(tmp_path):
+    import subprocess
+    path = tmp_path / "unclosed.mcap"
+    ended = subprocess.run([sys.executable, "-c", UNCLOSED, str(path)], capture_output=True, text=True, timeout=120)
+    assert "KeyboardInterrupt" in ended.stderr
+    assert path.read_bytes().endswith(b"\x89MCAP0\r\n")
+    with open(path, "rb") as f:
+        summary = make_reader(f).get_summary()
+    assert sum(summary.statistics.channel_message_counts.values()) == 1
+
+
 PUBLISHER = """
 import rclpy, numpy as np
 from rclpy.executors import ExternalShutdownException
