@@ -23,6 +23,7 @@ from rclpy.node import Node
 from rclpy.task import Future
 
 from railderail_sim import ros_interface as m
+from railderail_sim.loads.wind import DIRECTION_RANGE_DEG, GUSTS, WIND_SPEED_RANGE, Wind
 from railderail_sim.parameters import FRICTION_RANGE, TRACK_MODELS
 from railderail_sim.ros_interface import REAL_TIME_FACTOR_RANGE, ParameterSpec as P
 from railderail_sim.track.irregularity import SEEDS, SPECTRA, resolve
@@ -50,6 +51,12 @@ PARAMETERS = (
     P("irregularity_seed", 0, "seed of a generated irregularity", "", SEEDS, read_only=True),
     P("track", "rigid", "rigid rails, or elastic: a co-running rail mass under each wheel (docs/elastic-track.md)",
       choices=TRACK_MODELS, read_only=True),
+    P("wind_speed_m_s", 0.0, "wind speed (with a gust its peak); 0: still air (docs/loads.md)", "m/s",
+      WIND_SPEED_RANGE, read_only=True),
+    P("wind_direction_deg", 90.0, "where the wind comes from, relative to the direction of travel: 90 from the "
+      "left, -90 from the right", "deg", DIRECTION_RANGE_DEG, read_only=True),
+    P("gust", "none", "steady wind (none) or the CEN extreme gust of EN 14067-6 at the middle of the curve",
+      choices=GUSTS, read_only=True),
     P("publish_rate", 200.0, "wheelset states and contact forces per second of simulated time", "Hz",
       PUBLISH_RATE_RANGE, read_only=True),
     P("status_rate", 50.0, "vehicle status messages per second of simulated time, at most publish_rate", "Hz",
@@ -82,7 +89,9 @@ def build_scenario(p):
         base = staircase_scenario(base, p["radius"], Staircase(start_kmh=p["speed_kmh"], step_kmh=p["step_kmh"],
                                                                hold_m=p["hold_m"]))
     irregularity = resolve(p["irregularity"], p["irregularity_seed"], base.track.line_length)
-    return replace(base, output_rate=p["publish_rate"], irregularity=irregularity, track_model=p["track"]).validated()
+    wind = Wind(speed=p["wind_speed_m_s"], direction_deg=p["wind_direction_deg"], gust=p["gust"])
+    return replace(base, output_rate=p["publish_rate"], irregularity=irregularity, track_model=p["track"],
+                   wind=wind if wind.blows else None).validated()
 
 
 class SimulatorNode(Node):

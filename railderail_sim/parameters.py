@@ -58,6 +58,16 @@ SOURCES = {
                "on a Winkler foundation of its seats (Hetenyi, Beams on Elastic Foundation, 1946), point "
                "stiffness 2k/beta; masses and dampers by Rayleigh's method on the static deflection shape",
     "model": "modelling choice of this project, explained in docs/vehicle-model.md",
+    "EN14067": "EN 14067-1 and EN 14067-6 (railway aerodynamics; cross wind assessment): reference area 10 m^2 and "
+               "length 3 m of the coefficients, moments about the track centre line at rail level, the wheel "
+               "unloading limit 0.90 of a running gear; as quoted in ../shared/reference/track-and-loads.md",
+    "ICE3": "ICE 3 / Velaro main dimensions: car 25.7 m over the nose of an end car, 2.95 m wide, 3.89 m high "
+            "(manufacturer data as quoted in encyclopedic sources)",
+    "Hoerner": "Hoerner S.F., Fluid-Dynamic Drag, 1965, and Fluid-Dynamic Lift, 1985 (cross-flow drag of rounded "
+               "prisms near a wall; slender-body normal force of a nose)",
+    "CENgust": "the CEN extreme gust of EN 14067-6 (Bierbooms and Cheng, Wind Energy 5 (2002), the expected shape "
+               "of turbulence about its extreme: the mean wind plus peak factor x turbulence intensity x the "
+               "autocorrelation), in the simplified exponential form; constants not read in the standard",
 }
 
 
@@ -442,3 +452,52 @@ class ElasticTrackParameters:
             for w, value, unit in zip(what, getattr(self, name), units):
                 rows.append((f"co_running_{name}_{w}", value, unit, "Winkler", "A", "per wheel, derived"))
         return rows
+
+
+@dataclass(frozen=True)
+class AerodynamicParameters:
+    """The car body's aerodynamics (`loads.aerodynamics`) and the wind's gust (`loads.wind`).
+
+    No table of the ICE 3 / Velaro leading car's coefficients against yaw angle was found in a public
+    source (../shared/reference/track-and-loads.md; EN 14067-6 gives the reference train's coefficients to
+    its purchasers only). The coefficients are therefore a stand-in built from the car's size by the
+    cross-flow and slender-body model (Hoerner): side force C_Fy = (c_c S sin^2 beta + F sin 2 beta cos(beta/2)) / A
+    with S the side area, F the frontal area and c_c the cross-flow drag coefficient; the cross-flow part
+    acts at the side area's centroid (centre_of_pressure_height above the rail, no yawing arm), the
+    slender-body part at the nose (nose_arm ahead of the car-body centre); lift C_Fz = c_l P sin^2 beta / A with
+    P the plan area. docs/loads.md gives the table and the sensitivity of the results to it."""
+    air_density: float = _p(1.225, "kg/m^3", "EN14067", "V", "standard atmosphere at sea level, 15 C")
+    reference_area: float = _p(10.0, "m^2", "EN14067", "S")
+    reference_length: float = _p(3.0, "m", "EN14067", "S")
+    side_area: float = _p(82.0, "m^2", "ICE3", "A", "25.7 m x 3.6 m (body above 0.3 m clearance) less the nose's taper")
+    frontal_area: float = _p(10.9, "m^2", "ICE3", "A", "2.95 m x 3.89 m less the rounded corners")
+    plan_area: float = _p(70.0, "m^2", "ICE3", "A", "25.7 m x 2.95 m less the nose's taper")
+    cross_flow_drag: float = _p(0.55, "-", "Hoerner", "A", "rounded box on the ground, flow across it")
+    cross_flow_lift: float = _p(0.35, "-", "Hoerner", "A", "the same, lift from the flow over the roof")
+    centre_of_pressure_height: float = _p(2.05, "m", "ICE3", "A", "middle of the side area above the rail")
+    nose_arm: float = _p(10.0, "m", "ICE3", "A", "the nose's normal force ahead of the car-body centre")
+    gust_peak_factor: float = _p(2.84, "-", "CENgust", "A", "not read in the standard")
+    gust_turbulence_intensity: float = _p(0.10, "-", "CENgust", "A", "open flat ground; not read in the standard")
+    gust_length_scale: float = _p(50.0, "m", "CENgust", "A",
+                                  "the hat's exponential decay length along the track; not read in the standard")
+    yaw_angle_step_deg: float = _p(5.0, "deg", "model", "A", "step of the coefficient table over 0-90 deg")
+
+    def coefficients(self):
+        """The coefficient table: rows (beta rad, C_Fy, C_Fz, C_Mx, C_My, C_Mz) over 0-90 deg, the moments
+        about the reference point (the track centre line at rail level below the car-body centre)."""
+        rows = []
+        n = int(round(90.0 / self.yaw_angle_step_deg))
+        for k in range(n + 1):
+            beta = math.radians(90.0 * k / n)
+            cross = self.cross_flow_drag * self.side_area * math.sin(beta) ** 2 / self.reference_area
+            nose = self.frontal_area * math.sin(2.0 * beta) * math.cos(0.5 * beta) / self.reference_area
+            lift = self.cross_flow_lift * self.plan_area * math.sin(beta) ** 2 / self.reference_area
+            side = cross + nose
+            d = self.reference_length
+            rows.append((beta, side, lift, side * self.centre_of_pressure_height / d, 0.0, nose * self.nose_arm / d))
+        return rows
+
+    def describe(self):
+        """Rows (name, value, unit, source, sure, note) for reports."""
+        return [(f.name, getattr(self, f.name), f.metadata["unit"], f.metadata["source"], f.metadata["sure"],
+                 f.metadata["note"]) for f in fields(self)]

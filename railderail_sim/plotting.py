@@ -278,6 +278,19 @@ def critical_speed_figure(results, path):
         ax.legend()
 
 
+def cwc_figure(curves, path, limit):
+    """Characteristic wind curves (EN 14067-6): the gust peak wind speed against the vehicle speed, one curve
+    per case ({label: (speeds km/h, wind speeds m/s)})."""
+    with figure(path, (7.0, 4.5)) as fig:
+        ax = fig.subplots()
+        for label, (speeds, winds) in curves.items():
+            ax.plot(speeds, winds, "o-", label=label)
+        ax.set_xlabel("vehicle speed (km/h)")
+        ax.set_ylabel("characteristic wind speed (m/s), gust peak")
+        ax.set_title(f"wind at right angles to the track; limit dQ/Q0 = {limit:g} of a running gear")
+        ax.legend()
+
+
 def real_track_figure(summaries, path):
     """Critical derailment speed against radius for each (track model, irregularity) of a real-track study
     (`methods.real_track.summary`): the mean over seeds, the bars from the lowest to the highest."""

@@ -7,6 +7,7 @@ import pytest
 from railderail_sim import jit
 from railderail_sim.contact.layout import W_SIZE, Wheel, WheelPatch
 from railderail_sim.record import Record
+from railderail_sim.loads.layout import AeroLoad
 from railderail_sim.track.layout import RailDof
 from railderail_sim.vehicle.layout import N_OUT, N_STATE, Body, Dof, OutputRow, State, WheelsetOutput
 
@@ -61,7 +62,7 @@ def test_the_numba_core_indexes_with_the_members():
 
 def test_core_layouts_agree_with_the_array_sizes():
     assert N_STATE == 2 * len(Body) * Dof.size() + State.dampers.width + 1 + 2 * State.rail_deflections.width
-    assert N_OUT == OutputRow.wheels + 8 * W_SIZE + 8 * RailDof.size()
+    assert N_OUT == OutputRow.wheels + 8 * W_SIZE + 8 * RailDof.size() + AeroLoad.size()
     assert W_SIZE == Wheel.patches + Wheel.patches.shape[0] * WheelPatch.size()
     x = np.arange(N_STATE, dtype=float)
     positions = State.split(x)["positions"]

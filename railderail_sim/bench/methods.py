@@ -3,13 +3,15 @@
 root_locus_s: 100 speeds 100-600 km/h; limit_cycle_s: the default scan (200-600 km/h by 50) and
 bisection to 1 km/h; sweep_s: the progressive trial (staircase, no refinement) on the paper's six radii
 in parallel processes on this machine's cores; sweep_refined_s: the same with the bisection over
-constant speeds.
+constant speeds; cwc_s: the default characteristic wind curves (`railderail cwc`: 9 speeds 200-360 km/h,
+straight track and a_q = 1 m/s^2, bisection to 0.25 m/s) in parallel processes on this machine's cores.
 """
 import os
 import time
 
 import numpy as np
 
+from ..methods import cwc
 from ..methods import limit_cycle as lc
 from ..methods import root_locus as rl
 from ..methods import sweep as sw
@@ -34,4 +36,8 @@ def run():
     t = time.perf_counter()
     sw.sweep(sw.cases(), refine=True, progress=False)
     out["sweep_refined_s"] = time.perf_counter() - t
+    t = time.perf_counter()
+    curves = cwc.cwc(progress=False)
+    out["cwc_s"] = time.perf_counter() - t
+    out["cwc_runs"] = sum(p["runs"] for p in curves.points)
     return out

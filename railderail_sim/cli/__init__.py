@@ -53,6 +53,8 @@ COMMANDS: tuple[Command, ...] = (
             "railderail_sim.cli.methods:trial_command"),
     Command("sweep", "progressive trial over radii and other parameters, in parallel or on Dask (--json)",
             "railderail_sim.cli.methods:sweep_command"),
+    Command("cwc", "characteristic wind curves of EN 14067-6 under the CEN extreme gust (--json, --plot)",
+            "railderail_sim.cli.methods:cwc_command"),
     Command("real-track", "the progressive trial on rigid and elastic track with irregularities, several seeds "
             "(report section)", "railderail_sim.cli.methods:real_track_command"),
     Command("report", "write the report: every method beside the paper's numbers (--out DIR)",

@@ -52,6 +52,29 @@ def _track_args(parser, line, cant=True):
                              "default %(default)s)")
 
 
+def _wind_args(parser):
+    """--wind-speed-m-s, --wind-direction-deg and --gust (loads.wind; docs/loads.md)."""
+    from ..loads.wind import GUSTS
+    parser.add_argument("--wind-speed-m-s", type=float, default=0.0,
+                        help="wind speed (m/s; with --gust the gust's peak); default 0, still air")
+    parser.add_argument("--wind-direction-deg", type=float, default=90.0,
+                        help="where the wind comes from, relative to the direction of travel (deg, -180-180): "
+                             "90 from the left (the inside of the default left curve), -90 from the right; "
+                             "default %(default)s")
+    parser.add_argument("--gust", default="none", choices=GUSTS,
+                        help="steady wind (none) or the CEN extreme gust of EN 14067-6, peaking at the middle of "
+                             "the circular curve; default %(default)s")
+
+
+def wind(args):
+    """The Wind of the --wind options (None without them or at zero speed: still air)."""
+    from ..loads.wind import Wind
+    if not hasattr(args, "wind_speed_m_s"):
+        return None
+    w = Wind(speed=args.wind_speed_m_s, direction_deg=args.wind_direction_deg, gust=args.gust).validated()
+    return w if w.blows else None
+
+
 def base_scenario(args, line_length_m=None, **track):
     """The Scenario of the common options; with _track_args, the cant and the irregularity, a generated one
     over line_length_m (default: the line of the track's parameters)."""
@@ -63,7 +86,7 @@ def base_scenario(args, line_length_m=None, **track):
     if hasattr(args, "irregularity"):
         irregularity = ir.resolve(args.irregularity, args.irregularity_seed, line_length_m or tp.line_length)
     return Scenario(vehicle=vehicle_parameters(args.vehicle_set), track=tp, irregularity=irregularity,
-                    track_model=getattr(args, "track", "rigid"),
+                    track_model=getattr(args, "track", "rigid"), wind=wind(args),
                     contact=ContactParameters(wheel_profile=args.wheel, normal_model=args.contact,
                                               creep_model=args.creep, friction_coefficient=args.friction,
                                               contact_geometry=args.geometry))
@@ -87,6 +110,7 @@ def simulate_command(parser):
     parser.add_argument("--plot", metavar="FILE.png",
                         help="the run against position: rails, front wheelset, Q/P, lift (.png, .pdf or .svg)")
     _track_args(parser, "along the line")
+    _wind_args(parser)
 
     def run(args):
         from ..vehicle.simulate import simulate
@@ -203,6 +227,7 @@ def trial_command(parser):
     parser.add_argument("--radius", type=float, default=1000.0, help="curve radius (m)")
     _staircase_args(parser)
     _track_args(parser, "along the staircase's line")
+    _wind_args(parser)
 
     def run(args):
         from ..methods.progressive_trial import progressive_trial
@@ -236,6 +261,7 @@ def sweep_command(parser):
                         help="critical derailment speed against radius (.png, .pdf or .svg)")
     _staircase_args(parser)
     _track_args(parser, "along the staircase's line, the same for every case", cant=False)
+    _wind_args(parser)
 
     def run(args):
         from ..methods import sweep as sw
@@ -259,6 +285,38 @@ def sweep_command(parser):
         if plot:
             plotting.critical_speed_figure(res, plot)
         _emit(args, res, "\n".join(_trial_line(d) for d in res))
+    return run
+
+
+def cwc_command(parser):
+    """`railderail cwc`: the characteristic wind curves (methods.cwc)."""
+    _common(parser)
+    parser.add_argument("--speeds-kmh", default="200,220,240,260,280,300,320,340,360",
+                        help="vehicle speeds (km/h), comma-separated")
+    parser.add_argument("--cases", default="straight,1.0",
+                        help="curves of the figure, comma-separated: `straight`, or an uncompensated lateral "
+                             "acceleration a_q (m/s^2) on a curve of Table 2's cant; default %(default)s")
+    parser.add_argument("--tolerance-m-s", type=float, default=0.25, help="bisection tolerance (m/s)")
+    parser.add_argument("--track", default="rigid", choices=TRACK_MODELS, help="track model; default %(default)s")
+    parser.add_argument("--workers", type=int, default=None, help="local processes (default: CPU count)")
+    parser.add_argument("--scheduler", default=None, help="address of a Dask distributed scheduler")
+    parser.add_argument("--plot", metavar="FILE.png", help="the CWC figure (.png, .pdf or .svg)")
+
+    def run(args):
+        from ..methods import cwc as c
+        plot = _plot_path(args)
+        speeds = _floats(args.speeds_kmh, "--speeds-kmh")
+        cases = [None if v.strip() == "straight" else _floats(v, "--cases")[0]
+                 for v in args.cases.split(",") if v.strip()]
+        if not cases:
+            raise ValueError("--cases is empty")
+        res = c.cwc(base_scenario(args), speeds, cases, tolerance=args.tolerance_m_s, workers=args.workers,
+                    scheduler=args.scheduler, progress=not args.json)
+        if plot:
+            plotting.cwc_figure(res.curves(), plot, c.UNLOADING_LIMIT)
+        lines = [f"{label}: " + ", ".join(f"{v:g} km/h {u:.1f} m/s" for v, u in zip(s, w))
+                 for label, (s, w) in res.curves().items()]
+        _emit(args, res.as_dict(), "\n".join(lines))
     return run
 
 

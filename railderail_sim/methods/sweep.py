@@ -1,16 +1,14 @@
 """Sweeps of the progressive trial over radius x cant x friction x wheel profile x parameter set.
 
-Cases run in parallel processes (concurrent.futures) with a progress bar, or on an existing Dask
-distributed cluster (`scheduler` = its address). Every case is a deterministic pure function of its
-inputs, so both give identical results; nothing here schedules work itself.
+Cases run in parallel processes or on a Dask cluster (`parallel.run_all`).
 """
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, replace
+import functools
 import itertools
-import os
 
 from ..parameters import vehicle_parameters
 from ..vehicle.simulate import Scenario
+from .parallel import run_all
 from .progressive_trial import Staircase, progressive_trial
 
 PAPER_RADII = (800.0, 1000.0, 1200.0, 1400.0, 1600.0, 1800.0)
@@ -40,41 +38,12 @@ def run_case(case: Case, base: Scenario, stair: Staircase, refine: bool, toleran
     return out
 
 
-def _bar(total, enabled):
-    if not enabled:
-        return None
-    from tqdm import tqdm
-    return tqdm(total=total, desc="sweep", unit="case")
-
-
 def sweep(case_list, base: Scenario = None, stair: Staircase = Staircase(), refine=True, tolerance_kmh=1.0,
           workers=None, scheduler=None, progress=True):
     """Run every case; results in the order of case_list."""
-    base = base or Scenario()
     if not case_list:
         raise ValueError("the sweep has no cases")
-    bar = _bar(len(case_list), progress)
-    results = [None] * len(case_list)
-    if scheduler:
-        from dask.distributed import Client, as_completed as dask_completed
-        with Client(scheduler) as client:
-            futures = client.map(run_case, case_list, base=base, stair=stair, refine=refine,
-                                 tolerance_kmh=tolerance_kmh, pure=True)
-            index = {f.key: i for i, f in enumerate(futures)}
-            for f in dask_completed(futures):
-                results[index[f.key]] = f.result()
-                if bar:
-                    bar.update()
-    else:
-        workers = workers or min(len(case_list), os.cpu_count() or 1)
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            futures = {pool.submit(run_case, c, base, stair, refine, tolerance_kmh): i
-                       for i, c in enumerate(case_list)}
-            for f in as_completed(futures):
-                results[futures[f]] = f.result()
-                if bar:
-                    bar.update()
-    if bar:
-        bar.close()
-    return results
-
+    one = functools.partial(run_case, base=base or Scenario(), stair=stair, refine=refine,
+                            tolerance_kmh=tolerance_kmh)
+    return run_all(one, case_list, workers=workers, scheduler=scheduler, progress=progress, desc="sweep",
+                   unit="case")

@@ -17,6 +17,7 @@ from ..contact.layout import ContactConstants, GeometryHeader, Patch
 from ..parameters import (FRICTION_RANGE, GRAVITY, TRACK_MODELS, ContactParameters, ElasticTrackParameters,
                           TrackParameters, VehicleParameters)
 from ..ranges import check_range
+from ..loads.wind import still_air
 from ..track import alignment, rails
 from ..track.layout import ElasticTrack
 from .dynamics import ModelArrays
@@ -42,6 +43,7 @@ class Model:
     track: np.ndarray
     rails: np.ndarray
     support: np.ndarray
+    aero: np.ndarray
     cg: np.ndarray
     cp: np.ndarray
     vehicle: VehicleParameters
@@ -52,7 +54,8 @@ class Model:
     def arrays(self):
         """The arrays of the core, as `dynamics.rhs` and `integrator.advance` take them."""
         return ModelArrays(bodies=self.bodies, vp=self.vp, bush=self.bush, damp=self.damp, bump=self.bump,
-                           arb=self.arb, track=self.track, rails=self.rails, support=self.support, cg=self.cg,
+                           arb=self.arb, track=self.track, rails=self.rails, support=self.support, aero=self.aero,
+                           cg=self.cg,
                            cp=self.cp)
 
     @property
@@ -264,10 +267,12 @@ def support_array(track_model, elastic: ElasticTrackParameters, cg):
 
 
 def build_model(vehicle: VehicleParameters, track: TrackParameters, contact: ContactParameters,
-                lift_tolerance=1.0e-3, irregularity=None, track_model="rigid", elastic=ElasticTrackParameters()):
+                lift_tolerance=1.0e-3, irregularity=None, track_model="rigid", elastic=ElasticTrackParameters(),
+                aero=None):
     """Pack a scenario's parameters into a Model; `irregularity`: a `track.irregularity.Irregularity`, or
     None for ideal rails; `track_model` "rigid" or "elastic" (the co-running rails of `elastic`; the contact
-    damping then comes from the track, `elastic_contact_damping`)."""
+    damping then comes from the track, `elastic_contact_damping`); `aero` the packed wind and aerodynamic
+    coefficients (`loads.wind.pack_aero`), None for still air."""
     if track_model not in TRACK_MODELS:
         raise ValueError(f"track model {track_model!r} is unknown; choose one of {', '.join(TRACK_MODELS)}")
     bodies = body_table(vehicle)
@@ -283,6 +288,6 @@ def build_model(vehicle: VehicleParameters, track: TrackParameters, contact: Con
     return Model(bodies=bodies, vp=vehicle_array(vehicle, cg, lift_tolerance), bush=bush, damp=damp,
                  bump=bump, arb=arb, track=trk, rails=rails.pack_rails() if irregularity is None
                  else irregularity.pack(),
-                 support=support_array(track_model, elastic, cg), cg=cg,
+                 support=support_array(track_model, elastic, cg), aero=still_air() if aero is None else aero, cg=cg,
                  cp=contact_array(contact, vehicle.static_wheel_load), vehicle=vehicle, track_parameters=track,
                  contact=contact)

@@ -23,15 +23,17 @@ import math
 
 from ..jit import core
 from ..contact import wheelset as ws
+from ..loads.aerodynamics import aerodynamic_load
 from ..record import Record
 from ..track import alignment as trk, rails
 from ..track import elastic as track_elastic
+from ..loads.layout import AeroHeader
 from ..track.layout import N_RAIL_DOF, ElasticTrack, RailDof
-from .layout import (AntiRollBar, BodyTable, BumpStop, Bushing, Damper, Dof, N_BODY, N_DOF, State, Vector,
+from .layout import (CAR_BODY, AntiRollBar, BodyTable, BumpStop, Bushing, Damper, Dof, N_BODY, N_DOF, State, Vector,
                      VehicleConstants, WHEELSETS)
 
 # the model's arrays (built by vehicle.assemble), as the core's functions take them
-ModelArrays = namedtuple("ModelArrays", "bodies vp bush damp bump arb track rails support cg cp")
+ModelArrays = namedtuple("ModelArrays", "bodies vp bush damp bump arb track rails support aero cg cp")
 # buffers of one right-hand side: per-body kinematics, one wheel's contact scratch, each wheel's contact
 # candidates (contact.layout.Candidates) and wheel record (contact.layout.Wheel)
 RhsBuffers = namedtuple("RhsBuffers", "kin contact cands recs")
@@ -427,6 +429,16 @@ def rhs(x, dx, model, sp, buffers, tracked):
             mx += cmx
             my += cmy
             mz += cmz
+        elif b == CAR_BODY and model.aero[AeroHeader.active] > 0.5:
+            # the wind's load about the reference point below the body (track axes), moved to the body's
+            # reference point at (y, h) above it: M + (-y, -h) x F
+            _, _, ay, az, amx, amy, amz = aerodynamic_load(model.aero, s, v)
+            h = bodies[b, BodyTable.height] + x[o + Dof.vertical]
+            fy += ay
+            fz += az
+            mx += amx + h * ay - x[o + Dof.lateral] * az
+            my += amy
+            mz += amz
         m = bodies[b, BodyTable.mass]
         ix = bodies[b, BodyTable.roll_inertia]
         iy = bodies[b, BodyTable.pitch_inertia]

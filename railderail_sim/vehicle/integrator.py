@@ -19,6 +19,8 @@ import numpy as np
 
 from ..jit import core
 from ..contact import wheelset as ws
+from ..loads.aerodynamics import aerodynamic_load
+from ..loads.layout import AeroLoad
 from ..record import Record
 from ..track import alignment as trk, rails
 from ..track import elastic as track_elastic
@@ -131,6 +133,15 @@ def fill_row(row, t, x, v, model, recs):
             row[o + q] = recs[k, q]
     for i in range(N_WHEEL * N_RAIL_DOF):
         row[OutputRow.rails + i] = x[State.rail_deflections + i]
+    w, beta, fy, fz, mx, my, mz = aerodynamic_load(model.aero, s, v)
+    a = OutputRow.aerodynamics
+    row[a + AeroLoad.wind_speed] = w
+    row[a + AeroLoad.yaw_angle] = beta
+    row[a + AeroLoad.side_force] = fy
+    row[a + AeroLoad.lift] = fz
+    row[a + AeroLoad.rolling_moment] = mx
+    row[a + AeroLoad.pitching_moment] = my
+    row[a + AeroLoad.yawing_moment] = mz
 
 
 @core

@@ -9,6 +9,7 @@ its axle (rad/s, about v / r0), a degree of freedom driven by the contact forces
 import enum
 
 from ..contact.layout import Wheel
+from ..loads.layout import AeroLoad
 from ..record import Record
 from ..track.layout import RailDof
 
@@ -155,6 +156,7 @@ class OutputRow(Record):
     wheelsets = "-", "each wheelset's pose relative to the rails", (N_WHEELSET,), WheelsetOutput
     wheels = "-", "each wheel's contact record, [wheelset 0 left, wheelset 0 right, ...]", (N_WHEEL,), Wheel
     rails = "m, rad", "each wheel's rail deflection (elastic track; zero on rigid track)", (N_WHEEL,), RailDof
+    aerodynamics = "-", "the wind and its load on the car body (zero without wind)", (), AeroLoad
 
 
 N_OUT = OutputRow.size()

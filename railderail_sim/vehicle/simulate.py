@@ -15,8 +15,9 @@ import numpy as np
 from .. import jsonout
 from ..atomic import atomic_write
 from ..contact.layout import GeometryHeader, Wheel
-from ..parameters import (ContactParameters, ElasticTrackParameters, TrackParameters, VehicleParameters,
-                          vehicle_parameters)
+from ..loads.wind import Wind, pack_aero
+from ..parameters import (AerodynamicParameters, ContactParameters, ElasticTrackParameters, TrackParameters,
+                          VehicleParameters, vehicle_parameters)
 from ..ranges import check_range
 from ..track import alignment
 from ..track.irregularity import Irregularity
@@ -84,6 +85,8 @@ class Scenario:
     irregularity: Irregularity = None       # the rails' deviations (track.irregularity); None: ideal rails
     track_model: str = "rigid"              # "rigid" or "elastic" (co-running rails, track.elastic)
     elastic_track: ElasticTrackParameters = field(default_factory=ElasticTrackParameters)
+    wind: Wind = None                       # the wind (loads.wind); None: still air
+    aerodynamics: AerodynamicParameters = field(default_factory=AerodynamicParameters)
     rtol: float = RTOL
     atol: float = ATOL_DISPLACEMENT
     output_rate: float = 200.0              # Hz
@@ -100,6 +103,8 @@ class Scenario:
                              "1e-12-1e-3")
         if not (1.0 <= self.output_rate <= 5000.0):
             raise ValueError(f"output rate {self.output_rate:g} Hz is outside 1-5000 Hz")
+        if self.wind is not None:
+            self.wind.validated()
         vmin = float(np.min(self.speed_table[:, 1]))
         vmax = float(np.max(self.speed_table[:, 1]))
         check_range("speed", vmin / KMH, *SPEED_RANGE_KMH, "km/h")
@@ -121,6 +126,11 @@ def scenario(radius=1000.0, speed_kmh=300.0, vehicle_set="hs19", contact_model="
 def straight_track(**changes):
     """Straight track without cant (the root-locus and limit-cycle methods), Table 2 lengths."""
     return TrackParameters(radius=math.inf, cant_height=0.0, **changes)
+
+
+def curve_middle(track: TrackParameters):
+    """Distance along the line of the circular curve's middle (m): where an unplaced gust peaks."""
+    return track.straight_in + track.transition_in + 0.5 * track.curve_length
 
 
 def static_state(model):
@@ -171,7 +181,9 @@ class Simulation:
         self.scenario = sc.validated()
         self.model = model if model is not None else build_model(sc.vehicle, sc.track, sc.contact,
                                                                  sc.lift_tolerance, sc.irregularity,
-                                                                 sc.track_model, sc.elastic_track)
+                                                                 sc.track_model, sc.elastic_track,
+                                                                 pack_aero(sc.aerodynamics, sc.wind,
+                                                                           curve_middle(sc.track)))
         self.speed_table = np.ascontiguousarray(sc.speed_table, dtype=np.float64)
         self.work = itg.workspace(self.model.cg)
         self.x = np.zeros(N_STATE)
@@ -383,6 +395,9 @@ class Result:
                     wheel_profile=self.scenario.contact.wheel_profile, track_model=self.scenario.track_model,
                     irregularity=(self.scenario.irregularity.name if self.scenario.irregularity is not None
                                   else "none"),
+                    wind=None if self.scenario.wind is None else dict(
+                        speed_m_s=self.scenario.wind.speed, direction_deg=self.scenario.wind.direction_deg,
+                        gust=self.scenario.wind.gust),
                     speed_table=self.scenario.speed_table.tolist(), rtol=self.scenario.rtol,
                     atol=self.scenario.atol)
         with atomic_write(path, "wb") as handle:

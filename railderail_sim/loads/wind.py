@@ -1,0 +1,92 @@
+"""The wind a run meets (model building): steady, or the CEN extreme gust, packed with the car body's
+coefficients into the core's `aero` array (`loads.layout`).
+
+A wind is given by its speed (the steady speed, or the gust's peak), where it comes from relative to the
+track (`direction_deg`: 90 from the left, -90 from the right, 0 a head wind) and its gust. The gust is the
+CEN extreme gust of EN 14067-6 in its simplified form, read as a gust standing along the track that the
+train runs through (Baker's reading of the standard): the mean wind ubar = u_peak / (1 + A I) plus the hat
+A I ubar exp(-|x - x_peak| / L), with A the peak factor, I the turbulence intensity and L the decay length
+(`parameters.AerodynamicParameters`; their values are stand-ins, docs/loads.md). The car starts in still
+air and the mean wind rises smoothly (cosine) over the GUST_RAMP before the hat, so that the car meets the
+gust settled under the mean wind, as the standard's evaluation assumes. A steady wind blows from the start.
+"""
+from dataclasses import dataclass
+import math
+
+import numpy as np
+
+from ..parameters import AerodynamicParameters
+from ..ranges import check_range
+from .layout import AeroCoefficients, AeroHeader, WindPoint
+
+GUSTS = ("none", "chinese-hat")
+WIND_SPEED_RANGE = (0.0, 60.0)          # m/s; beyond 60 m/s no train runs
+DIRECTION_RANGE_DEG = (-180.0, 180.0)
+GUST_SPAN = 6.0                         # the hat's table reaches this many decay lengths either side (0.25 %)
+GUST_RAMP = 300.0                       # m before the hat over which the mean wind rises from still air
+
+
+@dataclass(frozen=True)
+class Wind:
+    """A wind: `speed` (m/s, steady or the gust's peak), `direction_deg` (where it comes from, relative to
+    the direction of travel, + to the left), `gust` ("none" or "chinese-hat") and `peak_position` (m, the
+    car-body centre's position along the line at the gust's peak; NaN: the middle of the circular curve)."""
+    speed: float = 0.0
+    direction_deg: float = 90.0
+    gust: str = "none"
+    peak_position: float = math.nan
+
+    def validated(self):
+        check_range("wind speed", self.speed, *WIND_SPEED_RANGE, "m/s")
+        check_range("wind direction", self.direction_deg, *DIRECTION_RANGE_DEG, "deg")
+        if self.gust not in GUSTS:
+            raise ValueError(f"gust {self.gust!r} is unknown; choose one of {', '.join(GUSTS)}")
+        return self
+
+    @property
+    def blows(self):
+        """True when there is a wind to apply."""
+        return self.speed > 0.0
+
+    def history(self, parameters: AerodynamicParameters, centre_m):
+        """(s, wind speed) points along the line (m, m/s); the gust centred on peak_position, else centre_m."""
+        if self.gust == "none":
+            return np.array([0.0]), np.array([self.speed])
+        at = self.peak_at(centre_m)
+        a_i = parameters.gust_peak_factor * parameters.gust_turbulence_intensity
+        mean = self.speed / (1.0 + a_i)
+        span = GUST_SPAN * parameters.gust_length_scale
+        ramp = np.linspace(-span - GUST_RAMP, -span, 61)
+        x = np.linspace(-span, span, 241)
+        u = np.concatenate((mean * np.sin(0.5 * np.pi * (ramp - ramp[0]) / GUST_RAMP) ** 2,
+                            mean * (1.0 + a_i * np.exp(-np.abs(x[1:]) / parameters.gust_length_scale))))
+        return at + np.concatenate((ramp, x[1:])), u
+
+    def peak_at(self, centre_m):
+        """Where the gust peaks (m): peak_position, or centre_m if that is NaN."""
+        return centre_m if math.isnan(self.peak_position) else self.peak_position
+
+
+def still_air():
+    """The aero array without wind: the core applies no aerodynamic load."""
+    return AeroHeader.pack(active=0.0)
+
+
+def pack_aero(parameters: AerodynamicParameters, wind: Wind, centre_m):
+    """The core's aero array (loads.layout) of a wind and the car body's coefficients; still air if the wind
+    does not blow. `centre_m`: where an unplaced gust peaks (the middle of the circular curve)."""
+    if wind is None or not wind.validated().blows:
+        return still_air()
+    table = np.array(parameters.coefficients())
+    s, speed = wind.history(parameters, centre_m)
+    head = AeroHeader.pack(active=1.0, air_density=parameters.air_density, reference_area=parameters.reference_area,
+                           reference_length=parameters.reference_length,
+                           wind_direction=math.radians(wind.direction_deg), coefficient_points=len(table),
+                           wind_points=len(s))
+    rows = np.zeros((len(table), AeroCoefficients.size()))
+    for k, name in enumerate(AeroCoefficients.names()):
+        rows[:, AeroCoefficients[name]] = table[:, k]
+    points = np.zeros((len(s), WindPoint.size()))
+    points[:, WindPoint.s] = s
+    points[:, WindPoint.speed] = speed
+    return np.concatenate((head, rows.ravel(), points.ravel()))
