@@ -385,7 +385,13 @@ def run_node(prog, make_node, args=None, spin=None):
         executor.shutdown()
         if node is not None:
             node.destroy_node()
-        rclpy.try_shutdown()
+        try:
+            rclpy.try_shutdown()
+        except RuntimeError:
+            # rclpy's own SIGINT handler shuts the context down from its thread, and may do so between
+            # try_shutdown's check and its call (rcl_shutdown already called): then all is done
+            if rclpy.ok():
+                raise
 
 
 __all__ = ["msgs", "TOPICS", "RowConverter", "derailment_message", "alert_dict", "derailment_dict", "ParameterSpec",
