@@ -20,12 +20,12 @@ from railderail_sim.vehicle.simulate import Scenario
 TOLERANCE_KMH = 0.5
 # radius (m): (progressive trial's staircase, bisection over constant speeds on the Table 2 line), km/h
 CRITICAL_DERAILMENT_SPEEDS_KMH = {
-    800.0: (269.03, 265.25),
+    800.0: (270.00, 266.25),
     1000.0: (300.00, 296.25),
-    1200.0: (329.15, 324.625),
-    1400.0: (355.00, 350.625),
-    1600.0: (379.88, 375.0),
-    1800.0: (403.21, 397.375),
+    1200.0: (330.00, 323.75),
+    1400.0: (355.00, 349.375),
+    1600.0: (380.00, 373.75),
+    1800.0: (404.69, 395.625),
 }
 LINEAR_CRITICAL_SPEED_KMH = 403.59
 

@@ -20,15 +20,15 @@ from ..ranges import check_range
 from ..track import alignment, rails
 from ..track.layout import ElasticTrack
 from .dynamics import ModelArrays
-from .layout import (BOGIES, BUMP_POINTS, CAR_BODY, N_DAMPER, WHEELSETS, AntiRollBar, BodyTable, BumpStop,
-                     Bushing, Damper, State, VehicleConstants)
+from .layout import (BOGIES, BUMP_POINTS, CAR_BODY, LATERAL, N_DAMPER, VERTICAL, WHEELSETS, AntiRollBar, BodyTable,
+                     BumpStop, Bushing, Damper, State, VehicleConstants)
 
 WHEEL_GRID_STEP = 1.25e-4      # m; with parabolic refinement the gap minimum is right to ~1 micrometre
 CREEP_MODELS = {"linear": creep.LINEAR, "she": creep.SHEN_HEDRICK_ELKINS, "polach": creep.POLACH,
                 "fastsim": creep.FASTSIM}
 NORMAL_MODELS = {"hertz": wheelset.NORMAL_HERTZ, "discrete": wheelset.NORMAL_DISCRETE}
 CONTACT_GEOMETRIES = ("table", "online")
-
+LINEAR_LAW_SPAN = 0.010        # m; a linear stop's one law point lies this far beyond its clearance
 
 @dataclass
 class Model:
@@ -99,8 +99,17 @@ def _local(bodies, b, q):
     return (q[0] - bodies[b, BodyTable.station], q[1], q[2] - bodies[b, BodyTable.height])
 
 
+def linear_law(clearance, stiffness):
+    """The (travel, force) points of a bump stop of constant stiffness (N/m) beyond its clearance (m)."""
+    return (clearance + LINEAR_LAW_SPAN,), (stiffness * LINEAR_LAW_SPAN,)
+
+
 def element_tables(vp: VehicleParameters, bodies):
-    """Bushings, two-point dampers, bump stops and anti-roll bars with their nominal preloads."""
+    """Bushings, two-point dampers, bump stops and anti-roll bars with their nominal preloads.
+
+    Bump stops: the lateral one per bogie (the bump_stop_* law, both sides), and vertical ones in body a's
+    axes: at each air spring the emergency spring (compression) and the height restraint (extension), at each
+    axle box the primary stop (compression); the vertical ones have linear laws (`linear_law`)."""
     g = GRAVITY
     a = vp.bogie_semi_distance
     w = vp.wheelbase_semi
@@ -117,22 +126,46 @@ def element_tables(vp: VehicleParameters, bodies):
                                 knee_velocity=knee, damping=c1, damping_after_knee=c2, series_stiffness=ks,
                                 length=math.dist(qa, qb), state=State.dampers + state))
 
+    def add_stop(ba, bb, q, axis, clearance_negative, clearance_positive, law):
+        travel, force = law
+        n = len(travel)
+        if not 1 <= n <= BUMP_POINTS or len(force) != n:
+            raise ValueError(f"a bump-stop law needs 1 to {BUMP_POINTS} (travel, force) points of equal count, "
+                             f"not {n} travels and {len(force)} forces")
+        points = np.zeros((2, BUMP_POINTS))
+        points[0, :n] = travel
+        points[1, :n] = force
+        bump.append(BumpStop.pack(body_a=ba, body_b=bb, point_a=_local(bodies, ba, q), point_b=_local(bodies, bb, q),
+                                  axis=axis, clearance_negative=clearance_negative,
+                                  clearance_positive=clearance_positive, points=n, travel=points[0],
+                                  force=points[1]))
+
     state = 0
     for i, bogie in enumerate(BOGIES):
         xb = a if i == 0 else -a
         toward_centre = -1.0 if i == 0 else 1.0
         for j, wsx in enumerate((xb + w, xb - w)):
-            wheelset_body = WHEELSETS[2 * i + j]
+            wheelset = 2 * i + j
             for side in (1.0, -1.0):
-                add_bush(bogie, wheelset_body, (wsx, side * vp.primary_semi_spacing, vp.rolling_radius),
+                q = (wsx, side * vp.primary_semi_spacing, vp.rolling_radius)
+                add_bush(bogie, WHEELSETS[wheelset], q,
                          (vp.primary_longitudinal_stiffness, vp.primary_lateral_stiffness,
                           vp.primary_vertical_stiffness),
                          (0.0, vp.primary_lateral_damping, vp.primary_vertical_damping),
                          (0.0, 0.0, -box_preload))
+                # the wheelset rises toward the frame when the spring is compressed
+                add_stop(bogie, WHEELSETS[wheelset], q, VERTICAL, math.inf, vp.primary_stop_clearance,
+                         linear_law(vp.primary_stop_clearance, vp.primary_stop_stiffness))
         for side in (1.0, -1.0):
-            add_bush(bogie, CAR_BODY, (xb, side * vp.air_spring_semi_spacing, vp.secondary_height),
+            q = (xb, side * vp.air_spring_semi_spacing, vp.secondary_height)
+            add_bush(bogie, CAR_BODY, q,
                      (vp.secondary_longitudinal_stiffness, vp.secondary_lateral_stiffness,
                       vp.secondary_vertical_stiffness), (0.0, 0.0, 0.0), (0.0, 0.0, air_preload))
+            # the car body comes down onto the emergency spring, or up against the height restraint
+            add_stop(bogie, CAR_BODY, q, VERTICAL, vp.air_spring_emergency_clearance, math.inf,
+                     linear_law(vp.air_spring_emergency_clearance, vp.air_spring_emergency_stiffness))
+            add_stop(bogie, CAR_BODY, q, VERTICAL, math.inf, vp.air_spring_extension_clearance,
+                     linear_law(vp.air_spring_extension_clearance, vp.air_spring_extension_stiffness))
             add_bush(bogie, CAR_BODY,
                      (xb, side * vp.secondary_vertical_damper_semi_spacing, vp.secondary_height),
                      (0.0, 0.0, 0.0), (0.0, 0.0, vp.secondary_vertical_damping), (0.0, 0.0, 0.0))
@@ -153,9 +186,8 @@ def element_tables(vp: VehicleParameters, bodies):
                        0.5 * vp.lateral_damper_damping, 0.5 * vp.lateral_damper_damping_after_knee,
                        0.5 * vp.lateral_damper_series_stiffness, state)
             state += 1
-        q = (xb, 0.0, vp.bump_stop_height)
-        bump.append(BumpStop.pack(body_a=bogie, body_b=CAR_BODY, point_a=_local(bodies, bogie, q),
-                                  point_b=_local(bodies, CAR_BODY, q)))
+        add_stop(bogie, CAR_BODY, (xb, 0.0, vp.bump_stop_height), LATERAL, vp.bump_stop_clearance,
+                 vp.bump_stop_clearance, (vp.bump_stop_travel, vp.bump_stop_force))
         arb.append(AntiRollBar.pack(body_a=bogie, body_b=CAR_BODY, stiffness=vp.anti_roll_stiffness))
     assert state == N_DAMPER
     return np.array(bush), np.array(damp), np.array(bump), np.array(arb)
@@ -207,13 +239,6 @@ def contact_array(contact: ContactParameters, static_wheel_load=0.0):
 
 def vehicle_array(vp: VehicleParameters, cg, lift_tolerance):
     """The vehicle constants (layout.VehicleConstants)."""
-    n = len(vp.bump_stop_travel)
-    if not 1 <= n <= BUMP_POINTS or len(vp.bump_stop_force) != n:
-        raise ValueError(f"bump-stop law needs 1 to {BUMP_POINTS} (travel, force) points of equal count")
-    travel = np.zeros(BUMP_POINTS)
-    force = np.zeros(BUMP_POINTS)
-    travel[:n] = vp.bump_stop_travel
-    force[:n] = vp.bump_stop_force
     H = GeometryHeader
     # the flange face: the steepest part of the wheel between the rolling circle and the flange tip
     _, wheel_slope, _ = geometry.wheel_table(cg)
@@ -221,9 +246,8 @@ def vehicle_array(vp: VehicleParameters, cg, lift_tolerance):
     tip = int(round((cg[H.flange_tip_y] - cg[H.wheel_y0]) / cg[H.wheel_step]))
     flange_angle = float(np.max(np.arctan(np.abs(wheel_slope[min(i0, tip):max(i0, tip) + 1]))))
     return VehicleConstants.pack(gravity=GRAVITY, rolling_radius=vp.rolling_radius,
-                                 spin_inertia=vp.wheelset_spin_inertia, bump_clearance=vp.bump_stop_clearance,
-                                 bump_points=n, bump_travel=travel, bump_force=force,
-                                 flange_height=cg[H.flange_height], flange_contact_angle=0.5 * flange_angle,
+                                 spin_inertia=vp.wheelset_spin_inertia, flange_height=cg[H.flange_height],
+                                 flange_contact_angle=0.5 * flange_angle,
                                  lift_tolerance=lift_tolerance)
 
 

@@ -27,8 +27,8 @@ from ..record import Record
 from ..track import alignment as trk, rails
 from ..track import elastic as track_elastic
 from ..track.layout import N_RAIL_DOF, ElasticTrack, RailDof
-from .layout import (AntiRollBar, BodyTable, BumpStop, Bushing, Damper, Dof, N_BODY, N_DOF, State, Vector,
-                     VehicleConstants, WHEELSETS)
+from .layout import (LATERAL, AntiRollBar, BodyTable, BumpStop, Bushing, Damper, Dof, N_BODY, N_DOF, State,
+                     Vector, VehicleConstants, WHEELSETS)
 
 # the model's arrays (built by vehicle.assemble), as the core's functions take them
 ModelArrays = namedtuple("ModelArrays", "bodies vp bush damp bump arb track rails support cg cp")
@@ -186,17 +186,17 @@ def damper_rate(f, knee, c1, c2):
 
 
 @core
-def bump_force(vp, u):
-    """Bump-stop force magnitude (N) at lateral deflection magnitude u (m)."""
-    clear = vp[VehicleConstants.bump_clearance]
+def bump_force(stop, u, clear):
+    """Force magnitude (N) of the bump stop `stop` (a layout.BumpStop row) at travel magnitude u (m) on the
+    side whose clearance is `clear` (m)."""
     if u <= clear:
         return 0.0
-    n = int(vp[VehicleConstants.bump_points])
+    n = int(stop[BumpStop.points])
     u0 = clear
     f0 = 0.0
     for i in range(n):
-        u1 = vp[VehicleConstants.bump_travel + i]
-        f1 = vp[VehicleConstants.bump_force + i]
+        u1 = stop[BumpStop.travel + i]
+        f1 = stop[BumpStop.force + i]
         if u <= u1 or i == n - 1:
             return f0 + (f1 - f0) * (u - u0) / (u1 - u0)
         u0 = u1
@@ -257,7 +257,7 @@ def kinematics(x, bodies, track, sp, kin):
 @core
 def suspension(x, dx, model, kin):
     """Add all suspension forces to the kinematics accumulators; damper state rates into dx."""
-    vp, bush, damp, bump, arb = model.vp, model.bush, model.damp, model.bump, model.arb
+    bush, damp, bump, arb = model.bush, model.damp, model.bump, model.arb
     for e in range(bush.shape[0]):
         a = int(bush[e, Bushing.body_a])
         b = int(bush[e, Bushing.body_b])
@@ -305,11 +305,14 @@ def suspension(x, dx, model, kin):
         b = int(bump[e, BumpStop.body_b])
         pax, pay, paz, _, _, _, aax, aay, aaz = _point(kin, a, *_vector(bump[e], BumpStop.point_a))
         pbx, pby, pbz, _, _, _, abx, aby, abz = _point(kin, b, *_vector(bump[e], BumpStop.point_b))
-        _, dly, _ = _to_body_axes(kin, a, pbx - pax, pby - pay, pbz - paz)
-        f = bump_force(vp, abs(dly))
+        _, dly, dlz = _to_body_axes(kin, a, pbx - pax, pby - pay, pbz - paz)
+        lateral = int(bump[e, BumpStop.axis]) == LATERAL
+        d = dly if lateral else dlz
+        clear = bump[e, BumpStop.clearance_positive] if d > 0.0 else bump[e, BumpStop.clearance_negative]
+        f = bump_force(bump[e], abs(d), clear)
         if f > 0.0:
-            fy = -f if dly > 0.0 else f
-            gx, gy, gz = _to_ground(kin, a, 0.0, fy, 0.0)
+            fd = -f if d > 0.0 else f
+            gx, gy, gz = _to_ground(kin, a, 0.0, fd if lateral else 0.0, 0.0 if lateral else fd)
             _apply(kin, b, gx, gy, gz, abx, aby, abz)
             _apply(kin, a, -gx, -gy, -gz, aax, aay, aaz)
     for e in range(arb.shape[0]):
