@@ -26,7 +26,7 @@ from railderail_sim import ros_interface as m
 from railderail_sim.parameters import FRICTION_RANGE, TRACK_MODELS
 from railderail_sim.ros_interface import REAL_TIME_FACTOR_RANGE, ParameterSpec as P
 from railderail_sim.track.irregularity import SEEDS, SPECTRA, resolve
-from railderail_sim.vehicle.assemble import NORMAL_MODELS
+from railderail_sim.vehicle.assemble import FAULT_NAMES, NORMAL_MODELS
 from railderail_sim.vehicle.simulate import (RADIUS_RANGE, SPEED_RANGE_KMH, Simulation, SimulationDiverged,
                                              output_arrays)
 
@@ -50,6 +50,8 @@ PARAMETERS = (
     P("irregularity_seed", 0, "seed of a generated irregularity", "", SEEDS, read_only=True),
     P("track", "rigid", "rigid rails, or elastic: a co-running rail mass under each wheel (docs/elastic-track.md)",
       choices=TRACK_MODELS, read_only=True),
+    P("faults", [], "suspension faults, NAME@LOCATION (docs/vehicle-model.md, Suspension limits and faults)",
+      choices=FAULT_NAMES, read_only=True),
     P("publish_rate", 200.0, "wheelset states and contact forces per second of simulated time", "Hz",
       PUBLISH_RATE_RANGE, read_only=True),
     P("status_rate", 50.0, "vehicle status messages per second of simulated time, at most publish_rate", "Hz",
@@ -82,7 +84,8 @@ def build_scenario(p):
         base = staircase_scenario(base, p["radius"], Staircase(start_kmh=p["speed_kmh"], step_kmh=p["step_kmh"],
                                                                hold_m=p["hold_m"]))
     irregularity = resolve(p["irregularity"], p["irregularity_seed"], base.track.line_length)
-    return replace(base, output_rate=p["publish_rate"], irregularity=irregularity, track_model=p["track"]).validated()
+    return replace(base, output_rate=p["publish_rate"], irregularity=irregularity, track_model=p["track"],
+                   faults=tuple(p["faults"])).validated()
 
 
 class SimulatorNode(Node):
@@ -92,7 +95,9 @@ class SimulatorNode(Node):
         self.scenario = build_scenario(self.p)
         self.get_logger().info(f"railderail simulator: building the model (R = {self.p['radius']:g} m, "
                                f"{self.p['speed_mode']} speed from {self.p['speed_kmh']:g} km/h, "
-                               f"{self.p['contact_model']} contact); the first run in a fresh checkout also "
+                               f"{self.p['contact_model']} contact"
+                               + "".join(f", {fault}" for fault in self.p["faults"])
+                               + "); the first run in a fresh checkout also "
                                "compiles the core (about a minute)")
         self.sim = Simulation(self.scenario)
         self.period = 1.0 / self.p["publish_rate"]

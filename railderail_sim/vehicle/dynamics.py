@@ -291,7 +291,9 @@ def suspension(x, dx, model, kin):
         c2 = damp[e, Damper.damping_after_knee]
         ks = damp[e, Damper.series_stiffness]
         si = int(damp[e, Damper.state])
-        if ks > 0.0:
+        # a damper without damping (a failed one, vehicle.assemble.FAULTS) carries no force: its series
+        # spring would have nothing to compress against (and damper_rate divides by the damping)
+        if ks > 0.0 and c1 > 0.0:
             f = ks * (length - damp[e, Damper.length] - x[si])
             dx[si] = damper_rate(f, knee, c1, c2)
         else:

@@ -23,7 +23,7 @@ from ..track.irregularity import Irregularity
 from ..track.layout import N_RAIL_DOF, ElasticTrack, RailDof
 from ..track.rails import rail_deviation
 from . import integrator as itg
-from .assemble import build_model, static_contact
+from .assemble import build_model, failed_elements, static_contact
 from .integrator import Event, StepControl, Stepper
 from .layout import N_DOF, N_OUT, N_STATE, N_WHEEL, WHEELSETS, Body, BodyTable, Dof, OutputRow, State, WheelsetOutput
 
@@ -84,6 +84,7 @@ class Scenario:
     irregularity: Irregularity = None       # the rails' deviations (track.irregularity); None: ideal rails
     track_model: str = "rigid"              # "rigid" or "elastic" (co-running rails, track.elastic)
     elastic_track: ElasticTrackParameters = field(default_factory=ElasticTrackParameters)
+    faults: tuple = ()                      # suspension faults, "NAME@LOCATION" (vehicle.assemble.FAULT_NAMES)
     rtol: float = RTOL
     atol: float = ATOL_DISPLACEMENT
     output_rate: float = 200.0              # Hz
@@ -100,6 +101,7 @@ class Scenario:
                              "1e-12-1e-3")
         if not (1.0 <= self.output_rate <= 5000.0):
             raise ValueError(f"output rate {self.output_rate:g} Hz is outside 1-5000 Hz")
+        failed_elements(self.faults)
         vmin = float(np.min(self.speed_table[:, 1]))
         vmax = float(np.max(self.speed_table[:, 1]))
         check_range("speed", vmin / KMH, *SPEED_RANGE_KMH, "km/h")
@@ -171,7 +173,7 @@ class Simulation:
         self.scenario = sc.validated()
         self.model = model if model is not None else build_model(sc.vehicle, sc.track, sc.contact,
                                                                  sc.lift_tolerance, sc.irregularity,
-                                                                 sc.track_model, sc.elastic_track)
+                                                                 sc.track_model, sc.elastic_track, sc.faults)
         self.speed_table = np.ascontiguousarray(sc.speed_table, dtype=np.float64)
         self.work = itg.workspace(self.model.cg)
         self.x = np.zeros(N_STATE)
@@ -383,7 +385,7 @@ class Result:
                     wheel_profile=self.scenario.contact.wheel_profile, track_model=self.scenario.track_model,
                     irregularity=(self.scenario.irregularity.name if self.scenario.irregularity is not None
                                   else "none"),
-                    speed_table=self.scenario.speed_table.tolist(), rtol=self.scenario.rtol,
-                    atol=self.scenario.atol)
+                    faults=list(self.scenario.faults), speed_table=self.scenario.speed_table.tolist(),
+                    rtol=self.scenario.rtol, atol=self.scenario.atol)
         with atomic_write(path, "wb") as handle:
             np.savez_compressed(handle, metadata=jsonout.dumps(meta), **self.arrays())
