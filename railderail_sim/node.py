@@ -27,7 +27,7 @@ from railderail_sim.loads.wind import DIRECTION_RANGE_DEG, GUSTS, WIND_SPEED_RAN
 from railderail_sim.parameters import FRICTION_RANGE, TRACK_MODELS
 from railderail_sim.ros_interface import REAL_TIME_FACTOR_RANGE, ParameterSpec as P
 from railderail_sim.track.irregularity import SEEDS, SPECTRA, resolve
-from railderail_sim.vehicle.assemble import NORMAL_MODELS
+from railderail_sim.vehicle.assemble import FAULT_NAMES, NORMAL_MODELS
 from railderail_sim.vehicle.simulate import (RADIUS_RANGE, SPEED_RANGE_KMH, Simulation, SimulationDiverged,
                                              output_arrays)
 
@@ -57,6 +57,8 @@ PARAMETERS = (
       "left, -90 from the right", "deg", DIRECTION_RANGE_DEG, read_only=True),
     P("gust", "none", "steady wind (none) or the CEN extreme gust of EN 14067-6 at the middle of the curve",
       choices=GUSTS, read_only=True),
+    P("faults", [], "suspension faults, NAME@LOCATION (docs/vehicle-model.md, Suspension limits and faults)",
+      choices=FAULT_NAMES, read_only=True),
     P("publish_rate", 200.0, "wheelset states and contact forces per second of simulated time", "Hz",
       PUBLISH_RATE_RANGE, read_only=True),
     P("status_rate", 50.0, "vehicle status messages per second of simulated time, at most publish_rate", "Hz",
@@ -91,7 +93,7 @@ def build_scenario(p):
     irregularity = resolve(p["irregularity"], p["irregularity_seed"], base.track.line_length)
     wind = Wind(speed=p["wind_speed_m_s"], direction_deg=p["wind_direction_deg"], gust=p["gust"])
     return replace(base, output_rate=p["publish_rate"], irregularity=irregularity, track_model=p["track"],
-                   wind=wind if wind.blows else None).validated()
+                   wind=wind if wind.blows else None, faults=tuple(p["faults"])).validated()
 
 
 class SimulatorNode(Node):
@@ -101,7 +103,9 @@ class SimulatorNode(Node):
         self.scenario = build_scenario(self.p)
         self.get_logger().info(f"railderail simulator: building the model (R = {self.p['radius']:g} m, "
                                f"{self.p['speed_mode']} speed from {self.p['speed_kmh']:g} km/h, "
-                               f"{self.p['contact_model']} contact); the first run in a fresh checkout also "
+                               f"{self.p['contact_model']} contact"
+                               + "".join(f", {fault}" for fault in self.p["faults"])
+                               + "); the first run in a fresh checkout also "
                                "compiles the core (about a minute)")
         self.sim = Simulation(self.scenario)
         self.period = 1.0 / self.p["publish_rate"]

@@ -144,6 +144,23 @@ class VehicleParameters:
                                  "deflection points of the force law (zero force at the clearance); "
                                  "beyond the last point the last slope continues")
     bump_stop_force: tuple = _p((2.0e3, 5.0e3, 11.0e3, 25.5e3, 49.0e3), "N", "A380", "S")
+    # --- vertical travel limits (bump stops with a linear law beyond the clearance): no public source gives them
+    # for CRH3/Velaro/CRH380 (docs/vehicle-model.md, "Suspension limits and faults"); typical engineering values
+    air_spring_emergency_clearance: float = _p(0.035, "m", "model", "A",
+                                               "compression of the air spring before the car body rests on the "
+                                               "emergency (auxiliary rubber) spring inside it; typical 30-40 mm")
+    air_spring_emergency_stiffness: float = _p(2.5e6, "N/m", "model", "A",
+                                               "vertical stiffness of the emergency rubber spring, per air spring; "
+                                               "typical 1-5 MN/m (layered rubber under a quarter car body)")
+    air_spring_extension_clearance: float = _p(0.050, "m", "model", "A",
+                                               "extension of the air spring before its height restraint (stop or "
+                                               "safety cable) holds the car body")
+    air_spring_extension_stiffness: float = _p(5.0e6, "N/m", "model", "A", "stiffness of the height restraint")
+    primary_stop_clearance: float = _p(0.030, "m", "model", "A",
+                                       "compression of the primary coil spring before the frame rests on the axle "
+                                       "box's rubber stop; typical 20-40 mm (the static deflection is 43 mm)")
+    primary_stop_stiffness: float = _p(5.0e6, "N/m", "model", "A",
+                                       "vertical stiffness of the primary rubber stop, per axle box")
 
     def _scaled(self, mass, source):
         inertia, source_mass = source

@@ -223,13 +223,13 @@ class ParameterSpec:
     """One node parameter: its default, description, unit and accepted values (a row of a node's
     parameter table; `declare_parameters` declares a table)."""
     name: str
-    default: bool | int | float | str
+    default: bool | int | float | str | list    # a list: a string array
     description: str
     unit: str = ""
     accepted: tuple | None = None       # (lo, hi) of a number, both ends included unless lo_open
     lo_open: bool = False
     nan_disables: bool = False          # NaN is accepted: it disables what the parameter sets
-    choices: tuple = ()                 # the accepted strings
+    choices: tuple = ()                 # the accepted strings (of a string array: of each element)
     read_only: bool = False             # fixed once the node runs
 
     def checked(self, value):
@@ -244,6 +244,16 @@ class ParameterSpec:
         if self.accepted is not None:
             lo, hi = self.accepted
             check_range(self.name, value, lo, hi, self.unit, lo_open=self.lo_open, hi_open=math.isinf(hi))
+        if isinstance(self.default, list):
+            if value is None:           # a string array given as [] in a parameter file is left unset by rcl
+                return []
+            if isinstance(value, str) or not all(isinstance(v, str) for v in value):
+                raise ValueError(f"{self.name} {value!r} is not a list of strings")
+            value = list(value)
+            for v in value:
+                if self.choices and v not in self.choices:
+                    raise ValueError(f"{self.name}: {v!r} is not one of {', '.join(self.choices)}")
+            return value
         if self.choices and value not in self.choices:
             raise ValueError(f"{self.name} {value!r} is not one of {', '.join(self.choices)}")
         return value
@@ -257,7 +267,7 @@ class ParameterSpec:
         d = ParameterDescriptor(description=text, read_only=self.read_only,
                                 dynamic_typing=isinstance(self.default, float))
         if not d.dynamic_typing:
-            d.type = Parameter.Type.from_parameter_value(self.default).value
+            d.type = self.parameter_type.value
         if self.accepted is not None and all(map(math.isfinite, self.accepted)) and not self.nan_disables:
             lo, hi = self.accepted
             if isinstance(self.default, float):     # applies to doubles only: an integer value is checked by `checked`
@@ -265,8 +275,17 @@ class ParameterSpec:
             else:
                 d.integer_range = [IntegerRange(from_value=int(lo), to_value=int(hi), step=1)]
         if self.choices:
-            d.additional_constraints = "one of: " + ", ".join(self.choices)
+            d.additional_constraints = ("each " if isinstance(self.default, list) else "") + "one of: " + \
+                ", ".join(self.choices)
         return d
+
+    @property
+    def parameter_type(self):
+        """Its rclpy Parameter.Type (a list default is a string array, even empty: rclpy would take an empty
+        list for a byte array)."""
+        if isinstance(self.default, list):
+            return Parameter.Type.STRING_ARRAY
+        return Parameter.Type.from_parameter_value(self.default)
 
 
 def accepted_text(spec):
@@ -277,7 +296,7 @@ def accepted_text(spec):
         right = ")" if math.isinf(hi) else "]"
         parts.append(f"{'(' if spec.lo_open else '['}{lo:g}, {hi:g}{right}" + (f" {spec.unit}" if spec.unit else ""))
     if spec.choices:
-        parts.append("one of " + ", ".join(spec.choices))
+        parts.append(("each " if isinstance(spec.default, list) else "") + "one of " + ", ".join(spec.choices))
     return "; ".join(parts)
 
 
@@ -290,6 +309,8 @@ def yaml_value(value):
         return ".nan" if math.isnan(value) else repr(value)
     if isinstance(value, int):
         return str(value)
+    if isinstance(value, list):
+        return "[" + ", ".join(map(yaml_value, value)) + "]"
     return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
 
 
@@ -321,7 +342,13 @@ def declare_parameters(node, specs, check=None, apply=None):
     values = {}
     for spec in specs:
         first = ParameterDescriptor(dynamic_typing=isinstance(spec.default, float))
-        values[spec.name] = spec.checked(node.declare_parameter(spec.name, spec.default, first).value)
+        if isinstance(spec.default, list):
+            # declared by its type: a string array left unset (no override, or [] in a file) gets its default
+            if node.declare_parameter(spec.name, spec.parameter_type, first).type_ == Parameter.Type.NOT_SET:
+                node.set_parameters([Parameter(spec.name, spec.parameter_type, spec.default)])
+            values[spec.name] = spec.checked(node.get_parameter(spec.name).value)
+        else:
+            values[spec.name] = spec.checked(node.declare_parameter(spec.name, spec.default, first).value)
     if check is not None:
         check(values)
     for spec in specs:

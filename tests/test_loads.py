@@ -33,9 +33,10 @@ def closed_form(speed, wind, direction_deg):
 
 @pytest.fixture(scope="module")
 def windy_straight():
-    """200 km/h on straight track in a steady 25 m/s wind from the left, run until it has settled."""
+    """200 km/h on straight track in a steady 25 m/s wind from the left, for 20 s: the sudden wind sets the
+    car rolling, lightly damped, so that only the mean over the last 5 s is at rest."""
     sc = Scenario(track=straight_track(), speed_table=constant_speed(200.0), wind=Wind(25.0, 90.0),
-                  end_position=200.0 / 3.6 * 8.0, output_rate=100.0)
+                  end_position=200.0 / 3.6 * 20.0, output_rate=100.0)
     return simulate(sc)
 
 
@@ -53,9 +54,10 @@ def test_a_steady_wind_shifts_the_wheel_loads_as_the_roll_balance_says(windy_str
     """About the track centre line at rail level, at rest: the wind's rolling moment and the weight of the
     displaced bodies are carried by the wheel loads at the contact points, M_x - g sum(m y) + sum(Q y_c) = 0;
     the lateral contact forces act at rail level. The predicted shift of the load from the left wheels to the
-    right ones, (M_x - g sum(m y)) / b over the half distance b of the contact points, within 10 %."""
+    right ones, (M_x - g sum(m y)) / b over the half distance b of the contact points, within 3 % (the issue
+    asks for 10 %; what is left is the contact points' distance from b)."""
     r = windy_straight
-    last = r.time >= r.time[-1] - 1.0
+    last = r.time >= r.time[-1] - 5.0
     load = AeroLoad.split(r.rows[last][:, OutputRow.aerodynamics.columns])
     mx = load["rolling_moment"].mean()
     from railderail_sim.vehicle.assemble import body_table
@@ -67,7 +69,7 @@ def test_a_steady_wind_shifts_the_wheel_loads_as_the_roll_balance_says(windy_str
     q = r.wheel("vertical_force")[last].mean(axis=0)
     shift = q[1::2].sum() - q[0::2].sum()                   # right wheels minus left wheels
     assert len(masses) == N_BODY
-    assert shift == pytest.approx(predicted, rel=0.10)
+    assert shift == pytest.approx(predicted, rel=0.03)
     assert shift > mx / b                                   # the lee-ward shift of the bodies adds to it
 
 

@@ -130,3 +130,29 @@ def test_out_of_range_input_is_refused():
         replace(Scenario(), track=TrackParameters(radius=100.0)).validated()
     with pytest.raises(ValueError, match="speed 900 km/h is outside"):
         constant_speed(900.0)
+
+
+def test_the_suspension_exerts_no_net_force_or_moment_on_the_car():
+    """Newton's third law in its strong form: with every body displaced and moving (the air springs, primary
+    springs and stops sheared and loaded, the dampers working), the suspension's forces on the seven bodies
+    add up to zero force and zero moment about any point (here the track origin)."""
+    import numpy as np
+    from railderail_sim.vehicle import dynamics as dyn
+    from railderail_sim.vehicle.layout import N_BODY, N_STATE, State
+    from railderail_sim.vehicle.simulate import Simulation, scenario
+    sim = Simulation(scenario(radius=1000.0, speed_kmh=300.0))
+    rng = np.random.default_rng(7)
+    x = sim.x.copy()
+    positions = State.split(x)["positions"]
+    positions += rng.uniform(-0.03, 0.03, positions.shape)          # up to 30 mm and 30 mrad
+    State.split(x)["velocities"][:] += rng.uniform(-0.1, 0.1, positions.shape)
+    kin = np.zeros((N_BODY, dyn.K_COLS))
+    dyn.kinematics(x, sim.model.bodies, sim.model.track, sim.speed_table, kin)
+    dyn.suspension(x, np.zeros(N_STATE), sim.model.arrays, kin)
+    k = dyn.Kinematics.split(kin)
+    force, moment, where = k["force"], k["moment"], k["position"]
+    total_moment = moment.sum(axis=0) + np.cross(where, force).sum(axis=0)
+    scale = np.abs(force).max()
+    assert scale > 1e5                                               # the preloads are in it
+    assert np.abs(force.sum(axis=0)).max() < 1e-9 * scale
+    assert np.abs(total_moment).max() < 1e-9 * scale * 10.0          # N m, arms of metres

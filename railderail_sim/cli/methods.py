@@ -17,7 +17,7 @@ from ..parameters import (CANT_RANGE_MM, FRICTION_RANGE, TRACK_MODELS, VEHICLE_S
                           TrackParameters, vehicle_parameters)
 from ..track import irregularity as ir
 from ..ranges import check_range
-from ..vehicle.assemble import CONTACT_GEOMETRIES
+from ..vehicle.assemble import CONTACT_GEOMETRIES, FAULTS
 from ..vehicle.simulate import Scenario, constant_speed
 
 
@@ -32,6 +32,10 @@ def _common(parser):
     parser.add_argument("--geometry", default="table", choices=CONTACT_GEOMETRIES,
                         help="contact geometry: the precomputed contact table (online search outside it) or "
                              "the exact online search at every evaluation")
+    parser.add_argument("--fault", action="append", default=[], metavar="NAME@LOCATION",
+                        help="a suspension fault, repeatable: " + "; ".join(f"{name}@{'|'.join(locations)}" for
+                                                                         name, locations in FAULTS.items())
+                             + " (docs/vehicle-model.md, Suspension limits and faults)")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
 
 
@@ -76,8 +80,9 @@ def wind(args):
 
 
 def base_scenario(args, line_length_m=None, **track):
-    """The Scenario of the common options; with _track_args, the cant and the irregularity, a generated one
-    over line_length_m (default: the line of the track's parameters)."""
+    """The Scenario of the common options (the faults checked here, before any run); with _track_args, the
+    cant and the irregularity, a generated one over line_length_m (default: the line of the track's
+    parameters)."""
     check_range("friction coefficient", args.friction, *FRICTION_RANGE, lo_open=True)
     if getattr(args, "cant_mm", None) is not None:
         track["cant_height"] = check_range("cant", args.cant_mm, *CANT_RANGE_MM, "mm") / 1000.0
@@ -86,10 +91,10 @@ def base_scenario(args, line_length_m=None, **track):
     if hasattr(args, "irregularity"):
         irregularity = ir.resolve(args.irregularity, args.irregularity_seed, line_length_m or tp.line_length)
     return Scenario(vehicle=vehicle_parameters(args.vehicle_set), track=tp, irregularity=irregularity,
-                    track_model=getattr(args, "track", "rigid"), wind=wind(args),
+                    track_model=getattr(args, "track", "rigid"), wind=wind(args), faults=tuple(args.fault),
                     contact=ContactParameters(wheel_profile=args.wheel, normal_model=args.contact,
                                               creep_model=args.creep, friction_coefficient=args.friction,
-                                              contact_geometry=args.geometry))
+                                              contact_geometry=args.geometry)).validated()
 
 
 def _emit(args, obj, human):

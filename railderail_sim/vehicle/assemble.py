@@ -21,14 +21,46 @@ from ..loads.wind import still_air
 from ..track import alignment, rails
 from ..track.layout import ElasticTrack
 from .dynamics import ModelArrays
-from .layout import (BOGIES, BUMP_POINTS, CAR_BODY, N_DAMPER, WHEELSETS, AntiRollBar, BodyTable, BumpStop,
-                     Bushing, Damper, State, VehicleConstants)
+from .layout import (BOGIES, BUMP_POINTS, CAR_BODY, LATERAL, N_DAMPER, N_WHEELSET, VERTICAL, WHEELSETS,
+                     AntiRollBar, BodyTable, BumpStop, Bushing, Damper, State, VehicleConstants)
 
 WHEEL_GRID_STEP = 1.25e-4      # m; with parabolic refinement the gap minimum is right to ~1 micrometre
 CREEP_MODELS = {"linear": creep.LINEAR, "she": creep.SHEN_HEDRICK_ELKINS, "polach": creep.POLACH,
                 "fastsim": creep.FASTSIM}
 NORMAL_MODELS = {"hertz": wheelset.NORMAL_HERTZ, "discrete": wheelset.NORMAL_DISCRETE}
 CONTACT_GEOMETRIES = ("table", "online")
+LINEAR_LAW_SPAN = 0.010        # m; a linear stop's one law point lies this far beyond its clearance
+
+# Suspension faults, "NAME@LOCATION": each location names the elements it takes out, as (unit, side) pairs:
+# the unit a bogie (0 front, 1 rear) or, for a primary spring, a wheelset (0-3 from the front); the side
+# "left" or "right" (the lateral damper's mirrored halves count as its two sides). What each fault changes:
+# `element_tables` and docs/vehicle-model.md ("Suspension limits and faults").
+SIDES = {1.0: "left", -1.0: "right"}       # the side's sign of y (left positive)
+_BOGIE_UNITS = {"front": (0,), "rear": (1,), "both": (0, 1)}
+
+
+def _both_sides(units):
+    return frozenset((unit, side) for unit in units for side in SIDES.values())
+
+
+def _air_spring_locations():
+    """front-left, front-right, front, rear-left, rear-right, rear."""
+    locations = {}
+    for bogie in ("front", "rear"):
+        (unit,) = _BOGIE_UNITS[bogie]
+        locations.update({f"{bogie}-{side}": frozenset({(unit, side)}) for side in SIDES.values()})
+        locations[bogie] = _both_sides((unit,))
+    return locations
+
+
+FAULTS = {
+    "yaw-dampers-failed": {location: _both_sides(units) for location, units in _BOGIE_UNITS.items()},
+    "lateral-damper-failed": {location: _both_sides(units) for location, units in _BOGIE_UNITS.items()},
+    "air-spring-deflated": _air_spring_locations(),
+    "primary-spring-broken": {f"{w}-{side}": frozenset({(w, side)}) for w in range(N_WHEELSET)
+                              for side in SIDES.values()},
+}
+FAULT_NAMES = tuple(f"{name}@{location}" for name, locations in FAULTS.items() for location in locations)
 
 
 @dataclass
@@ -102,8 +134,47 @@ def _local(bodies, b, q):
     return (q[0] - bodies[b, BodyTable.station], q[1], q[2] - bodies[b, BodyTable.height])
 
 
-def element_tables(vp: VehicleParameters, bodies):
-    """Bushings, two-point dampers, bump stops and anti-roll bars with their nominal preloads."""
+def failed_elements(faults):
+    """The elements the faults (a sequence of FAULT_NAMES) take out, as a set of (fault name, unit, side)
+    (FAULTS); a ValueError names an unknown fault or location and lists the accepted ones."""
+    if isinstance(faults, str):
+        raise ValueError(f"faults {faults!r} must be a sequence of fault names, not one string")
+    failed = set()
+    for fault in faults:
+        name, _, location = str(fault).partition("@")
+        if name not in FAULTS:
+            raise ValueError(f"fault {fault!r} is unknown; the faults are NAME@LOCATION with NAME one of "
+                             f"{', '.join(FAULTS)}")
+        if location not in FAULTS[name]:
+            raise ValueError(f"fault {fault!r}: location {location!r} is not one of {', '.join(FAULTS[name])}")
+        failed.update((name, unit, side) for unit, side in FAULTS[name][location])
+    return frozenset(failed)
+
+
+def linear_law(clearance, stiffness):
+    """The (travel, force) points of a bump stop of constant stiffness (N/m) beyond its clearance (m)."""
+    return (clearance + LINEAR_LAW_SPAN,), (stiffness * LINEAR_LAW_SPAN,)
+
+
+def element_tables(vp: VehicleParameters, bodies, faults=()):
+    """Bushings, two-point dampers, bump stops and anti-roll bars with their nominal preloads, less what the
+    faults (FAULT_NAMES) take out:
+
+    - yaw-dampers-failed@front|rear|both: the bogie's two yaw dampers (both: all four) lose their damping and
+      carry no force (a damper without damping has no series spring either, dynamics.suspension);
+    - lateral-damper-failed@front|rear|both: the same for the bogie's lateral damper (both halves);
+    - air-spring-deflated@front-left|front-right|front|rear-left|rear-right|rear: the air spring's vertical
+      stiffness and its preload are gone; the car body comes down onto the emergency spring (its bump stop
+      after air_spring_emergency_clearance), which carries the load. The horizontal stiffness stays: the
+      bellows' shear is taken to pass to the emergency spring's rubber layers (an assumption, A);
+    - primary-spring-broken@W-left|W-right (W the wheelset, 0-3): the coil spring's vertical stiffness and
+      preload at that axle box are gone (guidance stiffness and damper stay); the frame corner comes down
+      onto the primary stop, which carries the load.
+
+    Bump stops: the lateral one per bogie (the bump_stop_* law, both sides), and vertical ones in body a's
+    axes: at each air spring the emergency spring (compression) and the height restraint (extension), at each
+    axle box the primary stop (compression); the vertical ones have linear laws (`linear_law`)."""
+    failed = failed_elements(faults)
     g = GRAVITY
     a = vp.bogie_semi_distance
     w = vp.wheelbase_semi
@@ -115,27 +186,56 @@ def element_tables(vp: VehicleParameters, bodies):
         bush.append(Bushing.pack(body_a=ba, body_b=bb, point_a=_local(bodies, ba, q), point_b=_local(bodies, bb, q),
                                  stiffness=k, damping=c, preload=f0))
 
-    def add_damper(ba, bb, qa, qb, knee, c1, c2, ks, state):
+    def add_damper(ba, bb, qa, qb, knee, c1, c2, ks, state, fault):
+        if fault in failed:
+            c1 = c2 = 0.0
         damp.append(Damper.pack(body_a=ba, body_b=bb, point_a=_local(bodies, ba, qa), point_b=_local(bodies, bb, qb),
                                 knee_velocity=knee, damping=c1, damping_after_knee=c2, series_stiffness=ks,
                                 length=math.dist(qa, qb), state=State.dampers + state))
+
+    def add_stop(ba, bb, q, axis, clearance_negative, clearance_positive, law):
+        travel, force = law
+        n = len(travel)
+        if not 1 <= n <= BUMP_POINTS or len(force) != n:
+            raise ValueError(f"a bump-stop law needs 1 to {BUMP_POINTS} (travel, force) points of equal count, "
+                             f"not {n} travels and {len(force)} forces")
+        points = np.zeros((2, BUMP_POINTS))
+        points[0, :n] = travel
+        points[1, :n] = force
+        bump.append(BumpStop.pack(body_a=ba, body_b=bb, point_a=_local(bodies, ba, q), point_b=_local(bodies, bb, q),
+                                  axis=axis, clearance_negative=clearance_negative,
+                                  clearance_positive=clearance_positive, points=n, travel=points[0],
+                                  force=points[1]))
 
     state = 0
     for i, bogie in enumerate(BOGIES):
         xb = a if i == 0 else -a
         toward_centre = -1.0 if i == 0 else 1.0
         for j, wsx in enumerate((xb + w, xb - w)):
-            wheelset_body = WHEELSETS[2 * i + j]
+            wheelset = 2 * i + j
             for side in (1.0, -1.0):
-                add_bush(bogie, wheelset_body, (wsx, side * vp.primary_semi_spacing, vp.rolling_radius),
+                q = (wsx, side * vp.primary_semi_spacing, vp.rolling_radius)
+                broken = ("primary-spring-broken", wheelset, SIDES[side]) in failed
+                add_bush(bogie, WHEELSETS[wheelset], q,
                          (vp.primary_longitudinal_stiffness, vp.primary_lateral_stiffness,
-                          vp.primary_vertical_stiffness),
+                          0.0 if broken else vp.primary_vertical_stiffness),
                          (0.0, vp.primary_lateral_damping, vp.primary_vertical_damping),
-                         (0.0, 0.0, -box_preload))
+                         (0.0, 0.0, 0.0 if broken else -box_preload))
+                # the wheelset rises toward the frame when the spring is compressed
+                add_stop(bogie, WHEELSETS[wheelset], q, VERTICAL, math.inf, vp.primary_stop_clearance,
+                         linear_law(vp.primary_stop_clearance, vp.primary_stop_stiffness))
         for side in (1.0, -1.0):
-            add_bush(bogie, CAR_BODY, (xb, side * vp.air_spring_semi_spacing, vp.secondary_height),
+            q = (xb, side * vp.air_spring_semi_spacing, vp.secondary_height)
+            deflated = ("air-spring-deflated", i, SIDES[side]) in failed
+            add_bush(bogie, CAR_BODY, q,
                      (vp.secondary_longitudinal_stiffness, vp.secondary_lateral_stiffness,
-                      vp.secondary_vertical_stiffness), (0.0, 0.0, 0.0), (0.0, 0.0, air_preload))
+                      0.0 if deflated else vp.secondary_vertical_stiffness), (0.0, 0.0, 0.0),
+                     (0.0, 0.0, 0.0 if deflated else air_preload))
+            # the car body comes down onto the emergency spring, or up against the height restraint
+            add_stop(bogie, CAR_BODY, q, VERTICAL, vp.air_spring_emergency_clearance, math.inf,
+                     linear_law(vp.air_spring_emergency_clearance, vp.air_spring_emergency_stiffness))
+            add_stop(bogie, CAR_BODY, q, VERTICAL, math.inf, vp.air_spring_extension_clearance,
+                     linear_law(vp.air_spring_extension_clearance, vp.air_spring_extension_stiffness))
             add_bush(bogie, CAR_BODY,
                      (xb, side * vp.secondary_vertical_damper_semi_spacing, vp.secondary_height),
                      (0.0, 0.0, 0.0), (0.0, 0.0, vp.secondary_vertical_damping), (0.0, 0.0, 0.0))
@@ -143,7 +243,8 @@ def element_tables(vp: VehicleParameters, bodies):
             qb = (xb + toward_centre * vp.yaw_damper_length, side * vp.yaw_damper_semi_spacing,
                   vp.yaw_damper_height)
             add_damper(bogie, CAR_BODY, qa, qb, vp.yaw_damper_knee_velocity, vp.yaw_damper_damping,
-                       vp.yaw_damper_damping_after_knee, vp.yaw_damper_series_stiffness, state)
+                       vp.yaw_damper_damping_after_knee, vp.yaw_damper_series_stiffness, state,
+                       ("yaw-dampers-failed", i, SIDES[side]))
             state += 1
     for i, bogie in enumerate(BOGIES):
         xb = a if i == 0 else -a
@@ -154,11 +255,10 @@ def element_tables(vp: VehicleParameters, bodies):
             add_damper(bogie, CAR_BODY, (xb, -side * half, vp.lateral_damper_height),
                        (xb, side * half, vp.lateral_damper_height), vp.lateral_damper_knee_velocity,
                        0.5 * vp.lateral_damper_damping, 0.5 * vp.lateral_damper_damping_after_knee,
-                       0.5 * vp.lateral_damper_series_stiffness, state)
+                       0.5 * vp.lateral_damper_series_stiffness, state, ("lateral-damper-failed", i, SIDES[side]))
             state += 1
-        q = (xb, 0.0, vp.bump_stop_height)
-        bump.append(BumpStop.pack(body_a=bogie, body_b=CAR_BODY, point_a=_local(bodies, bogie, q),
-                                  point_b=_local(bodies, CAR_BODY, q)))
+        add_stop(bogie, CAR_BODY, (xb, 0.0, vp.bump_stop_height), LATERAL, vp.bump_stop_clearance,
+                 vp.bump_stop_clearance, (vp.bump_stop_travel, vp.bump_stop_force))
         arb.append(AntiRollBar.pack(body_a=bogie, body_b=CAR_BODY, stiffness=vp.anti_roll_stiffness))
     assert state == N_DAMPER
     return np.array(bush), np.array(damp), np.array(bump), np.array(arb)
@@ -210,13 +310,6 @@ def contact_array(contact: ContactParameters, static_wheel_load=0.0):
 
 def vehicle_array(vp: VehicleParameters, cg, lift_tolerance):
     """The vehicle constants (layout.VehicleConstants)."""
-    n = len(vp.bump_stop_travel)
-    if not 1 <= n <= BUMP_POINTS or len(vp.bump_stop_force) != n:
-        raise ValueError(f"bump-stop law needs 1 to {BUMP_POINTS} (travel, force) points of equal count")
-    travel = np.zeros(BUMP_POINTS)
-    force = np.zeros(BUMP_POINTS)
-    travel[:n] = vp.bump_stop_travel
-    force[:n] = vp.bump_stop_force
     H = GeometryHeader
     # the flange face: the steepest part of the wheel between the rolling circle and the flange tip
     _, wheel_slope, _ = geometry.wheel_table(cg)
@@ -224,9 +317,8 @@ def vehicle_array(vp: VehicleParameters, cg, lift_tolerance):
     tip = int(round((cg[H.flange_tip_y] - cg[H.wheel_y0]) / cg[H.wheel_step]))
     flange_angle = float(np.max(np.arctan(np.abs(wheel_slope[min(i0, tip):max(i0, tip) + 1]))))
     return VehicleConstants.pack(gravity=GRAVITY, rolling_radius=vp.rolling_radius,
-                                 spin_inertia=vp.wheelset_spin_inertia, bump_clearance=vp.bump_stop_clearance,
-                                 bump_points=n, bump_travel=travel, bump_force=force,
-                                 flange_height=cg[H.flange_height], flange_contact_angle=0.5 * flange_angle,
+                                 spin_inertia=vp.wheelset_spin_inertia, flange_height=cg[H.flange_height],
+                                 flange_contact_angle=0.5 * flange_angle,
                                  lift_tolerance=lift_tolerance)
 
 
@@ -268,15 +360,16 @@ def support_array(track_model, elastic: ElasticTrackParameters, cg):
 
 def build_model(vehicle: VehicleParameters, track: TrackParameters, contact: ContactParameters,
                 lift_tolerance=1.0e-3, irregularity=None, track_model="rigid", elastic=ElasticTrackParameters(),
-                aero=None):
+                aero=None, faults=()):
     """Pack a scenario's parameters into a Model; `irregularity`: a `track.irregularity.Irregularity`, or
     None for ideal rails; `track_model` "rigid" or "elastic" (the co-running rails of `elastic`; the contact
     damping then comes from the track, `elastic_contact_damping`); `aero` the packed wind and aerodynamic
-    coefficients (`loads.wind.pack_aero`), None for still air."""
+    coefficients (`loads.wind.pack_aero`), None for still air; `faults`: the suspension faults
+    (FAULT_NAMES, `element_tables`)."""
     if track_model not in TRACK_MODELS:
         raise ValueError(f"track model {track_model!r} is unknown; choose one of {', '.join(TRACK_MODELS)}")
     bodies = body_table(vehicle)
-    bush, damp, bump, arb = element_tables(vehicle, bodies)
+    bush, damp, bump, arb = element_tables(vehicle, bodies, faults)
     cg = contact_geometry(contact, track, vehicle.rolling_radius)
     if track_model == "elastic":
         load = vehicle.static_wheel_load

@@ -29,8 +29,8 @@ from ..track import alignment as trk, rails
 from ..track import elastic as track_elastic
 from ..loads.layout import AeroHeader
 from ..track.layout import N_RAIL_DOF, ElasticTrack, RailDof
-from .layout import (CAR_BODY, AntiRollBar, BodyTable, BumpStop, Bushing, Damper, Dof, N_BODY, N_DOF, State, Vector,
-                     VehicleConstants, WHEELSETS)
+from .layout import (CAR_BODY, LATERAL, AntiRollBar, BodyTable, BumpStop, Bushing, Damper, Dof, N_BODY, N_DOF,
+                     State, Vector, VehicleConstants, WHEELSETS)
 
 # the model's arrays (built by vehicle.assemble), as the core's functions take them
 ModelArrays = namedtuple("ModelArrays", "bodies vp bush damp bump arb track rails support aero cg cp")
@@ -153,6 +153,17 @@ def _apply(kin, b, fx, fy, fz, ax, ay, az):
 
 
 @core
+def _apply_pair(kin, a, b, gx, gy, gz, aax, aay, aaz, abx, aby, abz, sx, sy, sz):
+    """Add the ground-axes force g on body b and -g on body a, both at the one point halfway between the
+    element's attachment points (at arms aa from a's and ab from b's reference point, b's point s = pb - pa
+    from a's). Applied each at its own body's point, the pair would make a couple s x g that nothing reacts:
+    a zero-length spring carrying a quarter of the car body (78.5 kN) sheared by 30 mm would roll the whole
+    car with 2.4 kN m of its own."""
+    _apply(kin, b, gx, gy, gz, abx - 0.5 * sx, aby - 0.5 * sy, abz - 0.5 * sz)
+    _apply(kin, a, -gx, -gy, -gz, aax + 0.5 * sx, aay + 0.5 * sy, aaz + 0.5 * sz)
+
+
+@core
 def _to_body_axes(kin, a, dx, dy, dz):
     R = kin[a, Kinematics.rotation:Kinematics.rotation + MATRIX]
     return (R[0] * dx + R[3] * dy + R[6] * dz, R[1] * dx + R[4] * dy + R[7] * dz,
@@ -188,17 +199,17 @@ def damper_rate(f, knee, c1, c2):
 
 
 @core
-def bump_force(vp, u):
-    """Bump-stop force magnitude (N) at lateral deflection magnitude u (m)."""
-    clear = vp[VehicleConstants.bump_clearance]
+def bump_force(stop, u, clear):
+    """Force magnitude (N) of the bump stop `stop` (a layout.BumpStop row) at travel magnitude u (m) on the
+    side whose clearance is `clear` (m)."""
     if u <= clear:
         return 0.0
-    n = int(vp[VehicleConstants.bump_points])
+    n = int(stop[BumpStop.points])
     u0 = clear
     f0 = 0.0
     for i in range(n):
-        u1 = vp[VehicleConstants.bump_travel + i]
-        f1 = vp[VehicleConstants.bump_force + i]
+        u1 = stop[BumpStop.travel + i]
+        f1 = stop[BumpStop.force + i]
         if u <= u1 or i == n - 1:
             return f0 + (f1 - f0) * (u - u0) / (u1 - u0)
         u0 = u1
@@ -259,7 +270,7 @@ def kinematics(x, bodies, track, sp, kin):
 @core
 def suspension(x, dx, model, kin):
     """Add all suspension forces to the kinematics accumulators; damper state rates into dx."""
-    vp, bush, damp, bump, arb = model.vp, model.bush, model.damp, model.bump, model.arb
+    bush, damp, bump, arb = model.bush, model.damp, model.bump, model.arb
     for e in range(bush.shape[0]):
         a = int(bush[e, Bushing.body_a])
         b = int(bush[e, Bushing.body_b])
@@ -274,8 +285,7 @@ def suspension(x, dx, model, kin):
         fy = f0y - ky * dly - cy * ddy
         fz = f0z - kz * dlz - cz * ddz
         gx, gy, gz = _to_ground(kin, a, fx, fy, fz)
-        _apply(kin, b, gx, gy, gz, abx, aby, abz)
-        _apply(kin, a, -gx, -gy, -gz, aax, aay, aaz)
+        _apply_pair(kin, a, b, gx, gy, gz, aax, aay, aaz, abx, aby, abz, pbx - pax, pby - pay, pbz - paz)
     for e in range(damp.shape[0]):
         a = int(damp[e, Damper.body_a])
         b = int(damp[e, Damper.body_b])
@@ -293,7 +303,9 @@ def suspension(x, dx, model, kin):
         c2 = damp[e, Damper.damping_after_knee]
         ks = damp[e, Damper.series_stiffness]
         si = int(damp[e, Damper.state])
-        if ks > 0.0:
+        # a damper without damping (a failed one, vehicle.assemble.FAULTS) carries no force: its series
+        # spring would have nothing to compress against (and damper_rate divides by the damping)
+        if ks > 0.0 and c1 > 0.0:
             f = ks * (length - damp[e, Damper.length] - x[si])
             dx[si] = damper_rate(f, knee, c1, c2)
         else:
@@ -307,13 +319,15 @@ def suspension(x, dx, model, kin):
         b = int(bump[e, BumpStop.body_b])
         pax, pay, paz, _, _, _, aax, aay, aaz = _point(kin, a, *_vector(bump[e], BumpStop.point_a))
         pbx, pby, pbz, _, _, _, abx, aby, abz = _point(kin, b, *_vector(bump[e], BumpStop.point_b))
-        _, dly, _ = _to_body_axes(kin, a, pbx - pax, pby - pay, pbz - paz)
-        f = bump_force(vp, abs(dly))
+        _, dly, dlz = _to_body_axes(kin, a, pbx - pax, pby - pay, pbz - paz)
+        lateral = int(bump[e, BumpStop.axis]) == LATERAL
+        d = dly if lateral else dlz
+        clear = bump[e, BumpStop.clearance_positive] if d > 0.0 else bump[e, BumpStop.clearance_negative]
+        f = bump_force(bump[e], abs(d), clear)
         if f > 0.0:
-            fy = -f if dly > 0.0 else f
-            gx, gy, gz = _to_ground(kin, a, 0.0, fy, 0.0)
-            _apply(kin, b, gx, gy, gz, abx, aby, abz)
-            _apply(kin, a, -gx, -gy, -gz, aax, aay, aaz)
+            fd = -f if d > 0.0 else f
+            gx, gy, gz = _to_ground(kin, a, 0.0, fd if lateral else 0.0, 0.0 if lateral else fd)
+            _apply_pair(kin, a, b, gx, gy, gz, aax, aay, aaz, abx, aby, abz, pbx - pax, pby - pay, pbz - paz)
     for e in range(arb.shape[0]):
         a = int(arb[e, AntiRollBar.body_a])
         b = int(arb[e, AntiRollBar.body_b])

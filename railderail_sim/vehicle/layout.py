@@ -104,12 +104,26 @@ class Damper(Record):
     state = "-", "index of its elongation state in the state vector"
 
 
+BUMP_POINTS = 8                          # points of a bump stop's force law at most
+LATERAL = 1                              # BumpStop.axis: body a's y axis
+VERTICAL = 2                             # BumpStop.axis: body a's z axis
+
+
 class BumpStop(Record):
-    """A lateral bump stop between coincident points (force law in the vehicle constants)."""
+    """A travel limit between coincident points: along one axis of body a, the relative displacement d of
+    body b's point from body a's meets the stop beyond a clearance on either side (inf: no stop on that
+    side); the force then follows the row's piecewise-linear law of |d|, from zero at the clearance through
+    the (travel, force) points, the last slope continuing beyond the last point, and pushes d back."""
     body_a = "-", "index of body a"
     body_b = "-", "index of body b"
     point_a = "m", "the point in body a's coordinates", (), Vector
     point_b = "m", "the same point in body b's coordinates", (), Vector
+    axis = "-", "the axis of the travel in body a's axes: LATERAL (1, y) or VERTICAL (2, z)"
+    clearance_negative = "m", "free travel for d < 0 (inf: no stop on that side)"
+    clearance_positive = "m", "free travel for d > 0 (inf: no stop on that side)"
+    points = "-", "number of points of the force law"
+    travel = "m", "|d| at each point of the force law (measured from the nominal position)", (BUMP_POINTS,)
+    force = "N", "force at each point of the force law", (BUMP_POINTS,)
 
 
 class AntiRollBar(Record):
@@ -119,18 +133,11 @@ class AntiRollBar(Record):
     stiffness = "N m/rad", "roll stiffness"
 
 
-BUMP_POINTS = 8                          # points of the bump-stop force law at most
-
-
 class VehicleConstants(Record):
     """The vehicle constants array vp of the core."""
     gravity = "m/s^2", "gravity"
     rolling_radius = "m", "nominal rolling radius"
     spin_inertia = "kg m^2", "wheelset spin inertia"
-    bump_clearance = "m", "lateral bump-stop clearance"
-    bump_points = "-", "number of points of the bump-stop law"
-    bump_travel = "m", "deflection at each point of the bump-stop law", (BUMP_POINTS,)
-    bump_force = "N", "force at each point of the bump-stop law", (BUMP_POINTS,)
     flange_height = "m", "flange height above the nominal rolling circle"
     flange_contact_angle = "rad", "a contact steeper than this is on the flange: half the wheel's flange angle"
     lift_tolerance = "m", "wheel lift short of the flange height at which a climbing wheel counts as derailed"

@@ -14,6 +14,10 @@ from . import integrator as itg
 from .layout import N_DOF, N_STATE, WHEELSETS, Damper, Dof, State
 from .simulate import Simulation, constant_speed, set_rolling
 
+N_SPRUNG = WHEELSETS[0]         # the car body and the bogie frames come first in the state
+SETTLED_RATE = 1.0e-6           # m/s and rad/s: the sprung bodies' largest velocity at rest
+MAX_SETTLE_S = 30.0             # s
+
 
 def rhs_function(model, speed_kmh):
     """f(x) -> dx/dt of the full model at a constant speed, with a full contact search every call."""
@@ -30,12 +34,13 @@ def rhs_function(model, speed_kmh):
 
 def active_states(model):
     """Indices kept in the linear model: all but the track position, the wheelsets' unused pitch angles
-    and the internal states of dampers without series stiffness."""
+    and the internal states of dampers without series stiffness or without damping (frozen, as in
+    dynamics.suspension)."""
     drop = {int(State.s)}
     for b in WHEELSETS:
         drop.add(State.positions + N_DOF * b + Dof.pitch)
     for e in range(model.damp.shape[0]):
-        if model.damp[e, Damper.series_stiffness] <= 0.0:
+        if model.damp[e, Damper.series_stiffness] <= 0.0 or model.damp[e, Damper.damping] <= 0.0:
             drop.add(int(model.damp[e, Damper.state]))
     return np.array([i for i in range(N_STATE) if i not in drop])
 
@@ -44,10 +49,17 @@ def equilibrium(sc, settle_time=1.0):
     """Centred equilibrium on the scenario's (straight) track: the static state settled in time, and the
     rolling radius of the centred wheel (to set the wheelsets' spin for another speed).
 
-    Lateral symmetry keeps every lateral state exactly zero; only the vertical ones settle.
+    Lateral symmetry keeps every lateral state of the symmetric car exactly zero; only the vertical ones
+    settle. The run goes on in pieces of settle_time until the car body and the bogie frames move slower
+    than SETTLED_RATE: the healthy car after the first piece; with a fault that moves the static position
+    (a deflated air spring) the car body comes down onto its emergency spring and stops bouncing first, in
+    some 15 s; MAX_SETTLE_S at most.
     """
     sim = Simulation(sc)
     sim.advance(settle_time)
+    while (np.max(np.abs(State.split(sim.x)["velocities"][:N_SPRUNG])) >= SETTLED_RATE
+           and sim.t < MAX_SETTLE_S):
+        sim.advance(settle_time)
     return sim.model, sim.x.copy(), sim.rolling_radius
 
 

@@ -24,7 +24,7 @@ from ..track.irregularity import Irregularity
 from ..track.layout import N_RAIL_DOF, ElasticTrack, RailDof
 from ..track.rails import rail_deviation
 from . import integrator as itg
-from .assemble import build_model, static_contact
+from .assemble import build_model, failed_elements, static_contact
 from .integrator import Event, StepControl, Stepper
 from .layout import N_DOF, N_OUT, N_STATE, N_WHEEL, WHEELSETS, Body, BodyTable, Dof, OutputRow, State, WheelsetOutput
 
@@ -87,6 +87,7 @@ class Scenario:
     elastic_track: ElasticTrackParameters = field(default_factory=ElasticTrackParameters)
     wind: Wind = None                       # the wind (loads.wind); None: still air
     aerodynamics: AerodynamicParameters = field(default_factory=AerodynamicParameters)
+    faults: tuple = ()                      # suspension faults, "NAME@LOCATION" (vehicle.assemble.FAULT_NAMES)
     rtol: float = RTOL
     atol: float = ATOL_DISPLACEMENT
     output_rate: float = 200.0              # Hz
@@ -105,6 +106,7 @@ class Scenario:
             raise ValueError(f"output rate {self.output_rate:g} Hz is outside 1-5000 Hz")
         if self.wind is not None:
             self.wind.validated()
+        failed_elements(self.faults)
         vmin = float(np.min(self.speed_table[:, 1]))
         vmax = float(np.max(self.speed_table[:, 1]))
         check_range("speed", vmin / KMH, *SPEED_RANGE_KMH, "km/h")
@@ -183,7 +185,7 @@ class Simulation:
                                                                  sc.lift_tolerance, sc.irregularity,
                                                                  sc.track_model, sc.elastic_track,
                                                                  pack_aero(sc.aerodynamics, sc.wind,
-                                                                           curve_middle(sc.track)))
+                                                                           curve_middle(sc.track)), sc.faults)
         self.speed_table = np.ascontiguousarray(sc.speed_table, dtype=np.float64)
         self.work = itg.workspace(self.model.cg)
         self.x = np.zeros(N_STATE)
@@ -398,7 +400,7 @@ class Result:
                     wind=None if self.scenario.wind is None else dict(
                         speed_m_s=self.scenario.wind.speed, direction_deg=self.scenario.wind.direction_deg,
                         gust=self.scenario.wind.gust),
-                    speed_table=self.scenario.speed_table.tolist(), rtol=self.scenario.rtol,
-                    atol=self.scenario.atol)
+                    faults=list(self.scenario.faults), speed_table=self.scenario.speed_table.tolist(),
+                    rtol=self.scenario.rtol, atol=self.scenario.atol)
         with atomic_write(path, "wb") as handle:
             np.savez_compressed(handle, metadata=jsonout.dumps(meta), **self.arrays())
