@@ -75,6 +75,12 @@ def _p(value, unit, source, sure, note=""):
     return field(default=value, metadata={"unit": unit, "source": source, "sure": sure, "note": note})
 
 
+def _rows(parameters):
+    """Rows (name, value, unit, source, sure, note) of a parameter dataclass's fields, for reports."""
+    return [(f.name, getattr(parameters, f.name), f.metadata["unit"], f.metadata["source"], f.metadata["sure"],
+             f.metadata["note"]) for f in fields(parameters) if f.metadata]
+
+
 @dataclass(frozen=True)
 class VehicleParameters:
     """CRH3 car (body, two bogie frames, four wheelsets) with its primary and secondary suspension."""
@@ -461,8 +467,7 @@ class ElasticTrackParameters:
 
     def describe(self):
         """Rows (name, value, unit, source, sure, note) for reports, with the co-running values."""
-        rows = [(f.name, getattr(self, f.name), f.metadata["unit"], f.metadata["source"], f.metadata["sure"],
-                 f.metadata["note"]) for f in fields(self)]
+        rows = _rows(self)
         for name, units in (("vertical", ("kg", "N/m", "N s/m")), ("lateral", ("kg", "N/m", "N s/m")),
                             ("roll", ("kg m^2", "N m/rad", "N m s/rad"))):
             what = ("inertia" if name == "roll" else "mass", "stiffness", "damping")
@@ -516,5 +521,4 @@ class AerodynamicParameters:
 
     def describe(self):
         """Rows (name, value, unit, source, sure, note) for reports."""
-        return [(f.name, getattr(self, f.name), f.metadata["unit"], f.metadata["source"], f.metadata["sure"],
-                 f.metadata["note"]) for f in fields(self)]
+        return _rows(self)

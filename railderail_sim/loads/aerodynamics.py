@@ -17,6 +17,7 @@ for every car.
 import math
 
 from ..jit import core
+from ..lookup import interval
 from .layout import A_COEFF, A_HEAD, A_WIND, AeroCoefficients, AeroHeader, WindPoint
 
 
@@ -24,7 +25,7 @@ from .layout import A_COEFF, A_HEAD, A_WIND, AeroCoefficients, AeroHeader, WindP
 def wind_speed(aero, s):
     """Wind speed (m/s) with the car-body centre at s: linear between the points, constant beyond the ends.
 
-    By hand in the core (a bisection): it runs at every evaluation of the equations of motion, where
+    By hand in the core (`lookup.interval`): it runs at every evaluation of the equations of motion, where
     numpy.interp cannot be called."""
     n = int(aero[AeroHeader.wind_points])
     o = A_HEAD + int(aero[AeroHeader.coefficient_points]) * A_COEFF
@@ -33,16 +34,8 @@ def wind_speed(aero, s):
     last = o + (n - 1) * A_WIND
     if s >= aero[last + WindPoint.s]:
         return aero[last + WindPoint.speed]
-    lo = 0
-    hi = n - 1
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if aero[o + mid * A_WIND + WindPoint.s] <= s:
-            lo = mid
-        else:
-            hi = mid
-    a = o + lo * A_WIND
-    b = o + hi * A_WIND
+    a = o + interval(aero, o + WindPoint.s, A_WIND, n, s) * A_WIND
+    b = a + A_WIND
     u = (s - aero[a + WindPoint.s]) / (aero[b + WindPoint.s] - aero[a + WindPoint.s])
     return aero[a + WindPoint.speed] + u * (aero[b + WindPoint.speed] - aero[a + WindPoint.speed])
 

@@ -18,6 +18,7 @@ velocity is subtracted) and the wheel's force and moment are turned back into tr
 import numpy as np
 
 from ..jit import core
+from ..lookup import interval
 from ..record import Record
 
 LINEAR, HERMITE = 0, 1
@@ -94,22 +95,15 @@ def rail_deviation(rails, side, s):
     """(lateral deviation, vertical deviation, lateral slope, vertical slope) of rail `side` (0 left, 1 right)
     at s; zero outside the points.
 
-    By hand in the core (a bisection and one cubic): it runs for every wheel at every evaluation of the
-    equations of motion, where numpy.interp and scipy's splines cannot be called.
+    By hand in the core (`lookup.interval` and one cubic): it runs for every wheel at every evaluation of
+    the equations of motion, where numpy.interp and scipy's splines cannot be called.
     """
     n = int(rails[IrregularityHeader.points])
     if n == 0 or s < rails[R_HEAD + IrregularityPoint.s] or s > rails[R_HEAD + (n - 1) * R_POINT + IrregularityPoint.s]:
         return 0.0, 0.0, 0.0, 0.0
-    lo = 0
-    hi = n - 1
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if rails[R_HEAD + mid * R_POINT + IrregularityPoint.s] <= s:
-            lo = mid
-        else:
-            hi = mid
+    lo = interval(rails, R_HEAD + IrregularityPoint.s, R_POINT, n, s)
     a = R_HEAD + lo * R_POINT
-    b = R_HEAD + hi * R_POINT
+    b = a + R_POINT
     lat = RailDeviation.left_lateral if side == 0 else RailDeviation.right_lateral
     ver = RailDeviation.left_vertical if side == 0 else RailDeviation.right_vertical
     da = a + IrregularityPoint.deviation
