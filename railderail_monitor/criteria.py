@@ -14,6 +14,8 @@ the monitor's parameters; the defaults are the shipped parameter file's, `defaul
 | `wheel_lift`             | wheel lift hp of each wheel (m)                | 1/3 flange height     | 2/3 flange height      |
 | `derailment_coefficient` | Q/P of each wheel (-)                          | 0.8 (EN 14363)        | Nadal's limit          |
 | `wheel_unloading`        | unloading ratio dP/P0 of each wheel (-)        | 0.60 (GB 5599-85)     | 0.65 (GB 5599-85)      |
+| `running_gear_unloading` | mean dP/P0 of a bogie's two wheels on one side | 0.90 (EN 14067-6)     | none                   |
+| `derailment_coefficient_duration` | Q/P of each wheel held 50 ms  | 1.0 (AAR Chapter XI)  | Nadal's limit          |
 
 Sources and confidence:
 - attack angle 0.06 rad on the front wheelset: Yu et al., Appl. Sci. 2022, 12, 11199 (the paper
@@ -29,6 +31,14 @@ Sources and confidence:
 - wheel unloading ratio dP/P0 = (P0 - P)/P0: GB 5599-85 gives 0.60 (allowable) and 0.65 (danger
   limit) (medium confidence: later Chinese codes, GB/T 5599-2019 and TB 10761, keep 0.6-0.65 for
   the dynamic ratio but with different evaluation windows and speed classes).
+
+- running-gear unloading: EN 14067-6's crosswind criterion, the mean unloading ratio of a running gear's
+  (bogie's) wheels on one side, limit 0.90 (as quoted in ../shared/reference/track-and-loads.md;
+  medium confidence on the evaluation, the standard's filter is not applied here).
+- derailment coefficient with a duration rule: Q/P at or above its level for at least
+  `duration_s` = 50 ms of time, not of track (AAR Manual of Standards, Chapter XI, single-wheel L/V
+  1.0 over 50 ms, and the Japanese practice of a duration; medium confidence, as quoted in the
+  issue tracker and TCRP Report 71; its CRITICAL level is Nadal's limit like the 2 m rule's).
 
 One event, one alert: a value must stay at or above its level over `debounce_m` of track (default
 2 m, the window length of EN 14363's Q/P sliding mean) before the alert is raised, and the channel
@@ -47,10 +57,18 @@ import numpy as np
 
 from railderail_sim.ranges import check_range
 
-CRITERIA = ("attack_angle", "wheel_lift", "derailment_coefficient", "wheel_unloading")
+CRITERIA = ("attack_angle", "wheel_lift", "derailment_coefficient", "wheel_unloading", "running_gear_unloading",
+            "derailment_coefficient_duration")
+BOGIE_PLACES = ((0, "left"), (0, "right"), (2, "left"), (2, "right"))   # a running gear by its leading wheelset
 SEVERITY_WARNING, SEVERITY_CRITICAL = 1, 2          # the Alert message's constants
 SEVERITY_NAMES = {SEVERITY_WARNING: "warning", SEVERITY_CRITICAL: "critical"}
 SIDES = ("left", "right")
+
+
+def critical_name(criterion):
+    """The Limits field of a criterion's CRITICAL level (the duration rule shares Nadal's limit with Q/P)."""
+    return "derailment_coefficient_critical" if criterion == "derailment_coefficient_duration" else \
+        criterion + "_critical"
 
 
 def _value(unit, meaning, source, default=MISSING, accepted=(0.0, math.inf), lo_open=True, nan_disables=False):
@@ -94,6 +112,14 @@ class Limits:
                                     "GB 5599-85 allowable value", 0.60)
     wheel_unloading_critical: float = _level("", "wheel unloading ratio, CRITICAL level",
                                              "GB 5599-85 danger limit", 0.65)
+    running_gear_unloading: float = _level("", "mean unloading ratio of a bogie's two wheels on one side, "
+                                           "WARNING level", "EN 14067-6 limit of the running-gear unloading", 0.90)
+    running_gear_unloading_critical: float = _level("", "running-gear unloading, CRITICAL level",
+                                                    "none in the sources, so disabled", math.nan)
+    derailment_coefficient_duration: float = _level("", "Q/P of each wheel held for duration_s, WARNING level",
+                                                    "AAR Chapter XI single-wheel L/V limit", 1.0)
+    duration_s: float = _value("s", "time Q/P must stay at or above a level for the duration criterion",
+                               "AAR Chapter XI: 50 ms", 0.05, (0.0, 10.0), False)
     debounce_m: float = _value("m", "track a value must stay at or above a level before its alert",
                                "the 2 m window of EN 14363's Q/P sliding mean", 2.0, (0.0, 100.0), False)
     rearm_fraction: float = _value("", "re-arm level of a channel after its alert, as a fraction of the threshold",
@@ -103,9 +129,10 @@ class Limits:
                             "level a few metres apart", 50.0, (0.0, 10000.0), False)
 
     def levels(self, criterion):
-        """[(severity, threshold)] of a criterion, enabled levels only."""
+        """[(severity, threshold)] of a criterion, enabled levels only (the duration rule's CRITICAL level is
+        Nadal's limit, derailment_coefficient_critical)."""
         out = [(SEVERITY_WARNING, getattr(self, criterion)),
-               (SEVERITY_CRITICAL, getattr(self, criterion + "_critical"))]
+               (SEVERITY_CRITICAL, getattr(self, critical_name(criterion)))]
         return [(sev, float(thr)) for sev, thr in out if math.isfinite(thr)]
 
     def validated(self):
@@ -117,9 +144,9 @@ class Limits:
                 lo, hi = meta["accepted"]
                 check_range(f.name, value, lo, hi, meta["unit"], lo_open=meta["lo_open"], hi_open=math.isinf(hi))
         for criterion in CRITERIA:
-            warn, crit = getattr(self, criterion), getattr(self, criterion + "_critical")
+            warn, crit = getattr(self, criterion), getattr(self, critical_name(criterion))
             if math.isfinite(warn) and math.isfinite(crit) and not warn < crit:
-                raise ValueError(f"{criterion} {warn:g} must be below {criterion}_critical {crit:g}")
+                raise ValueError(f"{criterion} {warn:g} must be below {critical_name(criterion)} {crit:g}")
         return self
 
     def as_dict(self):
@@ -175,6 +202,14 @@ def unloading_ratio(vertical_force, static_wheel_load):
     return (static_wheel_load - np.asarray(vertical_force, dtype=float)) / static_wheel_load
 
 
+def running_gear_unloading(unloading):
+    """Mean unloading ratio of each bogie's two wheels on one side (EN 14067-6), (..., 4) in the order of
+    BOGIE_PLACES, from the (..., 8) ratios of the wheels [wheelset 0 left, wheelset 0 right, ...]."""
+    u = np.asarray(unloading, dtype=float)
+    return np.stack([0.5 * (u[..., 2 * ws + side] + u[..., 2 * ws + 2 + side])
+                     for ws, side in ((0, 0), (0, 1), (2, 0), (2, 1))], axis=-1)
+
+
 def rail_side(wheel_side, curvature):
     """'inner' / 'outer' rail of a wheel on a curve of signed curvature (+ = curve to the left);
     '' on straight track."""
@@ -187,22 +222,24 @@ def rail_side(wheel_side, curvature):
 # --- debounce and hysteresis ------------------------------------------------------------------
 
 class Detector:
-    """One alert per event on one channel: the value must stay >= threshold over `debounce_m` of
-    track to raise the alert; the channel re-arms once the value has stayed below
-    rearm_fraction x threshold over `rearm_m` of track. `update` returns True on the sample that
-    raises the alert."""
+    """One alert per event on one channel: the value must stay >= threshold over `debounce` (m of
+    track, or s of time for a duration rule) to raise the alert; the channel re-arms once the value has
+    stayed below rearm_fraction x threshold over `rearm_m` of track. `update` returns True on the
+    sample that raises the alert."""
 
-    __slots__ = ("threshold", "rearm_level", "debounce_m", "rearm_m", "armed", "start")
+    __slots__ = ("threshold", "rearm_level", "debounce", "rearm_m", "armed", "start")
 
-    def __init__(self, threshold, debounce_m=2.0, rearm_fraction=0.9, rearm_m=50.0):
+    def __init__(self, threshold, debounce=2.0, rearm_fraction=0.9, rearm_m=50.0):
         self.threshold = float(threshold)
         self.rearm_level = float(rearm_fraction) * self.threshold
-        self.debounce_m = float(debounce_m)
+        self.debounce = float(debounce)
         self.rearm_m = float(rearm_m)
         self.armed = True
-        self.start = None      # track position where the value crossed (the level, or the re-arm level)
+        self.start = None      # where (or when) the value crossed (the level, or the re-arm level)
 
-    def update(self, value, position):
+    def update(self, value, position, clock=None):
+        """`clock`: what the debounce is measured on, the track position by default (a duration rule
+        passes the time); the re-arm is always measured on the track."""
         if not self.armed:
             if value < self.rearm_level:
                 if self.start is None:
@@ -213,10 +250,11 @@ class Detector:
             else:
                 self.start = None
             return False
+        at = position if clock is None else clock
         if value >= self.threshold:
             if self.start is None:
-                self.start = position
-            if position - self.start >= self.debounce_m:
+                self.start = at
+            if at - self.start >= self.debounce:
                 self.armed = False
                 self.start = None
                 return True
@@ -269,14 +307,18 @@ class Monitor:
     curvature (1/m, + left) of the latest status before sample i (so that the order in which the
     three topics of one sample arrive does not matter)."""
 
+    # (wheelset, side) of each channel of a criterion that is not per wheel; side '' for a wheelset
+    PLACES = {"attack_angle": ((0, ""),), "running_gear_unloading": BOGIE_PLACES}
+
     def __init__(self, limits: Limits = None):
         limits = (limits or default_limits()).validated()
         self.limits = limits
         d, r, rm = limits.debounce_m, limits.rearm_fraction, limits.rearm_m
         self.channels = {}
         for criterion in CRITERIA:
-            count = 1 if criterion == "attack_angle" else 8
-            self.channels[criterion] = [(sev, thr, [Detector(thr, d, r, rm) for _ in range(count)])
+            count = len(self.PLACES.get(criterion, range(8)))
+            debounce = limits.duration_s if criterion == "derailment_coefficient_duration" else d
+            self.channels[criterion] = [(sev, thr, [Detector(thr, debounce, r, rm) for _ in range(count)])
                                         for sev, thr in limits.levels(criterion)]
         self.curvatures = collections.deque(maxlen=256)       # (sample, curvature), arrival order
 
@@ -289,32 +331,33 @@ class Monitor:
                 return k
         return 0.0
 
-    def _check(self, criterion, values, t, sample, position, speed, wheelsets):
+    def _check(self, criterion, values, t, sample, position, speed):
         t, sample, position, speed = float(t), int(sample), float(position), float(speed)
+        clock = t if criterion == "derailment_coefficient_duration" else None
         alerts = []
         for sev, thr, detectors in self.channels[criterion]:
             for k, detector in enumerate(detectors):
                 value = float(values[k])
-                if detector.update(value, position):
-                    if wheelsets is None:            # per wheel
-                        ws, side = k // 2, SIDES[k % 2]
-                        rail = rail_side(side, self.curvature_before(sample))
-                    else:
-                        ws, side, rail = wheelsets[k], "", ""
+                if detector.update(value, position, clock):
+                    ws, side = self.PLACES[criterion][k] if criterion in self.PLACES else (k // 2, SIDES[k % 2])
+                    rail = rail_side(side, self.curvature_before(sample)) if side else ""
                     alerts.append(AlertRecord(t, sample, criterion, sev, value, thr, ws, side, rail, position,
                                               speed, describe(criterion, sev, value, thr, ws, side, rail)))
         return alerts
 
     def on_states(self, t, sample, position, speed, attack_angle, wheel_lift):
         """Attack angle (4 wheelsets, rad) and wheel lift (8 wheels, m) of one sample."""
-        return (self._check("attack_angle", [front_attack_angle(attack_angle)], t, sample, position, speed, (0,))
-                + self._check("wheel_lift", wheel_lift, t, sample, position, speed, None))
+        return (self._check("attack_angle", [front_attack_angle(attack_angle)], t, sample, position, speed)
+                + self._check("wheel_lift", wheel_lift, t, sample, position, speed))
 
     def on_forces(self, t, sample, position, speed, derailment_coefficient, vertical_force):
         """Q/P (8 wheels) and vertical forces P (8 wheels, N) of one sample."""
         unloading = unloading_ratio(vertical_force, self.limits.static_wheel_load)
-        return (self._check("derailment_coefficient", derailment_coefficient, t, sample, position, speed, None)
-                + self._check("wheel_unloading", unloading, t, sample, position, speed, None))
+        return (self._check("derailment_coefficient", derailment_coefficient, t, sample, position, speed)
+                + self._check("derailment_coefficient_duration", derailment_coefficient, t, sample, position, speed)
+                + self._check("wheel_unloading", unloading, t, sample, position, speed)
+                + self._check("running_gear_unloading", running_gear_unloading(unloading), t, sample, position,
+                              speed))
 
 
 def alerts_of_run(arrays, limits: Limits = None):

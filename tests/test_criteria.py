@@ -78,11 +78,11 @@ def test_debounce_over_distance():
     # threshold 1, debounce 2 m, samples every 1 m: above from index 3 on -> alert at index 5
     values = [0, 0, 0, 1.2, 1.1, 1.3, 1.4, 1.5]
     positions = np.arange(len(values), dtype=float)
-    assert detect(values, positions, 1.0, debounce_m=2.0) == [5]
+    assert detect(values, positions, 1.0, debounce=2.0) == [5]
     # a 1-m spike does not pass a 2-m debounce
-    assert detect([0, 2, 2, 0, 0], np.arange(5.0), 1.0, debounce_m=2.0) == []
+    assert detect([0, 2, 2, 0, 0], np.arange(5.0), 1.0, debounce=2.0) == []
     # no debounce: the first sample at the level
-    assert detect([0, 0.5, 1.0, 2.0], np.arange(4.0), 1.0, debounce_m=0.0) == [2]
+    assert detect([0, 0.5, 1.0, 2.0], np.arange(4.0), 1.0, debounce=0.0) == [2]
 
 
 def test_one_event_one_alert_with_hysteresis():
@@ -91,14 +91,14 @@ def test_one_event_one_alert_with_hysteresis():
     # then above again: two alerts, not hundreds
     values = [1.5] * 500 + [0.5] * 60 + [1.5] * 10
     positions = np.arange(len(values), dtype=float)
-    assert detect(values, positions, thr, debounce_m=0.0, rearm_m=50.0) == [0, 560]
+    assert detect(values, positions, thr, debounce=0.0, rearm_m=50.0) == [0, 560]
     # dips to 0.95 (above the re-arm level) do not re-arm
     wobble = [1.5, 0.95, 1.5, 0.95, 1.5] * 40
-    assert detect(wobble, np.arange(200.0), thr, debounce_m=0.0, rearm_m=0.0) == [0]
+    assert detect(wobble, np.arange(200.0), thr, debounce=0.0, rearm_m=0.0) == [0]
     # a dip below the re-arm level that is shorter than rearm_m does not re-arm either
     dip = [1.5] * 5 + [0.5] * 10 + [1.5] * 5
-    assert detect(dip, np.arange(20.0), thr, debounce_m=0.0, rearm_m=50.0) == [0]
-    assert detect(dip, np.arange(20.0), thr, debounce_m=0.0, rearm_m=5.0) == [0, 15]
+    assert detect(dip, np.arange(20.0), thr, debounce=0.0, rearm_m=50.0) == [0]
+    assert detect(dip, np.arange(20.0), thr, debounce=0.0, rearm_m=5.0) == [0, 15]
 
 
 # --- the monitor ------------------------------------------------------------------------------
@@ -132,8 +132,33 @@ def test_monitor_by_hand():
     assert first[("wheel_lift", 1, 0, "left")].time_s == pytest.approx(1.309, abs=0.006)
     assert first[("derailment_coefficient", 1, 0, "right")].time_s == pytest.approx(0.70, abs=0.006)
     assert first[("attack_angle", 1, 0, "")].value == pytest.approx(0.07)
-    # one alert per event and level: 4 + 4 unloading, 2 lift, 1 Q/P, 1 attack angle
-    assert len(alerts) == 12
+    # the running gear's mean of its two left wheels reaches EN 14067-6's 0.90 at t = 0.9 x 1.2 = 1.08 s
+    for ws in (0, 2):
+        assert first[("running_gear_unloading", 1, ws, "left")].time_s == pytest.approx(1.08, abs=0.006)
+    # one alert per event and level: 4 + 4 unloading, 2 lift, 1 Q/P, 1 attack angle, 2 running gears
+    # (Q/P stays below the duration rule's 1.0)
+    assert len(alerts) == 14
+
+
+@pytest.mark.parametrize("speed", [20.0, 80.0])
+def test_the_duration_rule_counts_time_not_track(speed):
+    """Q/P 1.2 on one wheel for 40 ms raises nothing, for 60 ms a warning after 50 ms, at any speed
+    (AAR Chapter XI); the 2 m rule on the same values depends on the speed: at 80 m/s the 40 ms event
+    covers 3.2 m and alerts after 2 m (25 ms), at 20 m/s neither event covers 2 m."""
+    n = 200
+    t = np.arange(n) * 0.005
+    qp = np.zeros((n, 8))
+    qp[(t >= 0.1) & (t < 0.14), 3] = 1.2                       # 40 ms (8 samples)
+    qp[(t >= 0.5) & (t < 0.56), 3] = 1.2                       # 60 ms (12 samples)
+    monitor = C.Monitor(_limits(derailment_coefficient_critical=1.32))
+    alerts = []
+    for i in range(n):
+        alerts += monitor.on_forces(t[i], i, speed * t[i], speed, qp[i],
+                                    np.full(8, monitor.limits.static_wheel_load))
+    duration = [a for a in alerts if a.criterion == "derailment_coefficient_duration"]
+    assert [(a.time_s, a.wheelset, a.wheel_side) for a in duration] == [(pytest.approx(0.55), 1, "right")]
+    track = [a.time_s for a in alerts if a.criterion == "derailment_coefficient" and a.severity == 1]
+    assert track == ([pytest.approx(0.125)] if speed == 80.0 else [])
 
 
 def test_arrival_order_of_a_sample_s_topics_does_not_matter():
