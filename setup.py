@@ -26,7 +26,7 @@ setup(
     python_requires=">=3.11",
     packages=find_packages(include=["railderail_sim", "railderail_sim.*",
                                     "railderail_monitor", "railderail_monitor.*"]),
-    package_data={"railderail_sim": ["profiles/data/*", "config/*.yaml"], "railderail_monitor": ["config/*.yaml"]},
+    package_data={"railderail_sim": ["profiles/data/*", "config/*.yaml"], "railderail_monitor": ["config/*.yaml", "config/*.csv"]},
     data_files=[
         ("share/ament_index/resource_index/packages", [f"resource/{PACKAGE}"]),
         (f"share/{PACKAGE}", ["package.xml"]),
@@ -58,6 +58,7 @@ setup(
         ],
         # subcommands and benchmark groups of railderail_monitor, found by railderail_sim.cli and .bench
         "railderail.commands": ["monitor = railderail_monitor.commands:COMMANDS"],
-        "railderail.bench": ["ros = railderail_monitor.benchmark:run"],
+        "railderail.bench": ["ros = railderail_monitor.benchmark:run",
+                             "warnings = railderail_monitor.warning_catalogue:bench"],
     },
 )

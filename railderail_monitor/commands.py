@@ -13,6 +13,7 @@ COMMANDS = (
      "railderail_monitor.viewer:command"),
     ("monitor-params", "the monitor's parameter file (thresholds) of a wheel, rail, friction and vehicle set",
      "railderail_monitor.monitor_params:command"),
-    ("warnings", "warning quality: lead time and false alarms of each criterion over the six radii",
+    ("warnings", "warning quality: lead time and false alarms of each criterion over the six radii, or over a "
+     "scenario catalogue with thresholds swept (--catalogue)",
      "railderail_monitor.warning_quality:command"),
 )

@@ -55,14 +55,17 @@ from dataclasses import MISSING, asdict, dataclass, field, fields
 
 import numpy as np
 
+from railderail_sim.parameters import RUNNING_GEAR_UNLOADING_LIMIT
 from railderail_sim.ranges import check_range
+from railderail_sim.vehicle.layout import RUNNING_GEARS, running_gear_sides
 
+SIDES = ("left", "right")
 CRITERIA = ("attack_angle", "wheel_lift", "derailment_coefficient", "wheel_unloading", "running_gear_unloading",
             "derailment_coefficient_duration")
-BOGIE_PLACES = ((0, "left"), (0, "right"), (2, "left"), (2, "right"))   # a running gear by its leading wheelset
+# a running gear's side by its leading wheelset, in the order of vehicle.layout.running_gear_sides
+BOGIE_PLACES = tuple((gear[0], side) for gear in RUNNING_GEARS for side in SIDES)
 SEVERITY_WARNING, SEVERITY_CRITICAL = 1, 2          # the Alert message's constants
 SEVERITY_NAMES = {SEVERITY_WARNING: "warning", SEVERITY_CRITICAL: "critical"}
-SIDES = ("left", "right")
 
 
 def critical_name(criterion):
@@ -113,7 +116,8 @@ class Limits:
     wheel_unloading_critical: float = _level("", "wheel unloading ratio, CRITICAL level",
                                              "GB 5599-85 danger limit", 0.65)
     running_gear_unloading: float = _level("", "mean unloading ratio of a bogie's two wheels on one side, "
-                                           "WARNING level", "EN 14067-6 limit of the running-gear unloading", 0.90)
+                                           "WARNING level", "EN 14067-6 limit of the running-gear unloading",
+                                           RUNNING_GEAR_UNLOADING_LIMIT)
     running_gear_unloading_critical: float = _level("", "running-gear unloading, CRITICAL level",
                                                     "none in the sources, so disabled", math.nan)
     derailment_coefficient_duration: float = _level("", "Q/P of each wheel held for duration_s, WARNING level",
@@ -205,9 +209,7 @@ def unloading_ratio(vertical_force, static_wheel_load):
 def running_gear_unloading(unloading):
     """Mean unloading ratio of each bogie's two wheels on one side (EN 14067-6), (..., 4) in the order of
     BOGIE_PLACES, from the (..., 8) ratios of the wheels [wheelset 0 left, wheelset 0 right, ...]."""
-    u = np.asarray(unloading, dtype=float)
-    return np.stack([0.5 * (u[..., 2 * ws + side] + u[..., 2 * ws + 2 + side])
-                     for ws, side in ((0, 0), (0, 1), (2, 0), (2, 1))], axis=-1)
+    return running_gear_sides(unloading)
 
 
 def rail_side(wheel_side, curvature):
@@ -261,6 +263,58 @@ class Detector:
         else:
             self.start = None
         return False
+
+
+def alert_indices(values, position, threshold, debounce=2.0, rearm_fraction=0.9, rearm_m=50.0, clock=None):
+    """The samples at which a Detector fed (values[i], position[i], clock[i]) raises its alerts, found over
+    the runs of samples above the level and below the re-arm level instead of sample by sample: the same
+    decisions (the same comparisons of the same differences), so that a threshold sweep over long runs
+    (`warning_catalogue`) is what the monitor would have said at each threshold. Positions (and the clock)
+    must not decrease."""
+    v = np.asarray(values, dtype=float)
+    pos = np.asarray(position, dtype=float)
+    at = pos if clock is None else np.asarray(clock, dtype=float)
+    above = np.flatnonzero(v >= float(threshold))
+    not_above = np.flatnonzero(~(v >= float(threshold)))
+    rearm_level = float(rearm_fraction) * float(threshold)
+    below = np.flatnonzero(v < rearm_level)
+    not_below = np.flatnonzero(~(v < rearm_level))
+    n = len(v)
+
+    def first_after(indices, i):
+        k = np.searchsorted(indices, i)
+        return int(indices[k]) if k < len(indices) else n
+
+    def held(coordinate, start, end, length):
+        """The first sample in [start, end) whose coordinate is `length` past the start's, else end."""
+        k = int(np.searchsorted(coordinate[start:end], coordinate[start] + length)) + start
+        k = max(k - 1, start)                  # the exact comparison decides, not the sum's rounding
+        while k < end and not coordinate[k] - coordinate[start] >= length:
+            k += 1
+        return k
+
+    alerts, i, armed = [], 0, True
+    while i < n:
+        if armed:
+            start = first_after(above, i)
+            if start >= n:
+                break
+            end = first_after(not_above, start)
+            k = held(at, start, end, float(debounce))
+            if k < end:
+                alerts.append(k)
+                armed = False
+            i = k + 1 if k < end else end
+        else:
+            start = first_after(below, i)
+            if start >= n:
+                break
+            end = first_after(not_below, start)
+            k = held(pos, start, end, float(rearm_m))
+            if k < end:
+                armed = True
+            i = k + 1 if k < end else end
+    return alerts
 
 
 # --- the monitor --------------------------------------------------------------------------------

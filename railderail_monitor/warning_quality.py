@@ -221,6 +221,19 @@ def evaluate(radii, critical=None, cases=CASES, workers=None, friction=0.3, prog
                 summary=summarize(runs))
 
 
+def run_catalogue(args):
+    """`railderail warnings --catalogue [FILE]` (warning_catalogue)."""
+    from . import catalogue, warning_catalogue as wc
+    check_range("--false-alarms-per-1000-km", args.false_alarms_per_1000_km, 0.0, 1.0e6)
+    entries = catalogue.load(None if args.catalogue == "shipped" else args.catalogue)
+    cache = args.cache or (str(Path(args.out) / "cache") if args.out else None)
+    result = wc.evaluate(entries, cache=cache, workers=args.workers, scheduler=args.scheduler,
+                         progress=not args.json, budget=args.false_alarms_per_1000_km)
+    if args.out:
+        print(f"wrote {wc.write(result, args.out)}", file=sys.stderr)
+    print(jsonout.dumps(result, indent=1) if args.json else wc.markdown(result))
+
+
 def command(parser: argparse.ArgumentParser):
     parser.add_argument("--radii", default=",".join(f"{r:g}" for r in PAPER_RADII), help="curve radii, m")
     parser.add_argument("--critical", metavar="SWEEP.json",
@@ -229,8 +242,18 @@ def command(parser: argparse.ArgumentParser):
     parser.add_argument("--workers", type=int, default=None, help="processes (default: CPU count)")
     parser.add_argument("--out", metavar="DIR", help="also write DIR/warnings.json and DIR/warnings.md")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
+    parser.add_argument("--catalogue", nargs="?", const="shipped", metavar="FILE.yaml",
+                        help="evaluate a scenario catalogue instead (railderail_monitor/catalogue.py; no FILE: the "
+                             "shipped one), every criterion over its thresholds")
+    parser.add_argument("--cache", metavar="DIR", default=None,
+                        help="with --catalogue: keep each run's result here (default OUT/cache, or none)")
+    parser.add_argument("--scheduler", default=None, help="with --catalogue: a Dask scheduler's address")
+    parser.add_argument("--false-alarms-per-1000-km", type=float, default=0.1,
+                        help="with --catalogue: the false-alarm budget of the recommended thresholds")
 
     def run(args):
+        if args.catalogue is not None:
+            return run_catalogue(args)
         try:
             radii = [float(x) for x in args.radii.split(",") if x]
         except ValueError:

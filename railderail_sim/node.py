@@ -266,9 +266,9 @@ def run_until_done(node, executor):
     """Spin until the run stops, stay up `linger_s` for late subscribers and until the reliable
     readers of the latched topics acknowledged; or, with exit_when_done false, until Ctrl-C."""
     if not node.p["exit_when_done"]:
-        executor.spin()
+        m.spin_until(executor)
         return node.exit_code
-    executor.spin_until_future_complete(node.done)
+    m.spin_until(executor, node.done.done)
     end = time.monotonic() + node.p["linger_s"]
     while time.monotonic() < end:
         executor.spin_once(timeout_sec=0.05)

@@ -25,6 +25,8 @@ the HS19 radius of gyration is used and marked A.
 from dataclasses import dataclass, field, fields, replace
 import math
 
+from .ranges import check_range
+
 SOURCES = {
     "Yu2022": "Yu R., Ma H., Zhang J., Niu Y., A Method of Predicting Critical Derailment Speed and "
               "Analysis of Derailment Process, Appl. Sci. 2022, 12, 11199, Tables 1-2",
@@ -333,6 +335,12 @@ class TrackParameters:
         theta = self.cant_angle
         return math.sqrt(self.radius * (acceleration + GRAVITY * math.sin(theta)) / math.cos(theta))
 
+    def radius_at_uncompensated_acceleration(self, speed, acceleration):
+        """Radius (m) of the circular curve on this cant at which `speed` (m/s) gives the uncompensated
+        lateral acceleration `acceleration` (m/s^2): the inverse of `uncompensated_acceleration`."""
+        theta = self.cant_angle
+        return speed * speed * math.cos(theta) / (acceleration + GRAVITY * math.sin(theta))
+
     def speed_at_cant_deficiency(self, deficiency):
         """Speed (m/s) on the circular curve at a cant deficiency (m): the uncompensated acceleration
         g D / e of the deficiency D on the rail spacing e (EN 13803); 0 gives the balance speed."""
@@ -371,6 +379,12 @@ class ContactParameters:
 
 
 GRAVITY = 9.81  # m/s^2, standard value used throughout
+# EN 14067-6 (SOURCES["EN14067"], S): the wheel unloading dQ/Q0 of the most unloaded running gear at which a
+# characteristic wind speed is read, and the monitor's default level of the same criterion
+RUNNING_GEAR_UNLOADING_LIMIT = 0.90
+# Hz; the low-pass of dQ/Q0 before its peak is read: the standard's filter as quoted second hand, not read in
+# the standard (A)
+RUNNING_GEAR_UNLOADING_FILTER_HZ = 2.0
 FRICTION_RANGE = (0.0, 1.0)     # accepted wheel-rail friction coefficients, (0, 1]
 CANT_RANGE_MM = (0.0, 200.0)    # accepted cant heights (mm); EN 13803 allows up to 180 mm (200 mm on ballastless track)
 
@@ -502,7 +516,24 @@ class AerodynamicParameters:
     gust_turbulence_intensity: float = _p(0.10, "-", "CENgust", "A", "open flat ground; not read in the standard")
     gust_length_scale: float = _p(50.0, "m", "CENgust", "A",
                                   "the hat's exponential decay length along the track; not read in the standard")
-    yaw_angle_step_deg: float = _p(5.0, "deg", "model", "A", "step of the coefficient table over 0-90 deg")
+    gust_ramp: float = _p(300.0, "m", "model", "A",
+                          "the mean wind rises from still air over this length before the gust's hat (the car "
+                          "meets the gust settled; the standard starts from the mean wind)")
+    yaw_angle_step_deg: float = _p(5.0, "deg", "model", "A", "step of the coefficient table over 0-90 deg; "
+                                   "a divisor of 90")
+
+    def validated(self):
+        """self if every value is positive (the step a divisor of 90 deg), else ValueError naming it."""
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if f.name in ("centre_of_pressure_height", "nose_arm", "cross_flow_lift", "gust_turbulence_intensity"):
+                check_range(f.name, value, 0.0, 1.0e3, f.metadata["unit"])
+            else:
+                check_range(f.name, value, 0.0, 1.0e4, f.metadata["unit"], lo_open=True)
+        steps = 90.0 / self.yaw_angle_step_deg
+        if abs(steps - round(steps)) > 1e-9:
+            raise ValueError(f"yaw_angle_step_deg {self.yaw_angle_step_deg:g} deg does not divide 90 deg")
+        return self
 
     def coefficients(self):
         """The coefficient table: rows (beta rad, C_Fy, C_Fz, C_Mx, C_My, C_Mz) over 0-90 deg, the moments

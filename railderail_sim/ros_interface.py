@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import importlib
 import math
+import signal
 import sys
 from dataclasses import dataclass
 
@@ -33,6 +34,7 @@ from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescri
 from rclpy.exceptions import ParameterException
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.parameter import Parameter
+from rclpy.signals import SignalHandlerOptions
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from rosgraph_msgs.msg import Clock
 
@@ -379,6 +381,21 @@ def declare_parameters(node, specs, check=None, apply=None):
 
 # --- running a node -------------------------------------------------------------------------------
 
+SPIN_PERIOD_S = 0.1       # the longest a node waits for work before it looks at Ctrl-C again
+
+
+def spin_until(executor, until=None):
+    """Spin until `until()` is true (default: until Ctrl-C), waiting at most SPIN_PERIOD_S at a time:
+    without rclpy's signal handlers (`run_node`) a wait is not woken by a signal, so a Ctrl-C is taken
+    at the next period."""
+    while until is None or not until():
+        executor.spin_once(timeout_sec=SPIN_PERIOD_S)
+
+
+def _interrupt(signum, frame):
+    raise KeyboardInterrupt
+
+
 def run_node(prog, make_node, args=None, spin=None):
     """Run one node as every railderail node runs, and return the process's exit status.
 
@@ -388,8 +405,14 @@ def run_node(prog, make_node, args=None, spin=None):
     its return value is the status). Ctrl-C or SIGTERM ends it cleanly with status 0. The node runs
     on an executor of its own, shut down before the node and the context (rclpy's global one would
     be torn down at interpreter exit, after them); the node's `destroy_node` is where it finishes
-    its work (closes its file, prints its summary)."""
-    rclpy.init(args=args)
+    its work (closes its file, prints its summary).
+
+    Signals are Python's, not rclpy's: rclpy's handlers shut the context down from a thread of their
+    own while the node may still be using it, which made a Ctrl-C at start end in "rcl_shutdown already
+    called" or a segmentation fault (CI, twice); here Ctrl-C and SIGTERM raise KeyboardInterrupt in the
+    main thread, between callbacks (`spin_until` waits in short periods), and the context is shut down there."""
+    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    previous = signal.signal(signal.SIGTERM, _interrupt)
     executor = SingleThreadedExecutor()
     node = None
     try:  # from here on, Ctrl-C (KeyboardInterrupt) or SIGTERM ends the node cleanly
@@ -403,7 +426,7 @@ def run_node(prog, make_node, args=None, spin=None):
             return 1
         executor.add_node(node)
         if spin is None:
-            executor.spin()
+            spin_until(executor)
             return 0
         return spin(node, executor)
     except (KeyboardInterrupt, ExternalShutdownException):
@@ -412,14 +435,9 @@ def run_node(prog, make_node, args=None, spin=None):
         executor.shutdown()
         if node is not None:
             node.destroy_node()
-        try:
-            rclpy.try_shutdown()
-        except RuntimeError:
-            # rclpy's own SIGINT handler shuts the context down from its thread, and may do so between
-            # try_shutdown's check and its call (rcl_shutdown already called): then all is done
-            if rclpy.ok():
-                raise
+        rclpy.try_shutdown()
+        signal.signal(signal.SIGTERM, previous)
 
 
 __all__ = ["msgs", "TOPICS", "RowConverter", "derailment_message", "alert_dict", "derailment_dict", "ParameterSpec",
-           "parameter_file", "declare_parameters", "run_node"]
+           "parameter_file", "declare_parameters", "run_node", "spin_until"]

@@ -107,6 +107,7 @@ def test_failed_yaw_dampers_lower_the_linear_critical_speed():
                                       r"rear-right, rear"),
     (("primary-spring-broken@4-left",), r"location '4-left' is not one of 0-left, 0-right, 1-left"),
     ("yaw-dampers-failed@front", r"must be a sequence of fault names"),
+    (("yaw-dampers-failed@both", "yaw-dampers-failed@both"), r"yaw-dampers-failed@both given more than once"),
 ])
 def test_unknown_faults_are_refused_with_the_accepted_ones(faults, message):
     with pytest.raises(ValueError, match=message):

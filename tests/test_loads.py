@@ -10,7 +10,7 @@ import pytest
 
 from railderail_sim.loads.aerodynamics import aerodynamic_load
 from railderail_sim.loads.layout import AeroLoad
-from railderail_sim.loads.wind import GUST_RAMP, Wind, pack_aero
+from railderail_sim.loads.wind import Wind, pack_aero
 from railderail_sim.methods import cwc
 from railderail_sim.parameters import GRAVITY, AerodynamicParameters
 from railderail_sim.vehicle.layout import N_BODY, OutputRow
@@ -87,7 +87,7 @@ def test_the_gust_peaks_at_its_speed_over_the_mean_wind():
     s, u = Wind(30.0, 90.0, "chinese-hat", peak_position=900.0).history(AERO, 0.0)
     a_i = AERO.gust_peak_factor * AERO.gust_turbulence_intensity
     assert np.all(np.diff(s) > 0.0)
-    assert u[0] == 0.0 and s[0] == pytest.approx(900.0 - 6.0 * AERO.gust_length_scale - GUST_RAMP)
+    assert u[0] == 0.0 and s[0] == pytest.approx(900.0 - 6.0 * AERO.gust_length_scale - AERO.gust_ramp)
     assert u.max() == pytest.approx(30.0) and s[np.argmax(u)] == pytest.approx(900.0)
     assert u[-1] == pytest.approx(30.0 / (1.0 + a_i), rel=3e-3)          # the mean wind after the hat
     half = 30.0 / (1.0 + a_i) * (1.0 + a_i * math.exp(-1.0))
@@ -111,3 +111,23 @@ def test_bad_wind_options_name_the_value_and_the_range(option, value, message):
     done = subprocess.run([sys.executable, "-m", "railderail_sim.cli", "simulate", option, value],
                           capture_output=True, text=True, timeout=300)
     assert done.returncode == 2 and message in done.stderr, done.stderr
+
+
+def test_a_tail_wind_faster_than_the_train_meets_the_car_from_behind():
+    """Relative wind from 150 deg is the flow from 30 deg seen from the rear: the same side force and rolling
+    moment, the yawing moment reversed."""
+    from_behind = aerodynamic_load(pack_aero(AERO, Wind(40.0, 180.0 - 30.0), 0.0), 0.0, 0.0)
+    from_ahead = aerodynamic_load(pack_aero(AERO, Wind(40.0, 30.0), 0.0), 0.0, 0.0)
+    assert from_behind[1] == pytest.approx(math.radians(150.0)) and from_ahead[1] == pytest.approx(math.radians(30.0))
+    assert from_behind[2] == pytest.approx(from_ahead[2]) and from_behind[4] == pytest.approx(from_ahead[4])
+    assert from_behind[6] == pytest.approx(-from_ahead[6]) and from_ahead[6] != 0.0
+
+
+def test_bad_aerodynamic_parameters_and_gust_places_are_refused():
+    from dataclasses import replace
+    with pytest.raises(ValueError, match="air_density -1 kg/m\\^3 is outside"):
+        pack_aero(replace(AERO, air_density=-1.0), Wind(10.0), 0.0)
+    with pytest.raises(ValueError, match="yaw_angle_step_deg 7 deg does not divide 90"):
+        pack_aero(replace(AERO, yaw_angle_step_deg=7.0), Wind(10.0), 0.0)
+    with pytest.raises(ValueError, match="gust peak at 100 m leaves no room"):
+        pack_aero(AERO, Wind(10.0, gust="chinese-hat", peak_position=100.0), 0.0)

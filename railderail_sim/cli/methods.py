@@ -311,10 +311,13 @@ def cwc_command(parser):
         from ..methods import cwc as c
         plot = _plot_path(args)
         speeds = _floats(args.speeds_kmh, "--speeds-kmh")
-        cases = [None if v.strip() == "straight" else _floats(v, "--cases")[0]
-                 for v in args.cases.split(",") if v.strip()]
-        if not cases:
-            raise ValueError("--cases is empty")
+        cases = []
+        for v in (v.strip() for v in args.cases.split(",") if v.strip()):
+            try:
+                cases.append(None if v == "straight" else float(v))
+            except ValueError:
+                raise ValueError(f"--cases: {v!r} is neither `straight` nor an uncompensated acceleration in "
+                                 "m/s^2") from None
         res = c.cwc(base_scenario(args), speeds, cases, tolerance=args.tolerance_m_s, workers=args.workers,
                     scheduler=args.scheduler, progress=not args.json)
         if plot:

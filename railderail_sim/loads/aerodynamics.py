@@ -8,8 +8,10 @@ instant is that of a steady flow at the relative wind of that instant,
 
 with v the train's speed, W the wind speed at the car-body centre's position, theta where the wind comes
 from (relative to the local track: the wind keeps its angle to the track through a curve, as the standard
-evaluates it) and the coefficients interpolated linearly in |beta| (held at the last point beyond the
-table). The loads act on the car body only (the bogies' share is left out, as in EN 14067-6's multibody
+evaluates it) and the coefficients interpolated linearly in |beta| over 0-90 deg; a relative wind from
+behind (a tail wind faster than the train) is the mirror flow from the car's rear, the table read at
+180 deg - |beta| with the pitching and yawing moments reversed (the leading car's coefficients stand in for
+its rear). The loads act on the car body only (the bogies' share is left out, as in EN 14067-6's multibody
 evaluation); the drag is left out, the speed being prescribed. Assumptions: no admittance (the gust's
 shape reaches the body unfiltered), no unsteady effects of the curve, the coefficients of the leading car
 for every car.
@@ -78,7 +80,12 @@ def aerodynamic_load(aero, s, v):
     beta = math.atan2(uy, ux)
     q = 0.5 * aero[AeroHeader.air_density] * (ux * ux + uy * uy) * aero[AeroHeader.reference_area]
     d = aero[AeroHeader.reference_length]
-    cfy, cfz, cmx, cmy, cmz = coefficients(aero, beta)
+    # a relative wind from behind (|beta| > 90 deg: a tail wind faster than the train) meets the car from
+    # its rear: the table at 180 deg - |beta|, the pitching and yawing moments turned with the car
+    behind = abs(beta) > 0.5 * math.pi
+    cfy, cfz, cmx, cmy, cmz = coefficients(aero, math.pi - abs(beta) if behind else beta)
+    if behind:
+        cmy, cmz = -cmy, -cmz
     side = 1.0 if beta >= 0.0 else -1.0            # a wind from the left pushes to the right (-y)
     # nose up is a negative moment about y (x forward, z up); nose to the lee (the right) negative about z
     return w, beta, -side * q * cfy, q * cfz, side * q * d * cmx, -q * d * cmy, -side * q * d * cmz

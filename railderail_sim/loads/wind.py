@@ -7,7 +7,7 @@ CEN extreme gust of EN 14067-6 in its simplified form, read as a gust standing a
 train runs through (Baker's reading of the standard): the mean wind ubar = u_peak / (1 + A I) plus the hat
 A I ubar exp(-|x - x_peak| / L), with A the peak factor, I the turbulence intensity and L the decay length
 (`parameters.AerodynamicParameters`; their values are stand-ins, docs/loads.md). The car starts in still
-air and the mean wind rises smoothly (cosine) over the GUST_RAMP before the hat, so that the car meets the
+air and the mean wind rises smoothly (sin^2) over the `gust_ramp` before the hat, so that the car meets the
 gust settled under the mean wind, as the standard's evaluation assumes. A steady wind blows from the start.
 """
 from dataclasses import dataclass
@@ -23,7 +23,6 @@ GUSTS = ("none", "chinese-hat")
 WIND_SPEED_RANGE = (0.0, 60.0)          # m/s; beyond 60 m/s no train runs
 DIRECTION_RANGE_DEG = (-180.0, 180.0)
 GUST_SPAN = 6.0                         # the hat's table reaches this many decay lengths either side (0.25 %)
-GUST_RAMP = 300.0                       # m before the hat over which the mean wind rises from still air
 
 
 @dataclass(frozen=True)
@@ -56,9 +55,12 @@ class Wind:
         a_i = parameters.gust_peak_factor * parameters.gust_turbulence_intensity
         mean = self.speed / (1.0 + a_i)
         span = GUST_SPAN * parameters.gust_length_scale
-        ramp = np.linspace(-span - GUST_RAMP, -span, 61)
+        if not (math.isfinite(at) and at >= span + parameters.gust_ramp):
+            raise ValueError(f"gust peak at {at:g} m leaves no room for its ramp and hat before it: it must be at "
+                             f"least {span + parameters.gust_ramp:g} m along the line")
+        ramp = np.linspace(-span - parameters.gust_ramp, -span, 61)
         x = np.linspace(-span, span, 241)
-        u = np.concatenate((mean * np.sin(0.5 * np.pi * (ramp - ramp[0]) / GUST_RAMP) ** 2,
+        u = np.concatenate((mean * np.sin(0.5 * np.pi * (ramp - ramp[0]) / parameters.gust_ramp) ** 2,
                             mean * (1.0 + a_i * np.exp(-np.abs(x[1:]) / parameters.gust_length_scale))))
         return at + np.concatenate((ramp, x[1:])), u
 
@@ -77,7 +79,7 @@ def pack_aero(parameters: AerodynamicParameters, wind: Wind, centre_m):
     does not blow. `centre_m`: where an unplaced gust peaks (the middle of the circular curve)."""
     if wind is None or not wind.validated().blows:
         return still_air()
-    table = np.array(parameters.coefficients())
+    table = np.array(parameters.validated().coefficients())
     s, speed = wind.history(parameters, centre_m)
     head = AeroHeader.pack(active=1.0, air_density=parameters.air_density, reference_area=parameters.reference_area,
                            reference_length=parameters.reference_length,

@@ -24,18 +24,18 @@ import math
 import numpy as np
 
 from ..loads.wind import WIND_SPEED_RANGE, Wind
-from ..parameters import GRAVITY, TrackParameters
+from ..parameters import RUNNING_GEAR_UNLOADING_FILTER_HZ, RUNNING_GEAR_UNLOADING_LIMIT, TrackParameters
 from ..ranges import check_range
+from ..vehicle.layout import running_gear_sides
 from ..vehicle.simulate import KMH, RADIUS_RANGE, Scenario, constant_speed, curve_middle, simulate, straight_track
 from .parallel import run_all
 
-UNLOADING_LIMIT = 0.90                    # EN 14067-6: dQ/Q0 of the most unloaded running gear
-UNLOADING_FILTER_HZ = 2.0                 # low-pass of dQ/Q0 (4th-order Butterworth, forward and back)
+UNLOADING_LIMIT = RUNNING_GEAR_UNLOADING_LIMIT
+UNLOADING_FILTER_HZ = RUNNING_GEAR_UNLOADING_FILTER_HZ   # 4th-order Butterworth, forward and back
 SCAN_STEP = 2.5                           # m/s: the upward scan of the gust's peak before the bisection
 DEFAULT_SPEEDS_KMH = (200.0, 220.0, 240.0, 260.0, 280.0, 300.0, 320.0, 340.0, 360.0)
 AQ_RANGE = (0.0, 1.5)                     # m/s^2 of uncompensated lateral acceleration
 AFTER_PEAK = 4.0                          # the run ends this many gust decay lengths past the peak
-BOGIE_WHEELSETS = ((0, 1), (2, 3))
 
 
 @dataclass(frozen=True)
@@ -53,8 +53,7 @@ def cwc_track(case: CwcCase, speed, base: TrackParameters):
     """The track of a case at speed v (m/s): straight without cant, or Table 2's line with the radius of a_q."""
     if case.uncompensated_acceleration is None:
         return straight_track(rail_profile=base.rail_profile)
-    theta = base.cant_angle
-    radius = speed * speed * math.cos(theta) / (case.uncompensated_acceleration + GRAVITY * math.sin(theta))
+    radius = base.radius_at_uncompensated_acceleration(speed, case.uncompensated_acceleration)
     check_range(f"radius of a_q = {case.uncompensated_acceleration:g} m/s^2 at {speed / KMH:.0f} km/h", radius,
                 *RADIUS_RANGE, "m")
     return replace(base, radius=radius)
@@ -79,14 +78,11 @@ def running_gear_unloading(result, windward_side, window):
         return 1.0
     from scipy.signal import butter, sosfiltfilt
     inside = (result.position >= window[0]) & (result.position <= window[1])
-    q = result.wheel("vertical_force")
     q0 = result.scenario.vehicle.static_wheel_load
     low_pass = butter(4, UNLOADING_FILTER_HZ, fs=result.scenario.output_rate, output="sos")
-    worst = 0.0
-    for wheelsets in BOGIE_WHEELSETS:
-        windward = sosfiltfilt(low_pass, q[:, [2 * w + windward_side for w in wheelsets]].mean(axis=1))
-        worst = max(worst, float(np.max(1.0 - windward[inside] / q0)))
-    return worst
+    gears = running_gear_sides(result.wheel("vertical_force"))[:, windward_side::2]   # the windward side of each
+    windward = sosfiltfilt(low_pass, gears, axis=0)
+    return float(np.max(1.0 - windward[inside] / q0))
 
 
 def unloading(base: Scenario, case: CwcCase, speed_kmh, wind_speed):
@@ -158,8 +154,13 @@ def cwc(base: Scenario = None, speeds_kmh=DEFAULT_SPEEDS_KMH, accelerations=(Non
     for a in accelerations:
         if a is not None:
             check_range("uncompensated acceleration", a, *AQ_RANGE, "m/s^2")
+    if not speeds_kmh or not accelerations:
+        raise ValueError("the characteristic wind curves need at least one vehicle speed and one case")
+    if len(set(speeds_kmh)) != len(speeds_kmh) or len(set(accelerations)) != len(accelerations):
+        raise ValueError(f"vehicle speeds {list(speeds_kmh)} and cases {list(accelerations)} must not repeat")
     items = [(CwcCase(a), float(v)) for a in accelerations for v in speeds_kmh]
-    for _, v in items:
+    for case, v in items:                           # every track checked before any run starts
         check_range("vehicle speed", v, 60.0, 400.0, "km/h")
+        cwc_track(case, v * KMH, base.track)
     return CwcResult(run_all(functools.partial(_point, base=base, tolerance=tolerance), items, workers=workers,
                              scheduler=scheduler, progress=progress, desc="cwc", unit="speed"))

@@ -10,6 +10,8 @@ def run_all(function, items, workers=None, scheduler=None, progress=True, desc="
     """[function(item) for item in items], computed in parallel (a module-level function, or a
     functools.partial of one, so that processes and Dask workers can run it)."""
     items = list(items)
+    if not items:
+        raise ValueError("nothing to run: the list of inputs is empty")
     bar = None
     if progress:
         from tqdm import tqdm
@@ -18,12 +20,11 @@ def run_all(function, items, workers=None, scheduler=None, progress=True, desc="
     if scheduler:
         from dask.distributed import Client, as_completed as dask_completed
         with Client(scheduler) as client:
-            futures = client.map(function, items, pure=True)
-            index = {f.key: i for i, f in enumerate(futures)}
-            for f in dask_completed(futures):
-                results[index[f.key]] = f.result()
+            futures = client.map(function, items, pure=True)   # equal items share one future
+            for _ in dask_completed(futures):
                 if bar:
                     bar.update()
+            results = [f.result() for f in futures]
     else:
         with ProcessPoolExecutor(max_workers=workers or min(len(items), os.cpu_count() or 1)) as pool:
             futures = {pool.submit(function, item): i for i, item in enumerate(items)}

@@ -139,6 +139,9 @@ def failed_elements(faults):
     (FAULTS); a ValueError names an unknown fault or location and lists the accepted ones."""
     if isinstance(faults, str):
         raise ValueError(f"faults {faults!r} must be a sequence of fault names, not one string")
+    repeated = sorted({str(f) for f in faults if list(faults).count(f) > 1})
+    if repeated:
+        raise ValueError(f"fault(s) {', '.join(repeated)} given more than once")
     failed = set()
     for fault in faults:
         name, _, location = str(fault).partition("@")

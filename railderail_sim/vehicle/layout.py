@@ -30,7 +30,18 @@ BOGIES = (int(Body.front_bogie), int(Body.rear_bogie))
 WHEELSETS = tuple(int(b) for b in Body if b >= Body.wheelset_0)
 N_WHEELSET = len(WHEELSETS)
 N_WHEEL = 2 * N_WHEELSET                 # wheel 2 i + 0 left, 2 i + 1 right of wheelset i
+RUNNING_GEARS = ((0, 1), (2, 3))         # the wheelsets of the front and the rear bogie
 N_DAMPER = 8                             # 4 yaw dampers + 2 lateral dampers as mirrored pairs of halves
+
+
+def running_gear_sides(per_wheel):
+    """The mean over each bogie's two wheels on one side of a per-wheel quantity, (..., 8) wheels
+    [wheelset 0 left, wheelset 0 right, ...] -> (..., 4) [front bogie left, front right, rear left, rear
+    right] (EN 14067-6 evaluates the wheel unloading of a running gear so)."""
+    import numpy as np
+    q = np.asarray(per_wheel, dtype=float)
+    return np.stack([0.5 * (q[..., 2 * a + side] + q[..., 2 * b + side]) for a, b in RUNNING_GEARS for side in (0, 1)],
+                    axis=-1)
 
 
 class Dof(Record):
