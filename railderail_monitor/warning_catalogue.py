@@ -223,13 +223,43 @@ def markdown(result):
     return "\n".join(lines)
 
 
+def recommended_limits(result):
+    """The shipped limits with each criterion's WARNING level at its recommended threshold, and the WARNING
+    level of a criterion without one (none warned within the budget) disabled; (Limits, the criteria
+    disabled). A recommendation at or above the criterion's CRITICAL level disables that level."""
+    from dataclasses import replace
+    limits = default_limits()
+    chosen = {row["criterion"]: row["threshold"] for row in result["recommended"]}
+    changes, disabled = {}, []
+    for criterion in THRESHOLDS:
+        if criterion in chosen:
+            changes[criterion] = chosen[criterion]
+            if not chosen[criterion] < getattr(limits, critical_name(criterion)):
+                changes[critical_name(criterion)] = math.nan
+        else:
+            changes[criterion] = math.nan
+            disabled.append(criterion)
+    return replace(limits, **changes).validated(), disabled
+
+
 def write(result, out):
-    """OUT/warnings-catalogue.json and .md."""
+    """OUT/warnings-catalogue.json and .md, the figure OUT/warnings-catalogue.png and the monitor's parameter
+    file of the recommended thresholds, OUT/monitor-recommended.yaml (`--ros-args --params-file`)."""
+    from railderail_sim import plotting
+
+    from .monitor_params import limits_of_car, parameter_file
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     jsonout.write(out / "warnings-catalogue.json", result)
     with atomic_write(out / "warnings-catalogue.md") as handle:
         handle.write(markdown(result) + "\n")
+    plotting.warning_quality_figure(result["criteria"], result["runs"], out / "warnings-catalogue.png")
+    limits, disabled = recommended_limits(result)
+    made_by = (f"railderail warnings --catalogue (the recommended thresholds at "
+               f"{result['false_alarm_budget_per_1000_km']:g} false alarms per 1000 km; WARNING levels disabled for "
+               f"{', '.join(disabled) or 'none'})")
+    with atomic_write(out / "monitor-recommended.yaml") as handle:
+        handle.write(parameter_file(limits, limits_of_car()[1], made_by))
     return out / "warnings-catalogue.md"
 
 

@@ -2,6 +2,7 @@
 false alarms of a small one (a kink that makes the outer wheel climb, an over-speed rollover, ordinary
 running on irregular track), the cache."""
 import json
+import math
 import shutil
 from pathlib import Path
 
@@ -114,3 +115,19 @@ def test_dask_and_local_processes_give_the_same_evaluation(small):
     with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
         remote = wc.evaluate(entries, scheduler=cluster.scheduler_address, progress=False)
     assert json.dumps(remote, sort_keys=True, default=str) == json.dumps(result, sort_keys=True, default=str)
+
+
+def test_the_recommended_thresholds_become_a_parameter_file_the_monitor_reads(small, tmp_path):
+    from railderail_monitor.criteria import critical_name, default_limits
+    from railderail_monitor.monitor_params import read_limits
+    _, _, result = small
+    wc.write(result, tmp_path)
+    assert (tmp_path / "warnings-catalogue.png").stat().st_size > 10_000
+    limits = read_limits(tmp_path / "monitor-recommended.yaml")
+    chosen = {row["criterion"]: row["threshold"] for row in result["recommended"]}
+    assert chosen
+    for criterion in wc.THRESHOLDS:
+        level = getattr(limits, criterion)
+        assert level == chosen[criterion] if criterion in chosen else math.isnan(level)
+        if criterion in chosen and chosen[criterion] < getattr(default_limits(), critical_name(criterion)):
+            assert getattr(limits, critical_name(criterion)) == getattr(default_limits(), critical_name(criterion))
