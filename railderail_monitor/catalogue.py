@@ -77,8 +77,7 @@ class Entry:
         track = straight_track() if straight else TrackParameters(
             radius=self.radius_m, cant_height=check_range("cant", self.cant_mm, *CANT_RANGE_MM, "mm") / 1000.0)
         if not math.isnan(self.line_length_m):
-            extra = check_range("line length", self.line_length_m, track.line_length, 1.0e6, "m") - track.line_length
-            track = replace(track, curve_length=track.curve_length + extra)
+            track = track.with_line_length(self.line_length_m)
         base = replace(scenario(radius=1000.0 if straight else self.radius_m, friction=self.friction), track=track)
         if self.progressive:
             if straight:

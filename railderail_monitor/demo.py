@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import ctypes
 import datetime
+import math
 import signal
 import subprocess
 import sys
@@ -86,9 +87,38 @@ class Node:
 
 
 def simulator_parameters(args):
-    return {"radius": float(args.radius), "speed_mode": "progressive", "speed_kmh": float(args.start_kmh),
-            "publish_rate": float(args.rate), "real_time_factor": float(args.real_time_factor),
-            "contact_model": args.contact_model, "wait_for_subscribers": SUBSCRIBERS}
+    """The simulator node's parameters of the demo: the paper's staircase on --radius, or a catalogue's
+    scenario (--catalogue, --scenario, --seed)."""
+    run = {"publish_rate": float(args.rate), "real_time_factor": float(args.real_time_factor),
+           "contact_model": args.contact_model, "wait_for_subscribers": SUBSCRIBERS}
+    if args.scenario is None and args.catalogue is None:
+        return {"radius": float(args.radius), "speed_mode": "progressive", "speed_kmh": float(args.start_kmh), **run}
+    return {**catalogue_parameters(args.catalogue, args.scenario, args.seed), **run}
+
+
+def catalogue_parameters(path, name, seed=None):
+    """The simulator node's parameters of one catalogue scenario (its first seed unless `seed`); no faults
+    given as no parameter (rcl cannot type an empty array on the command line)."""
+    from . import catalogue
+    if name is None:
+        raise ValueError("--catalogue needs --scenario NAME")
+    entries = {e.name: e for e in catalogue.load(None if path in (None, "shipped") else path)}
+    if name not in entries:
+        raise ValueError(f"--scenario {name!r} is not in the catalogue; its scenarios are {', '.join(entries)}")
+    e = entries[name]
+    seed = e.seeds[0] if seed is None else seed
+    if seed not in e.seeds:
+        raise ValueError(f"--seed {seed} is not one of the scenario's seeds {list(e.seeds)}")
+    if math.isinf(e.radius_m):
+        raise ValueError(f"scenario {name!r} runs on straight track, which the simulator node does not model "
+                         "(its line is always the Table 2 curve)")
+    irregularity = str(Path(e.folder, e.irregularity)) if e.irregularity.endswith(".csv") else e.irregularity
+    return {"radius": e.radius_m, "speed_mode": "progressive" if e.progressive else "constant",
+            "speed_kmh": 200.0 if e.progressive else e.speed_kmh, "cant_mm": e.cant_mm, "friction": e.friction,
+            "irregularity": irregularity, "irregularity_seed": seed, "track": e.track,
+            "line_length_m": 0.0 if math.isnan(e.line_length_m) else e.line_length_m,
+            "wind_speed_m_s": e.wind_speed_m_s, "wind_direction_deg": 90.0,
+            **({"faults": list(e.faults)} if e.faults else {})}
 
 
 def ros_args(parameters):
@@ -283,6 +313,10 @@ def add_arguments(parser):
     parser.add_argument("--rerun", action="store_true", help="also show the run live in a Rerun viewer (spawned)")
     parser.add_argument("--rerun-connect", metavar="URL", help="also stream it live to a running Rerun viewer")
     parser.add_argument("--timeout", type=float, default=900.0, help="stop the run after this many s (900)")
+    parser.add_argument("--catalogue", nargs="?", const="shipped", metavar="FILE.yaml",
+                        help="run a scenario of a catalogue (no FILE: the shipped one) instead of the staircase")
+    parser.add_argument("--scenario", metavar="NAME", help="the catalogue's scenario to run (with --catalogue)")
+    parser.add_argument("--seed", type=int, default=None, help="its seed (default: the scenario's first)")
 
 
 def command(parser: argparse.ArgumentParser):

@@ -24,7 +24,7 @@ from rclpy.task import Future
 
 from railderail_sim import ros_interface as m
 from railderail_sim.loads.wind import DIRECTION_RANGE_DEG, GUSTS, WIND_SPEED_RANGE, Wind
-from railderail_sim.parameters import FRICTION_RANGE, TRACK_MODELS
+from railderail_sim.parameters import CANT_RANGE_MM, FRICTION_RANGE, TRACK_MODELS
 from railderail_sim.ros_interface import REAL_TIME_FACTOR_RANGE, ParameterSpec as P
 from railderail_sim.track.irregularity import SEEDS, SPECTRA, resolve
 from railderail_sim.vehicle.assemble import FAULT_NAMES, NORMAL_MODELS
@@ -37,6 +37,9 @@ PUBLISH_RATE_RANGE = (1.0, 2000.0)        # Hz of simulated time
 # The scenario's parameters are read-only: the model is built from them before the run starts.
 PARAMETERS = (
     P("radius", 1000.0, "curve radius", "m", RADIUS_RANGE, read_only=True),
+    P("cant_mm", 175.0, "cant height of the curve (Table 2: 175 mm)", "mm", CANT_RANGE_MM, read_only=True),
+    P("line_length_m", 0.0, "0: the Table 2 line (or the staircase's); else the circular curve made longer so that "
+      "the line is this long", "m", (0.0, 1.0e6), read_only=True),
     P("speed_mode", "progressive", "progressive: the paper's staircase trial, until derailment; constant: "
       "speed_kmh throughout", choices=("progressive", "constant"), read_only=True),
     P("speed_kmh", 200.0, "constant speed, or the staircase's start speed", "km/h", SPEED_RANGE_KMH, read_only=True),
@@ -87,6 +90,9 @@ def build_scenario(p):
 
     base = scenario(radius=p["radius"], speed_kmh=p["speed_kmh"], contact_model=p["contact_model"],
                     friction=p["friction"])
+    base = replace(base, track=replace(base.track, cant_height=p["cant_mm"] / 1000.0))
+    if p["line_length_m"] > 0.0:
+        base = replace(base, track=base.track.with_line_length(p["line_length_m"]))
     if p["speed_mode"] == "progressive":
         base = staircase_scenario(base, p["radius"], Staircase(start_kmh=p["speed_kmh"], step_kmh=p["step_kmh"],
                                                                hold_m=p["hold_m"]))

@@ -316,6 +316,12 @@ class TrackParameters:
         """Length of the line from s = 0 to the end of the last straight (m)."""
         return self.straight_in + self.transition_in + self.curve_length + self.transition_out + self.straight_out
 
+    def with_line_length(self, line_length):
+        """This track with its circular curve made longer so that the whole line is `line_length` (m) long
+        (on straight track the same: the middle part is straight); at least the line it is."""
+        check_range("line length", line_length, self.line_length, 1.0e6, "m")
+        return replace(self, curve_length=self.curve_length + line_length - self.line_length)
+
     @property
     def cant_angle(self):
         """Angle of the canted track plane on the circular curve (rad, magnitude)."""

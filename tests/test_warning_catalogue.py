@@ -131,3 +131,36 @@ def test_the_recommended_thresholds_become_a_parameter_file_the_monitor_reads(sm
         assert level == chosen[criterion] if criterion in chosen else math.isnan(level)
         if criterion in chosen and chosen[criterion] < getattr(default_limits(), critical_name(criterion)):
             assert getattr(limits, critical_name(criterion)) == getattr(default_limits(), critical_name(criterion))
+
+
+@pytest.mark.parametrize("name", ["kink-r800", "line-r7000-erri-low", "overspeed-r1000-primary-spring-broken",
+                                  "overspeed-r1000-wind-15"])
+def test_a_catalogue_scenario_becomes_the_simulator_node_s_parameters(name):
+    """`railderail demo --catalogue --scenario NAME`: the node's parameters of a scenario pass the node's own
+    checks and build the scenario the evaluation runs (its track, speeds, rails, wind and faults)."""
+    import numpy as np
+    from railderail_monitor.demo import catalogue_parameters
+    from railderail_sim.node import PARAMETERS, build_scenario
+    table = {spec.name: spec for spec in PARAMETERS}
+    given = catalogue_parameters(None, name)
+    p = {spec.name: spec.default for spec in PARAMETERS}
+    p.update({k: table[k].checked(v) for k, v in given.items()})
+    node = build_scenario(p)
+    (entry,) = [e for e in catalogue.load() if e.name == name]
+    ours = entry.scenario(entry.seeds[0])
+    assert node.track == ours.track and np.array_equal(node.speed_table, ours.speed_table)
+    assert (node.wind, node.faults, node.track_model) == (ours.wind, ours.faults, ours.track_model)
+    assert node.contact.friction_coefficient == ours.contact.friction_coefficient
+    assert (node.irregularity is None) == (ours.irregularity is None)
+    if ours.irregularity is not None:
+        assert np.array_equal(node.irregularity.pack(), ours.irregularity.pack())
+
+
+def test_the_demo_refuses_what_the_node_cannot_run():
+    from railderail_monitor.demo import catalogue_parameters
+    with pytest.raises(ValueError, match="--scenario 'nothing' is not in the catalogue"):
+        catalogue_parameters(None, "nothing")
+    with pytest.raises(ValueError, match="straight track, which the simulator node does not model"):
+        catalogue_parameters(None, "line-straight-china-hsr")
+    with pytest.raises(ValueError, match="--seed 9 is not one of the scenario's seeds"):
+        catalogue_parameters(None, "overspeed-r1000-erri-high", 9)
