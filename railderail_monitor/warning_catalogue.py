@@ -47,13 +47,14 @@ RATE = 200.0                              # Hz, as the simulator node publishes
 
 @functools.lru_cache(maxsize=1)
 def source_hash():
-    """SHA-256 of both packages' Python sources (the model and the criteria): a cached run is valid for this
-    code only."""
+    """SHA-256 of both packages' Python sources and the monitor's shipped parameter file (the model, the
+    criteria and their levels): a cached run is valid for these only."""
     import railderail_sim
     digest = hashlib.sha256()
     for package in (Path(railderail_sim.__file__).parent, Path(__file__).parent):
         for path in sorted(package.rglob("*.py")):
             digest.update(path.read_bytes())
+    digest.update((Path(__file__).parent / "config" / "monitor.yaml").read_bytes())
     return digest.hexdigest()
 
 
