@@ -16,6 +16,7 @@ the monitor's parameters; the defaults are the shipped parameter file's, `defaul
 | `wheel_unloading`        | unloading ratio dP/P0 of each wheel (-)        | 0.60 (GB 5599-85)     | 0.65 (GB 5599-85)      |
 | `running_gear_unloading` | mean dP/P0 of a bogie's two wheels on one side | 0.90 (EN 14067-6)     | none                   |
 | `derailment_coefficient_duration` | Q/P of each wheel held 50 ms  | 1.0 (AAR Chapter XI)  | Nadal's limit          |
+| `derailment_coefficient_mean` | 2 m sliding mean of Q/P of each wheel | 0.8 (EN 14363) | Nadal's limit     |
 
 Sources and confidence:
 - attack angle 0.06 rad on the front wheelset: Yu et al., Appl. Sci. 2022, 12, 11199 (the paper
@@ -61,7 +62,8 @@ from railderail_sim.vehicle.layout import RUNNING_GEARS, running_gear_sides
 
 SIDES = ("left", "right")
 CRITERIA = ("attack_angle", "wheel_lift", "derailment_coefficient", "wheel_unloading", "running_gear_unloading",
-            "derailment_coefficient_duration")
+            "derailment_coefficient_duration", "derailment_coefficient_mean")
+SHARE_NADAL = ("derailment_coefficient_duration", "derailment_coefficient_mean")   # their CRITICAL level is Q/P's
 # a running gear's side by its leading wheelset, in the order of vehicle.layout.running_gear_sides
 BOGIE_PLACES = tuple((gear[0], side) for gear in RUNNING_GEARS for side in SIDES)
 SEVERITY_WARNING, SEVERITY_CRITICAL = 1, 2          # the Alert message's constants
@@ -70,8 +72,7 @@ SEVERITY_NAMES = {SEVERITY_WARNING: "warning", SEVERITY_CRITICAL: "critical"}
 
 def critical_name(criterion):
     """The Limits field of a criterion's CRITICAL level (the duration rule shares Nadal's limit with Q/P)."""
-    return "derailment_coefficient_critical" if criterion == "derailment_coefficient_duration" else \
-        criterion + "_critical"
+    return "derailment_coefficient_critical" if criterion in SHARE_NADAL else criterion + "_critical"
 
 
 def _value(unit, meaning, source, default=MISSING, accepted=(0.0, math.inf), lo_open=True, nan_disables=False):
@@ -122,6 +123,11 @@ class Limits:
                                                     "none in the sources, so disabled", math.nan)
     derailment_coefficient_duration: float = _level("", "Q/P of each wheel held for duration_s, WARNING level",
                                                     "AAR Chapter XI single-wheel L/V limit", 1.0)
+    derailment_coefficient_mean: float = _level("", "sliding mean of Q/P over sliding_mean_m of track, each "
+                                                "wheel, WARNING level", "EN 14363:2016 / UIC 518 limit (Y/Q)lim "
+                                                "of the 2 m sliding mean", 0.8)
+    sliding_mean_m: float = _value("m", "track over which Q/P is averaged for its sliding-mean criterion",
+                                   "EN 14363:2016: 2 m", 2.0, (0.0, 100.0))
     duration_s: float = _value("s", "time Q/P must stay at or above a level for the duration criterion",
                                "AAR Chapter XI: 50 ms", 0.05, (0.0, 10.0), False)
     debounce_m: float = _value("m", "track a value must stay at or above a level before its alert",
@@ -210,6 +216,35 @@ def running_gear_unloading(unloading):
     """Mean unloading ratio of each bogie's two wheels on one side (EN 14067-6), (..., 4) in the order of
     BOGIE_PLACES, from the (..., 8) ratios of the wheels [wheelset 0 left, wheelset 0 right, ...]."""
     return running_gear_sides(unloading)
+
+
+def sliding_mean(values, position, window):
+    """The mean of each column of `values` (n, ...) over the samples of the last `window` m of track up to
+    each sample (those with position > position_i - window), as EN 14363 evaluates Q/P. From prefix sums,
+    so that the monitor's running version (`SlidingMean`) gives the same numbers."""
+    v = np.asarray(values, dtype=float)
+    pos = np.asarray(position, dtype=float)
+    sums = np.concatenate((np.zeros((1,) + v.shape[1:]), np.cumsum(v, axis=0)))
+    first = np.searchsorted(pos, pos - window, side="right")
+    count = (np.arange(len(pos)) + 1 - first).reshape((-1,) + (1,) * (v.ndim - 1))
+    return (sums[1:] - sums[first]) / count
+
+
+class SlidingMean:
+    """`sliding_mean` sample by sample: the prefix sum so far and, for the samples in the window, where they
+    are and the prefix sum before them."""
+
+    def __init__(self, window, width):
+        self.window = float(window)
+        self.total = np.zeros(width)
+        self.kept = collections.deque()
+
+    def update(self, value, position):
+        self.kept.append((float(position), self.total.copy()))
+        self.total = self.total + np.asarray(value, dtype=float)
+        while self.kept[0][0] <= position - self.window:
+            self.kept.popleft()
+        return (self.total - self.kept[0][1]) / len(self.kept)
 
 
 def rail_side(wheel_side, curvature):
@@ -371,10 +406,12 @@ class Monitor:
         self.channels = {}
         for criterion in CRITERIA:
             count = len(self.PLACES.get(criterion, range(8)))
-            debounce = limits.duration_s if criterion == "derailment_coefficient_duration" else d
+            debounce = {"derailment_coefficient_duration": limits.duration_s,
+                        "derailment_coefficient_mean": 0.0}.get(criterion, d)    # the mean is its own window
             self.channels[criterion] = [(sev, thr, [Detector(thr, debounce, r, rm) for _ in range(count)])
                                         for sev, thr in limits.levels(criterion)]
         self.curvatures = collections.deque(maxlen=256)       # (sample, curvature), arrival order
+        self.qp_mean = SlidingMean(limits.sliding_mean_m, 8)
 
     def set_curvature(self, sample, curvature):
         self.curvatures.append((int(sample), float(curvature)))
@@ -409,6 +446,8 @@ class Monitor:
         unloading = unloading_ratio(vertical_force, self.limits.static_wheel_load)
         return (self._check("derailment_coefficient", derailment_coefficient, t, sample, position, speed)
                 + self._check("derailment_coefficient_duration", derailment_coefficient, t, sample, position, speed)
+                + self._check("derailment_coefficient_mean", self.qp_mean.update(derailment_coefficient, position), t,
+                              sample, position, speed)
                 + self._check("wheel_unloading", unloading, t, sample, position, speed)
                 + self._check("running_gear_unloading", running_gear_unloading(unloading), t, sample, position,
                               speed))

@@ -29,8 +29,8 @@ import numpy as np
 from railderail_sim import jsonout
 from railderail_sim.atomic import atomic_write
 
-from .criteria import (BOGIE_PLACES, alert_indices, critical_name, default_limits, front_attack_angle,
-                       running_gear_unloading, unloading_ratio)
+from .criteria import (alert_indices, critical_name, default_limits, front_attack_angle, running_gear_unloading,
+                       sliding_mean, unloading_ratio)
 
 # thresholds of each criterion's sweep (its unit); the shipped levels are added to them
 THRESHOLDS = {
@@ -38,6 +38,7 @@ THRESHOLDS = {
     "wheel_lift": (0.002, 0.004, 0.006, 0.008, 0.012, 0.015, 0.02),                     # m
     "derailment_coefficient": (0.5, 0.6, 0.7, 0.8, 1.0, 1.2),
     "derailment_coefficient_duration": (0.6, 0.8, 1.0, 1.2),
+    "derailment_coefficient_mean": (0.4, 0.5, 0.6, 0.7, 0.8, 1.0),
     "wheel_unloading": (0.5, 0.6, 0.65, 0.7, 0.8, 0.9),
     "running_gear_unloading": (0.5, 0.6, 0.7, 0.8, 0.9),
 }
@@ -58,16 +59,17 @@ def source_hash():
     return digest.hexdigest()
 
 
-def criterion_values(arrays, static_wheel_load):
-    """{criterion: (values (n, channels), places [(wheelset, side)], time-debounced?)} of a run."""
-    unloading = unloading_ratio(arrays["vertical_force"], static_wheel_load)
-    wheels = [(k // 2, ("left", "right")[k % 2]) for k in range(8)]
-    return {"attack_angle": (front_attack_angle(arrays["attack_angle"])[:, None], [(0, "")], False),
-            "wheel_lift": (arrays["wheel_lift"], wheels, False),
-            "derailment_coefficient": (arrays["derailment_coefficient"], wheels, False),
-            "derailment_coefficient_duration": (arrays["derailment_coefficient"], wheels, True),
-            "wheel_unloading": (unloading, wheels, False),
-            "running_gear_unloading": (running_gear_unloading(unloading), list(BOGIE_PLACES), False)}
+def criterion_values(arrays, limits):
+    """{criterion: (values (n, channels), debounce, time-debounced?)} of a run, as the Monitor evaluates them."""
+    unloading = unloading_ratio(arrays["vertical_force"], limits.static_wheel_load)
+    qp, d = arrays["derailment_coefficient"], limits.debounce_m
+    return {"attack_angle": (front_attack_angle(arrays["attack_angle"])[:, None], d, False),
+            "wheel_lift": (arrays["wheel_lift"], d, False),
+            "derailment_coefficient": (qp, d, False),
+            "derailment_coefficient_duration": (qp, limits.duration_s, True),
+            "derailment_coefficient_mean": (sliding_mean(qp, arrays["position"], limits.sliding_mean_m), 0.0, False),
+            "wheel_unloading": (unloading, d, False),
+            "running_gear_unloading": (running_gear_unloading(unloading), d, False)}
 
 
 def thresholds(criterion, limits):
@@ -80,9 +82,8 @@ def score_run(arrays, limits):
     """{criterion: [{threshold, first: {time_s, position_m} or None, alerts}]} of one run's arrays."""
     t, s = arrays["time"], arrays["position"]
     out = {}
-    for criterion, (values, _, timed) in criterion_values(arrays, limits.static_wheel_load).items():
+    for criterion, (values, debounce, timed) in criterion_values(arrays, limits).items():
         rows = []
-        debounce = limits.duration_s if timed else limits.debounce_m
         for thr in thresholds(criterion, limits):
             hits = sorted(i for k in range(values.shape[1])
                           for i in alert_indices(values[:, k], s, thr, debounce, limits.rearm_fraction, limits.rearm_m,

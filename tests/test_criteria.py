@@ -135,9 +135,11 @@ def test_monitor_by_hand():
     # the running gear's mean of its two left wheels reaches EN 14067-6's 0.90 at t = 0.9 x 1.2 = 1.08 s
     for ws in (0, 2):
         assert first[("running_gear_unloading", 1, ws, "left")].time_s == pytest.approx(1.08, abs=0.006)
-    # one alert per event and level: 4 + 4 unloading, 2 lift, 1 Q/P, 1 attack angle, 2 running gears
-    # (Q/P stays below the duration rule's 1.0)
-    assert len(alerts) == 14
+    # Q/P's 2 m sliding mean (25 ms at 80 m/s) lags the raw value by half its window: 0.8 at 0.70 + 0.0125 s
+    assert first[("derailment_coefficient_mean", 1, 0, "right")].time_s == pytest.approx(0.7125, abs=0.006)
+    # one alert per event and level: 4 + 4 unloading, 2 lift, 1 Q/P, 1 Q/P mean, 1 attack angle, 2 running
+    # gears (Q/P stays below the duration rule's 1.0)
+    assert len(alerts) == 15
 
 
 @pytest.mark.parametrize("speed", [20.0, 80.0])
@@ -262,3 +264,18 @@ def test_alert_indices_are_what_the_detector_says(seed):
         assert found == expected
         counts.append(len(expected))
     assert min(counts) >= 1 and sum(counts) >= 6
+
+
+def test_the_sliding_mean_of_q_p_is_en_14363_s_and_the_monitor_s():
+    """The 2 m sliding mean by hand on a short record, and the monitor's running version equal to the whole
+    run's, bit for bit, on a noisy one with stops."""
+    position = np.array([0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 4.0])
+    q = np.array([[0.0], [1.0], [2.0], [3.0], [4.0], [5.0], [6.0]])
+    expected = [0.0, 0.5, 1.0, 1.5, 2.5, 3.5, 5.5]                 # samples with s > s_i - 2 m
+    assert C.sliding_mean(q, position, 2.0)[:, 0].tolist() == expected
+    rng = np.random.default_rng(3)
+    s = np.cumsum(rng.uniform(0.0, 0.6, 2000))
+    values = rng.uniform(0.0, 1.2, (2000, 8))
+    running = C.SlidingMean(2.0, 8)
+    online = np.array([running.update(values[i], s[i]) for i in range(2000)])
+    assert np.array_equal(online, C.sliding_mean(values, s, 2.0))
