@@ -75,6 +75,16 @@ def critical_name(criterion):
     return "derailment_coefficient_critical" if criterion in SHARE_NADAL else criterion + "_critical"
 
 
+TIMED = ("derailment_coefficient_duration",)      # their debounce is time (s), not track
+
+
+def debounce(criterion, limits):
+    """What a criterion's value must be held over before it alerts: duration_s of time for the duration
+    rule, nothing for the sliding mean (its window is the evaluation), debounce_m of track otherwise."""
+    return {"derailment_coefficient_duration": limits.duration_s,
+            "derailment_coefficient_mean": 0.0}.get(criterion, limits.debounce_m)
+
+
 def _value(unit, meaning, source, default=MISSING, accepted=(0.0, math.inf), lo_open=True, nan_disables=False):
     """A field of Limits with what the monitor's parameters and its parameter file say about it:
     unit ('' = dimensionless), meaning, source, the accepted range (lo open where flagged) and
@@ -402,13 +412,12 @@ class Monitor:
     def __init__(self, limits: Limits = None):
         limits = (limits or default_limits()).validated()
         self.limits = limits
-        d, r, rm = limits.debounce_m, limits.rearm_fraction, limits.rearm_m
+        r, rm = limits.rearm_fraction, limits.rearm_m
         self.channels = {}
         for criterion in CRITERIA:
             count = len(self.PLACES.get(criterion, range(8)))
-            debounce = {"derailment_coefficient_duration": limits.duration_s,
-                        "derailment_coefficient_mean": 0.0}.get(criterion, d)    # the mean is its own window
-            self.channels[criterion] = [(sev, thr, [Detector(thr, debounce, r, rm) for _ in range(count)])
+            held = debounce(criterion, limits)
+            self.channels[criterion] = [(sev, thr, [Detector(thr, held, r, rm) for _ in range(count)])
                                         for sev, thr in limits.levels(criterion)]
         self.curvatures = collections.deque(maxlen=256)       # (sample, curvature), arrival order
         self.qp_mean = SlidingMean(limits.sliding_mean_m, 8)
@@ -424,7 +433,7 @@ class Monitor:
 
     def _check(self, criterion, values, t, sample, position, speed):
         t, sample, position, speed = float(t), int(sample), float(position), float(speed)
-        clock = t if criterion == "derailment_coefficient_duration" else None
+        clock = t if criterion in TIMED else None
         alerts = []
         for sev, thr, detectors in self.channels[criterion]:
             for k, detector in enumerate(detectors):

@@ -24,13 +24,12 @@ import math
 import statistics
 from pathlib import Path
 
-import numpy as np
-
 from railderail_sim import jsonout
 from railderail_sim.atomic import atomic_write
 
-from .criteria import (alert_indices, critical_name, default_limits, front_attack_angle, running_gear_unloading,
-                       sliding_mean, unloading_ratio)
+from .criteria import (TIMED, alert_indices, critical_name, debounce, default_limits, front_attack_angle,
+                       running_gear_unloading, sliding_mean, unloading_ratio)
+from .warning_quality import RATE, run_to_end
 
 # thresholds of each criterion's sweep (its unit); the shipped levels are added to them
 THRESHOLDS = {
@@ -43,7 +42,6 @@ THRESHOLDS = {
     "running_gear_unloading": (0.5, 0.6, 0.7, 0.8, 0.9),
 }
 FALSE_ALARMS_PER_1000_KM = 0.1
-RATE = 200.0                              # Hz, as the simulator node publishes
 
 
 @functools.lru_cache(maxsize=1)
@@ -60,16 +58,16 @@ def source_hash():
 
 
 def criterion_values(arrays, limits):
-    """{criterion: (values (n, channels), debounce, time-debounced?)} of a run, as the Monitor evaluates them."""
+    """{criterion: values (n, channels)} of a run, as the Monitor evaluates them."""
     unloading = unloading_ratio(arrays["vertical_force"], limits.static_wheel_load)
-    qp, d = arrays["derailment_coefficient"], limits.debounce_m
-    return {"attack_angle": (front_attack_angle(arrays["attack_angle"])[:, None], d, False),
-            "wheel_lift": (arrays["wheel_lift"], d, False),
-            "derailment_coefficient": (qp, d, False),
-            "derailment_coefficient_duration": (qp, limits.duration_s, True),
-            "derailment_coefficient_mean": (sliding_mean(qp, arrays["position"], limits.sliding_mean_m), 0.0, False),
-            "wheel_unloading": (unloading, d, False),
-            "running_gear_unloading": (running_gear_unloading(unloading), d, False)}
+    qp = arrays["derailment_coefficient"]
+    return {"attack_angle": front_attack_angle(arrays["attack_angle"])[:, None],
+            "wheel_lift": arrays["wheel_lift"],
+            "derailment_coefficient": qp,
+            "derailment_coefficient_duration": qp,
+            "derailment_coefficient_mean": sliding_mean(qp, arrays["position"], limits.sliding_mean_m),
+            "wheel_unloading": unloading,
+            "running_gear_unloading": running_gear_unloading(unloading)}
 
 
 def thresholds(criterion, limits):
@@ -82,12 +80,13 @@ def score_run(arrays, limits):
     """{criterion: [{threshold, first: {time_s, position_m} or None, alerts}]} of one run's arrays."""
     t, s = arrays["time"], arrays["position"]
     out = {}
-    for criterion, (values, debounce, timed) in criterion_values(arrays, limits).items():
+    for criterion, values in criterion_values(arrays, limits).items():
         rows = []
+        held, clock = debounce(criterion, limits), t if criterion in TIMED else None
         for thr in thresholds(criterion, limits):
             hits = sorted(i for k in range(values.shape[1])
-                          for i in alert_indices(values[:, k], s, thr, debounce, limits.rearm_fraction, limits.rearm_m,
-                                                 t if timed else None))
+                          for i in alert_indices(values[:, k], s, thr, held, limits.rearm_fraction, limits.rearm_m,
+                                                 clock))
             events, last = 0, -math.inf
             for i in hits:                       # alerts of several wheels at one place are one false alarm
                 if s[i] - last > limits.rearm_m:
@@ -109,16 +108,7 @@ def run_one(item, cache=None):
         return json.loads(path.read_text())
     from dataclasses import replace
 
-    from railderail_sim.vehicle.simulate import Simulation, SimulationDiverged, output_arrays
-
-    sim = Simulation(replace(entry.scenario(seed), output_rate=RATE))
-    parts, error = [], ""
-    try:
-        while sim.status == 0:
-            parts.append(sim.advance(10.0))
-    except SimulationDiverged as exc:
-        error = str(exc)
-    arrays = output_arrays(np.concatenate(parts))
+    sim, arrays, error = run_to_end(replace(entry.scenario(seed), output_rate=RATE), 10.0)
     limits = default_limits()          # every run swept over the same thresholds: the shipped file's car
     event = sim.derailment()
     result = dict(scenario=entry.name, seed=seed, derailed=event is not None, diverged=error,
@@ -159,15 +149,15 @@ def summarize(runs, limits, budget=FALSE_ALARMS_PER_1000_KM):
                     leads.append((r["derailment"]["time_s"] - first["time_s"],
                                   r["derailment"]["position_m"] - first["position_m"]))
                     warned[r["mechanism"]] = warned.get(r["mechanism"], 0) + 1
-            alarms = sum(first_alert(r, criterion, thr)["alerts"] for r in safe)
+            alarms = [first_alert(r, criterion, thr)["alerts"] for r in safe]
             rows.append(dict(criterion=criterion, threshold=thr, derailments=len(derailing),
                              derailments_warned=len(leads), warned_by_mechanism=warned,
                              lead_s_median=statistics.median(x for x, _ in leads) if leads else math.nan,
                              lead_s_min=min((x for x, _ in leads), default=math.nan),
                              lead_m_median=statistics.median(x for _, x in leads) if leads else math.nan,
                              runs_without_derailment=len(safe),
-                             false_alarm_runs=sum(first_alert(r, criterion, thr)["alerts"] > 0 for r in safe),
-                             false_alarms_per_1000_km=1000.0 * alarms / km if km > 0 else math.nan))
+                             false_alarm_runs=sum(n > 0 for n in alarms),
+                             false_alarms_per_1000_km=1000.0 * sum(alarms) / km if km > 0 else math.nan))
         table += rows
         within = [row for row in rows if row["false_alarms_per_1000_km"] <= budget and row["derailments_warned"]]
         if within:

@@ -65,25 +65,31 @@ def _scenario(radius, case, speed_kmh, friction):
     return replace(base, output_rate=RATE)
 
 
-def run_case(radius, case, speed_kmh, friction=0.3):
-    """One run and its alerts (a module-level function for the process pool)."""
+def run_to_end(sc, chunk_s):
+    """(the Simulation, its output arrays, the divergence message or '') of a scenario run until it stops,
+    `chunk_s` of simulated time at a time; a diverging run keeps the rows before it."""
+    import numpy as np
+
+    from railderail_sim.vehicle.layout import N_OUT
     from railderail_sim.vehicle.simulate import Simulation, SimulationDiverged, output_arrays
 
-    from .criteria import limits_for_model
-
-    t0 = time.monotonic()
-    sc = _scenario(radius, case, speed_kmh, friction)
     sim = Simulation(sc)
     parts, error = [], ""
     try:
         while sim.status == 0:
-            parts.append(sim.advance(5.0))
+            parts.append(sim.advance(chunk_s))
     except SimulationDiverged as exc:
         error = str(exc)
-    import numpy as np
-    rows = np.concatenate(parts) if parts else np.zeros((0, 1))
+    return sim, output_arrays(np.concatenate(parts) if parts else np.zeros((0, N_OUT))), error
+
+
+def run_case(radius, case, speed_kmh, friction=0.3):
+    """One run and its alerts (a module-level function for the process pool)."""
+    from .criteria import limits_for_model
+
+    t0 = time.monotonic()
+    sim, arrays, error = run_to_end(_scenario(radius, case, speed_kmh, friction), 5.0)
     limits = limits_for_model(sim.model, friction)
-    arrays = output_arrays(rows)
     alerts = alerts_of_run(arrays, limits)
     from .criteria import front_attack_angle, unloading_ratio
     peaks = dict(attack_angle_rad=float(front_attack_angle(arrays["attack_angle"]).max()),
@@ -96,7 +102,7 @@ def run_case(radius, case, speed_kmh, friction=0.3):
         derailment = dict(event, track_position_m=event["car_body_position_m"])
     return dict(radius_m=radius, case=case, speed_kmh=speed_kmh if case != "trial" else None,
                 derailed=derailment is not None, derailment=derailment, diverged=error,
-                end_position_m=float(arrays["position"][-1]) if len(rows) else 0.0,
+                end_position_m=float(arrays["position"][-1]) if len(arrays["position"]) else 0.0,
                 alerts=[a.as_dict() for a in alerts], first=lead_times(alerts, derailment), peaks=peaks,
                 limits=limits.as_dict(), compute_s=time.monotonic() - t0)
 
