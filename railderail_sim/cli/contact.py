@@ -86,6 +86,18 @@ def geometry_command(parser: argparse.ArgumentParser):
     return run
 
 
+def _pair_of_loads(text):
+    """'10,10' -> (10.0, 10.0): the argument of --wheel-loads-kn."""
+    parts = text.split(",")
+    try:
+        values = tuple(float(p) for p in parts)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not LEFT,RIGHT in kN, e.g. 10,10") from None
+    if len(values) != 2:
+        raise argparse.ArgumentTypeError(f"{text!r} has {len(values)} values; give LEFT,RIGHT in kN, e.g. 10,10")
+    return values
+
+
 def case_command(parser: argparse.ArgumentParser):
     from ..methods.wheel_rail_pair import MODELS, static_wheelset_load
     _pair_arguments(parser)
@@ -98,6 +110,10 @@ def case_command(parser: argparse.ArgumentParser):
     parser.add_argument("--load-kn", type=float, default=None,
                         help=f"vertical wheelset load (default: the CRH3 static axle load, "
                              f"{static_wheelset_load() / 1e3:.1f} kN)")
+    parser.add_argument("--wheel-loads-kn", type=_pair_of_loads, default=None, metavar="LEFT,RIGHT",
+                        help="the vertical force of each wheel on its rail (kN), as the Manchester benchmark "
+                             "prescribes them; vertical position and roll follow (instead of --load-kn and "
+                             "--roll-mrad)")
     parser.add_argument("--speed-kmh", type=float, default=300.0,
                         help="rolling speed (default %(default)s km/h)")
     parser.add_argument("--youngs-gpa", type=float, default=ContactParameters.youngs_modulus / 1e9,
@@ -110,6 +126,9 @@ def case_command(parser: argparse.ArgumentParser):
     parser.add_argument("--spin", choices=("nominal", "free"), default="nominal",
                         help="wheelset spin: nominal = v / r0 as in the vehicle model (default), free = the "
                              "spin at which the total longitudinal force vanishes")
+    parser.add_argument("--pitch-rate-rad-s", type=float, default=None, metavar="W",
+                        help="prescribed angular velocity of the wheelset about its axle, + rolling forward "
+                             "(rad/s; instead of --spin)")
     parser.add_argument("--grid", type=int, default=64,
                         help="half-space grid, elements per direction (default %(default)s)")
     parser.add_argument("--plot", metavar="FILE.png", help="draw the contact patches of both wheels")
@@ -120,6 +139,7 @@ def case_command(parser: argparse.ArgumentParser):
                                               model=args.contact),
                                         lateral_mm=args.lateral_mm, yaw_mrad=args.yaw_mrad,
                                         roll_mrad=args.roll_mrad, load_kn=args.load_kn,
-                                        speed_kmh=args.speed_kmh, grid=args.grid, spin=args.spin),
+                                        wheel_loads_kn=args.wheel_loads_kn, speed_kmh=args.speed_kmh,
+                                        grid=args.grid, spin=args.spin, pitch_rate_rad_s=args.pitch_rate_rad_s),
              plotting.contact_case_figure)
     return run

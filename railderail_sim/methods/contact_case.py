@@ -1,11 +1,16 @@
 """One loaded wheelset on its rails, in the spirit of CONTACT's wheelset mode (`railderail contact-case`).
 
-Prescribed lateral shift y, yaw psi, roll (default: the rigid-contact roll at that y and psi) and
-vertical load; the wheelset's vertical position is solved so that the summed vertical contact force of
-its two wheels equals the load (the elastic contact decides how the wheels share it). Creepages come
-from the kinematics of steady rolling: centre velocity (v, 0, 0), no angular velocity besides the spin
-about the axle, v / r0 or the free-rolling spin (`wheelset.wheel_forces` with vel = (v, 0, 0),
-omega = 0); no contact damping (quasi-static). Models (`wheel_rail_pair.MODELS`):
+Prescribed lateral shift y and yaw psi, and either
+  * a roll (default: the rigid-contact roll at that y and psi) and a vertical wheelset load: the
+    wheelset's vertical position is solved so that the summed vertical contact force of its two wheels
+    equals the load (the elastic contact decides how the wheels share it), or
+  * the vertical force of each wheel (`wheel_loads_kn`, as the Manchester contact benchmark and CONTACT's
+    wheelset mode prescribe them): vertical position and roll are solved together so that each wheel
+    carries its own load (the roll by bisection on the left wheel's share, the vertical position inside it).
+Creepages come from the kinematics of steady rolling: centre velocity (v, 0, 0), no angular velocity
+besides the spin about the axle (the pitch rate): v / r0, the free-rolling spin or a prescribed one
+(`wheelset.wheel_forces` with vel = (v, 0, 0), omega = 0); no contact damping (quasi-static).
+Models (`wheel_rail_pair.MODELS`):
     hertz      Hertz (equivalent ellipse from the patch curvatures) + Shen-Hedrick-Elkins
     fastsim    Hertz + FASTSIM
     discrete   Kik-Piotrowski normal + SHE on its equivalent ellipse
@@ -18,7 +23,9 @@ everything is in that wheel's own frame (the right wheel mirrored into the left-
 `geometry`): lateral positions, lateral creepage and lateral creep force + toward the field side of its
 rail, contact angle + toward the flange, spin likewise mirrored; so a centred wheelset gives identical
 left and right values. Q (+ toward the field side) and P (+ down) are the forces on the rail. Yaw
-psi > 0 turns the wheelset's heading to the left (toward the left rail).
+psi > 0 turns the wheelset's heading to the left (toward the left rail). `force_on_rail_N` is the one
+exception: the wheel's whole force on its rail in track axes (x forward, y left, z up), the way CONTACT
+reports its totals, so that the two wheels can be compared with a benchmark without mirroring.
 """
 from __future__ import annotations
 
@@ -38,11 +45,14 @@ from .wheel_rail_pair import SIDES, WheelRailPair, contact_range, gap_buffers, s
 from ..contact.layout import W_SIZE, Wheel
 
 LOAD_KN = (0.0, 1000.0)               # (0, 1000]
+WHEEL_LOAD_KN = (0.0, 500.0)          # (0, 500] per wheel
+PITCH_RATE_REL = (0.8, 1.2)           # a prescribed pitch rate, in units of v / r0: longitudinal creepage <= 20 %
 SPEED_KMH = (1.0, 600.0)
 YAW_MRAD = (-100.0, 100.0)
 ROLL_MRAD = (-50.0, 50.0)
 SPIN_MODES = {"nominal": "nominal, v / r0 (as the vehicle model)",
-              "free": "free rolling (total longitudinal force zero)"}
+              "free": "free rolling (total longitudinal force zero)",
+              "prescribed": "prescribed pitch rate"}
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -51,7 +61,7 @@ class WheelsetPose:
     lateral_m: float
     yaw_rad: float
     roll_rad: float
-    roll_source: str
+    roll_source: str                  # "rigid contact", "input" or "wheel loads"
     vertical_m: float
     touch_vertical_m: float           # vertical position at which the first wheel touches
     rigid_vertical_m: float
@@ -71,6 +81,7 @@ class WheelContact:
     P_N: float
     Q_over_P: float
     longitudinal_force_on_rail_N: float
+    force_on_rail_N: list             # the wheel's force on its rail, track axes (x forward, y left, z up)
     wheel_lift_m: float
     min_gap_m: float
     patch_count: int
@@ -92,8 +103,9 @@ class ContactCase:
     pair: WheelRailPair = field(metadata=NOT_WRITTEN)
     lateral_m: float
     yaw_rad: float
-    roll_input_rad: float | None      # None: the rigid-contact roll
+    roll_input_rad: float | None      # None: the rigid-contact roll or the one the wheel loads give
     load_N: float
+    wheel_loads_N: list | None        # [left, right] when each wheel's vertical force is prescribed
     speed_m_s: float
     grid: int
     pose: WheelsetPose
@@ -108,7 +120,9 @@ class ContactCase:
             "inputs": plain({**self.pair.inputs(), "model": self.pair.model, "normal_model": c.normal_model,
                              "creep_model": c.creep_model, "halfspace": self.pair.halfspace,
                              "lateral_m": self.lateral_m, "yaw_rad": self.yaw_rad, "roll_rad": self.roll_input_rad,
-                             "load_N": self.load_N, "speed_m_s": self.speed_m_s,
+                             "load_N": self.load_N, "wheel_loads_N": self.wheel_loads_N,
+                             "pitch_rate_rad_s": self.pose.spin_rad_s if self.pose.spin_mode == SPIN_MODES[
+                                 "prescribed"] else None, "speed_m_s": self.speed_m_s,
                              "youngs_modulus_Pa": c.youngs_modulus, "poisson_ratio": c.poisson_ratio,
                              "halfspace_grid": [self.grid, self.grid] if self.pair.halfspace else None,
                              "spin": self.pose.spin_rad_s}),   # the solved spin (rad/s), as written so far
@@ -206,20 +220,117 @@ def _touch_height(cg, y, phi, psi):
     return -min(gl0, gr0) if max(gl0, gr0) < geo.NO_RAIL_GAP else math.inf
 
 
+def _wheel_loads(wheel_loads_kn, load_kn, roll_mrad):
+    """The prescribed vertical force of each wheel [left, right] (N), or None; refuses what contradicts it."""
+    if wheel_loads_kn is None:
+        return None
+    if load_kn is not None:
+        raise ValueError("give either the wheelset load (--load-kn) or the load of each wheel (--wheel-loads-kn), "
+                         "not both")
+    if roll_mrad is not None:
+        raise ValueError("with the load of each wheel (--wheel-loads-kn) prescribed the roll follows from them; "
+                         "leave out --roll-mrad")
+    loads = list(wheel_loads_kn)
+    if len(loads) != 2:
+        raise ValueError(f"--wheel-loads-kn takes two loads, LEFT,RIGHT (kN); got {len(loads)}: {wheel_loads_kn!r}")
+    return [check_range(f"{side} wheel load --wheel-loads-kn", value, *WHEEL_LOAD_KN, "kN", lo_open=True) * 1e3
+            for side, value in zip(SIDES, loads)]
+
+
+def _spin_rule(spin, pitch_rate_rad_s, spin_nominal):
+    """The spin mode and a function (cg, cp, pose, speed) -> spin (rad/s)."""
+    if pitch_rate_rad_s is not None:
+        if spin == "free":
+            raise ValueError("--spin free solves the pitch rate; leave out --pitch-rate-rad-s (or use --spin "
+                             "nominal)")
+        lo, hi = (k * spin_nominal for k in PITCH_RATE_REL)
+        rate = float(pitch_rate_rad_s)
+        if not (math.isfinite(rate) and lo <= rate <= hi):
+            raise ValueError(f"pitch rate --pitch-rate-rad-s {rate:g} rad/s is outside the accepted range "
+                             f"[{lo:.4f}, {hi:.4f}] rad/s ({PITCH_RATE_REL[0]:g}..{PITCH_RATE_REL[1]:g} times "
+                             f"v / r0 = {spin_nominal:.4f} rad/s at this speed and rolling radius)")
+        return "prescribed", lambda cg, cp, pose, speed: rate
+    if spin not in ("nominal", "free"):
+        raise ValueError(f"spin {spin!r} is unknown; choose nominal or free")
+    if spin == "free":
+        return spin, lambda cg, cp, pose, speed: _free_spin(cg, cp, pose, speed, spin_nominal)
+    return spin, lambda cg, cp, pose, speed: spin_nominal
+
+
+def _vertical_position(cg, cp, y, phi, psi, speed, spin_at, z_touch, load, load_text):
+    """Vertical position (m) at which the two wheels together carry `load` (N) at roll phi."""
+    def excess(zz):
+        pose = (y, zz, phi, psi)
+        return _vertical_force(cg, cp, pose, speed, spin_at(cg, cp, pose, speed)) - load
+
+    step = 1e-4
+    z_lo = z_touch - step
+    while excess(z_lo) <= 0.0:
+        step *= 2.0
+        z_lo = z_touch - step
+        if step > 0.02:
+            raise ValueError(f"{load_text} is not reached within 20 mm of interpenetration")
+    return brentq(excess, z_lo, z_touch, xtol=1e-14, rtol=1e-13, maxiter=200)
+
+
+def _roll_for_wheel_loads(cg, cp, y, psi, speed, spin_at, loads, phi_rigid):
+    """Roll (rad) and vertical position (m) at which each wheel carries its own load.
+
+    A positive roll lifts the left wheel, so the left wheel's shortfall (its load minus the vertical force
+    it carries, with both together carrying the sum) rises with the roll: it is bracketed by steps that
+    double outward from the rigid-contact roll, then bisected."""
+    total = sum(loads)
+    text = (f"wheel loads {loads[0] / 1e3:g},{loads[1] / 1e3:g} kN (--wheel-loads-kn; accepted range per wheel "
+            f"(0, {WHEEL_LOAD_KN[1]:g}] kN)")
+
+    def shortfall(phi):
+        z_touch = _touch_height(cg, y, phi, psi)
+        if not math.isfinite(z_touch):
+            raise ValueError(f"{text}: the roll that shares them so ({phi * 1e3:.2f} mrad) leaves a wheel without "
+                             "rail under it")
+        z = _vertical_position(cg, cp, y, phi, psi, speed, spin_at, z_touch, total, text)
+        pose = (y, z, phi, psi)
+        return loads[0] - steady_wheel_forces(cg, cp, 0, pose, speed, spin_at(cg, cp, pose, speed))[0][2]
+
+    inner, f_inner = phi_rigid, shortfall(phi_rigid)
+    direction = 1.0 if f_inner < 0.0 else -1.0
+    step = 1e-6
+    outer, f_outer = inner, f_inner
+    while f_outer * direction < 0.0:
+        if step > ROLL_MRAD[1] * 1e-3:
+            raise ValueError(f"{text}: no roll within {ROLL_MRAD[1]:g} mrad of the rigid-contact roll "
+                             f"({phi_rigid * 1e3:.2f} mrad) shares the load so")
+        inner, f_inner = outer, f_outer
+        outer = phi_rigid + direction * step
+        f_outer = shortfall(outer)
+        step *= 2.0
+    phi = outer if f_outer == 0.0 else brentq(shortfall, min(inner, outer), max(inner, outer), xtol=1e-14,
+                                              rtol=1e-12, maxiter=200)
+    z = _vertical_position(cg, cp, y, phi, psi, speed, spin_at, _touch_height(cg, y, phi, psi), total, text)
+    return phi, z
+
+
 def contact_case(pair: WheelRailPair, *, lateral_mm=0.0, yaw_mrad=0.0, roll_mrad=None, load_kn=None,
-                 speed_kmh=300.0, grid=64, spin="nominal") -> ContactCase:
+                 wheel_loads_kn=None, speed_kmh=300.0, grid=64, spin="nominal",
+                 pitch_rate_rad_s=None) -> ContactCase:
     """Solve one wheelset contact case with the pair's contact model (user units in, SI out).
 
     spin: "nominal" = v / r0 (as the vehicle model), "free" = the spin at which the total longitudinal
-    contact force of the wheelset vanishes (solved together with the vertical position)."""
-    if spin not in SPIN_MODES:
-        raise ValueError(f"spin {spin!r} is unknown; choose nominal or free")
+    contact force of the wheelset vanishes (solved together with the vertical position); a
+    `pitch_rate_rad_s` (+ rolling forward) prescribes it instead. `wheel_loads_kn` = (left, right)
+    prescribes each wheel's vertical force in place of `load_kn` and `roll_mrad`."""
     cg, cp = pair.cg, pair.cp
     psi = check_range("yaw --yaw-mrad", yaw_mrad, *YAW_MRAD, "mrad") * 1e-3
     speed = check_range("speed --speed-kmh", speed_kmh, *SPEED_KMH, "km/h") / 3.6
-    if load_kn is None:
-        load_kn = static_wheelset_load() / 1e3
-    load = check_range("vertical wheelset load --load-kn", load_kn, *LOAD_KN, "kN", lo_open=True) * 1e3
+    wheel_loads = _wheel_loads(wheel_loads_kn, load_kn, roll_mrad)
+    if wheel_loads is None:
+        if load_kn is None:
+            load_kn = static_wheelset_load() / 1e3
+        load = check_range("vertical wheelset load --load-kn", load_kn, *LOAD_KN, "kN", lo_open=True) * 1e3
+    else:
+        load = sum(wheel_loads)
+    spin_nominal = speed / pair.radius
+    spin_mode, spin_at = _spin_rule(spin, pitch_rate_rad_s, spin_nominal)
     grid = int(check_range("half-space grid --grid", grid, *GRID, "elements"))
     y = float(lateral_mm) * 1e-3
     if not math.isfinite(y):
@@ -231,36 +342,25 @@ def contact_case(pair: WheelRailPair, *, lateral_mm=0.0, yaw_mrad=0.0, roll_mrad
                          f"{-y_lim * 1e3:.1f}..{y_lim * 1e3:.1f} mm (beyond it a contact passes the flange "
                          "tip or the end of the wheel profile)")
     z_rigid, phi_rigid, _ = conicity.rigid_pose(cg, y, psi)
-    if roll_mrad is None:
-        phi, roll_input, roll_source = phi_rigid, None, "rigid contact"
+    if wheel_loads is not None:
+        phi, z = _roll_for_wheel_loads(cg, cp, y, psi, speed, spin_at, wheel_loads, phi_rigid)
+        roll_input, roll_source = None, "wheel loads"
     else:
-        phi = roll_input = check_range("roll --roll-mrad", roll_mrad, *ROLL_MRAD, "mrad") * 1e-3
-        roll_source = "input"
+        if roll_mrad is None:
+            phi, roll_input, roll_source = phi_rigid, None, "rigid contact"
+        else:
+            phi = roll_input = check_range("roll --roll-mrad", roll_mrad, *ROLL_MRAD, "mrad") * 1e-3
+            roll_source = "input"
+        z_touch0 = _touch_height(cg, y, phi, psi)
+        if not math.isfinite(z_touch0):
+            raise ValueError(f"roll {phi * 1e3:g} mrad at lateral shift {lateral_mm:g} mm leaves a wheel without "
+                             "rail under it; use a roll nearer the rigid-contact roll "
+                             f"{phi_rigid * 1e3:.2f} mrad")
+        z = _vertical_position(cg, cp, y, phi, psi, speed, spin_at, z_touch0, load,
+                               f"vertical wheelset load {load / 1e3:g} kN (accepted range (0, {LOAD_KN[1]:g}] kN)")
     z_touch = _touch_height(cg, y, phi, psi)
-    if not math.isfinite(z_touch):
-        raise ValueError(f"roll {phi * 1e3:g} mrad at lateral shift {lateral_mm:g} mm leaves a wheel without "
-                         "rail under it; use a roll nearer the rigid-contact roll "
-                         f"{phi_rigid * 1e3:.2f} mrad")
-    spin_nominal = speed / pair.radius
-    free = spin == "free"
-
-    def spin_at(zz):
-        return _free_spin(cg, cp, (y, zz, phi, psi), speed, spin_nominal) if free else spin_nominal
-
-    def excess(zz):
-        return _vertical_force(cg, cp, (y, zz, phi, psi), speed, spin_at(zz)) - load
-
-    step = 1e-4
-    z_lo = z_touch - step
-    while excess(z_lo) <= 0.0:
-        step *= 2.0
-        z_lo = z_touch - step
-        if step > 0.02:
-            raise ValueError(f"vertical wheelset load {load_kn:g} kN is not reached within 20 mm of "
-                             f"interpenetration; accepted range (0, {LOAD_KN[1]:g}] kN")
-    z = brentq(excess, z_lo, z_touch, xtol=1e-14, rtol=1e-13, maxiter=200)
     pose = (y, z, phi, psi)
-    spin_rate = spin_at(z)
+    spin_rate = spin_at(cg, cp, pose, speed)
     if not math.isfinite(spin_rate):
         raise ValueError("spin free: no spin within +-10 % of v / r0 balances the longitudinal forces; "
                          "use --spin nominal")
@@ -274,14 +374,16 @@ def contact_case(pair: WheelRailPair, *, lateral_mm=0.0, yaw_mrad=0.0, roll_mrad
         r = Wheel.split(rec)
         wheels.append(WheelContact(side=SIDES[side], Q_N=r["lateral_force"], P_N=r["vertical_force"],
                                    Q_over_P=r["derailment_coefficient"],
-                                   longitudinal_force_on_rail_N=r["longitudinal_force"], wheel_lift_m=r["wheel_lift"],
+                                   longitudinal_force_on_rail_N=r["longitudinal_force"],
+                                   force_on_rail_N=(-f).tolist(), wheel_lift_m=r["wheel_lift"],
                                    min_gap_m=r["min_gap"], patch_count=len(patches),
                                    patches=patches))
     pose_out = WheelsetPose(lateral_m=y, yaw_rad=psi, roll_rad=phi, roll_source=roll_source, vertical_m=z,
                             touch_vertical_m=z_touch, rigid_vertical_m=z_rigid, rigid_roll_rad=phi_rigid,
-                            lateral_range_m=y_lim, spin_rad_s=spin_rate, spin_mode=SPIN_MODES[spin],
+                            lateral_range_m=y_lim, spin_rad_s=spin_rate, spin_mode=SPIN_MODES[spin_mode],
                             nominal_spin_rad_s=spin_nominal, effective_rolling_radius_m=speed / spin_rate)
     totals = WheelsetTotals(force_N=total_f.tolist(), moment_Nm=total_m.tolist(),
                             vertical_load_N=float(total_f[2]), load_error_rel=float(total_f[2] / load - 1.0))
     return ContactCase(pair=pair, lateral_m=y, yaw_rad=psi, roll_input_rad=roll_input, load_N=load,
-                       speed_m_s=speed, grid=grid, pose=pose_out, wheels=wheels, totals=totals)
+                       wheel_loads_N=wheel_loads, speed_m_s=speed, grid=grid, pose=pose_out, wheels=wheels,
+                       totals=totals)
