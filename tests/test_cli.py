@@ -57,6 +57,31 @@ def test_value_error_gives_one_line_and_status_2(monkeypatch, capsys):
     assert captured.out == ""
 
 
+def diverging_command(parser):
+    def run_it(args):
+        from railderail_sim.vehicle.simulate import SimulationDiverged
+        raise SimulationDiverged("the simulation diverged at t = 1.5 s, track position 40.00 m: the step size fell")
+    return run_it
+
+
+def raising_command(parser):
+    def run_it(args):
+        raise RuntimeError("a defect, not a result")
+    return run_it
+
+
+def test_a_diverged_simulation_gives_one_line_and_status_1_other_errors_their_traceback(monkeypatch, capsys):
+    monkeypatch.setattr(cli, "COMMANDS", cli.COMMANDS + (
+        cli.Command("diverge", "diverges", f"{__name__}:diverging_command"),
+        cli.Command("defect", "has a defect", f"{__name__}:raising_command")))
+    assert cli.main(["diverge"]) == 1
+    captured = capsys.readouterr()
+    assert captured.err == ("railderail: error: the simulation diverged at t = 1.5 s, track position 40.00 m: "
+                            "the step size fell\n")
+    with pytest.raises(RuntimeError, match="a defect"):
+        cli.main(["defect"])
+
+
 def test_help_imports_no_heavy_modules():
     code = ("import sys\nfrom railderail_sim import cli\ntry:\n    cli.main(['--help'])\n"
             "except SystemExit:\n    pass\nprint(sorted({'numba', 'rclpy', 'scipy'} & set(sys.modules)))")

@@ -122,6 +122,14 @@ def main(argv: list[str] | None = None) -> int:
     except ValueError as error:
         print(f"{PROG}: error: {error}", file=sys.stderr)
         return 2
+    except RuntimeError as error:
+        # a diverged simulation is a result to report in one line, not a crash; the module is looked up
+        # rather than imported, so that commands that never simulate do not load the numba core
+        simulate = sys.modules.get("railderail_sim.vehicle.simulate")
+        if simulate is None or not isinstance(error, simulate.SimulationDiverged):
+            raise
+        print(f"{PROG}: error: {error}", file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
         return 130
     return 0 if status is None else status
