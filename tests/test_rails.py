@@ -144,6 +144,27 @@ def test_an_outward_kink_makes_the_outer_wheel_climb(tmp_path):
     assert event["contact_position_m"] < -0.020
 
 
+def test_a_twist_in_a_sharp_curve_makes_the_outer_wheel_climb_over_its_flange_tip(tmp_path):
+    # the outer (right) rail of a 150 m left curve down 20 mm over 5 m (a 1:250 twist), held for 20 m; 30 km/h
+    # with 150 mm of cant, friction 0.6: the leading outer wheel, already flanging near Nadal's limit, loses load
+    # and climbs. Near the flange tip its contact angle falls below half the flange angle, the wheel is still
+    # climbing: the mechanism stays flange climbing (it read wheel unloading before the fix)
+    s = np.arange(600.0, 630.001, 0.25)
+    drop = -0.020 * np.clip(np.minimum(s - 600.0, 630.0 - s) / 5.0, 0.0, 1.0)
+    zero = np.zeros_like(s)
+    write_csv(Irregularity(s, np.column_stack((zero, zero, zero, drop))), tmp_path / "twist.csv")
+    twist = resolve(str(tmp_path / "twist.csv"), 0, 1800.0)
+    sc = replace(scenario(radius=150.0, speed_kmh=30.0, friction=0.6),
+                 track=replace(scenario(radius=150.0).track, cant_height=0.150), irregularity=twist,
+                 start_position=150.0, end_position=640.0)  # from the straight: a car cannot start settled in a 150 m curve
+    result = simulate(sc)
+    event = result.derailment
+    assert event is not None and event["mechanism"] == "flange_climbing", event
+    assert (event["wheelset"], event["wheel_side"], event["rail_side"]) == (0, "right", "outer")
+    angle = result.wheel("contact_angle")[:, 1]
+    assert angle.min() < 0.5 * angle.max()           # the climb passed the flange's steep face
+
+
 def test_a_vertical_rail_wave_loads_the_wheels_as_the_unsprung_mass_says():
     # both rails in a 0.2 mm, 2 m vertical sine at 250 km/h (34.7 Hz): each wheel's load swings by its share
     # of the wheelset's inertia, the axle box's spring and damper, raised by the Hertz contact's compliance

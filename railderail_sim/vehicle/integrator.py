@@ -52,7 +52,8 @@ class Event(Record):
 
 class LastContact(Record):
     """Where a wheel last touched its rail (kept while it is off the rail, `_follow_contact`)."""
-    on_flange = "-", "1 if a loaded patch was on the flange (contact angle above the flange_contact_angle)"
+    on_flange = "-", ("1 if the wheel was on its flange: a loaded patch steeper than the flange_contact_angle, or "
+                      "still loaded and lifted by more than the lift_tolerance since it was")
     contact_position = "m", "the main patch's point on the rail, from the head axis, + field side"
 
 
@@ -148,8 +149,13 @@ def fill_row(row, t, x, v, model, recs):
 def _follow_contact(recs, vp, last):
     """Per wheel in contact: its LastContact, on the flange when a loaded patch's contact angle is above the
     `flange_contact_angle`; unchanged while the wheel is off the rail, so that a wheel that has lifted
-    remembers where it touched before."""
+    remembers where it touched before.
+
+    A wheel that climbs stays on its flange while it is loaded and lifted by more than the lift tolerance:
+    near the flange tip the contact angle falls below the threshold (to 0 at the tip) although the wheel
+    is still riding up its flange, and on the tread a loaded wheel's lift stays below a millimetre."""
     limit = vp[VehicleConstants.flange_contact_angle]
+    riding = vp[VehicleConstants.lift_tolerance]
     for k in range(N_WHEEL):
         loaded = False
         on_flange = False
@@ -160,7 +166,8 @@ def _follow_contact(recs, vp, last):
                 if recs[k, o + WheelPatch.contact_angle] > limit:
                     on_flange = True
         if loaded:
-            last[k, LastContact.on_flange] = 1.0 if on_flange else 0.0
+            climbing = last[k, LastContact.on_flange] > 0.5 and recs[k, Wheel.wheel_lift] > riding
+            last[k, LastContact.on_flange] = 1.0 if on_flange or climbing else 0.0
             last[k, LastContact.contact_position] = recs[k, Wheel.contact_position]
 
 
