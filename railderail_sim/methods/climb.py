@@ -11,9 +11,9 @@ The rig (docs/climb.md gives the reasons for each choice):
     so that H does not unload the right wheel: pushed at its centre a bare wheelset rolls over its flange at
     a wheel L/V of about lw / r0 = 1.6, before a low-friction or low-attack-angle flange climbs;
   - both wheels' forces come from `contact.wheelset.wheel_forces` (the exact online contact search, Hertz
-    patches, the chosen creep law, FASTSIM by default), with the creepages from the wheelset's full motion: forward speed,
-    lateral and vertical velocity, roll rate and spin. This is what bounds the climb rate: a wheel climbing
-    up its flange at the rate the yawed wheel rolls up it has no creepage left to help it;
+    patches, the chosen creep law, FASTSIM by default), with the creepages from the wheelset's full motion:
+    forward speed, lateral and vertical velocity, roll rate and spin. This is what bounds the climb rate: a
+    wheel climbing up its flange at the rate the yawed wheel rolls up it has no creepage left to help it;
   - the contacts carry heavy Hunt-Crossley damping (RIG_CONTACT_DAMPING): the damping acts on the approach
     rate only, so that a wheel sliding steadily along its flange feels none, while the bounce that a
     contact appearing on the flange face starts dies out within a few cycles (the rigid rails have no track
@@ -124,8 +124,8 @@ class Climb:
                 f"{self.creep_law}, {self.speed_m_s * 3.6:g} km/h, wheel load {self.wheel_load_N / 1e3:.1f} kN")
         lines = [head, f"  {self.outcome}"]
         if self.climb_lv is not None:
-            lines.append(f"  L/V at the climb {self.climb_lv:.3f} (lateral force {self.climb_lateral_force_N / 1e3:.1f} "
-                         f"kN, contact angle {math.degrees(self.climb_contact_angle_rad):.2f} deg), peak L/V "
+            lines.append(f"  L/V at the climb {self.climb_lv:.3f} (lateral force "
+                         f"{self.climb_lateral_force_N / 1e3:.1f} kN, contact angle {math.degrees(self.climb_contact_angle_rad):.2f} deg), peak L/V "
                          f"{self.peak_lv:.3f}")
         lines.append(f"  Nadal's limit {self.nadal_limit:.3f} at the largest contact angle reached "
                      f"{math.degrees(self.max_contact_angle_rad):.2f} deg")
@@ -144,7 +144,7 @@ class ClimbSweep:
     climbs: list                      # Climb, friction by friction, attack angles in the given order
 
     def frictions(self) -> list:
-        return sorted({c.friction for c in self.climbs}, key=[c.friction for c in self.climbs].index)
+        return list(dict.fromkeys(c.friction for c in self.climbs))
 
     def curve(self, friction) -> list:
         return [c for c in self.climbs if c.friction == friction]
@@ -156,9 +156,9 @@ class ClimbSweep:
     def text(self) -> str:
         lines = [f"climb sweep: wheel {self.wheel} on rail {self.rail}",
                  "  friction  attack mrad  L/V climb  L/V peak  Nadal  max angle deg  climb distance m"]
+        def num(value, fmt):
+            return format(value, fmt) if value is not None else "-"
         for c in self.climbs:
-            def num(value, fmt):
-                return format(value, fmt) if value is not None else "-"
             lines.append(f"  {c.friction:8g}  {c.attack_angle_rad * 1e3:11g}  {num(c.climb_lv, '9.3f')}  "
                          f"{c.peak_lv:8.3f}  {c.nadal_limit:5.3f}  {math.degrees(c.max_contact_angle_rad):13.2f}  "
                          f"{num(c.climb_distance_m, '16.3f')}")
@@ -299,7 +299,8 @@ def climb(wheel="lm", rail="uic60", *, attack_angle_mrad=10.0, friction=0.3, spe
     y_two_point, h0 = two_point_lift(pair.cg, psi)
     state = rig.start(y_two_point - 0.5e-3)
     flange_height = pair.cg[GeometryHeader.flange_height]
-    inputs = dict(wheel=pair.wheel.name, rail=pair.rail.name, attack_angle_rad=psi, friction=mu, creep_law=creep, speed_m_s=speed, wheel_load_N=load,
+    inputs = dict(wheel=pair.wheel.name, rail=pair.rail.name, attack_angle_rad=psi, friction=mu, creep_law=creep,
+                  speed_m_s=speed, wheel_load_N=load,
                   ramp_per_s=ramp, flange_height_m=flange_height, two_point_lift_m=h0)
 
     def ramp_force(t):
