@@ -346,6 +346,64 @@ def real_track_figure(summaries, path):
         ax.legend(fontsize="small")
 
 
+def climb_figure(result, path):
+    """One run of the wheel-climb rig (`methods.climb.Climb`): the flanging wheel's L/V and lift against the
+    track travelled, the onset of the climb and the flange tip on the rail top marked, Nadal's limit and
+    tan(delta) at the largest contact angle as guides."""
+    with figure(path, (8.0, 6.0)) as fig:
+        ax_lv, ax_lift = fig.subplots(2, 1, sharex=True)
+        colour = WHEEL_COLOURS["left"]
+        ax_lv.plot(result.distance_m, result.lv, color=colour, lw=0.8, label="left (flanging) wheel")
+        ax_lv.axhline(result.nadal_limit, color=REFERENCE_COLOUR, lw=0.8, ls="--",
+                      label=f"Nadal's limit {result.nadal_limit:.3f}")
+        ax_lv.axhline(math.tan(result.max_contact_angle_rad), color=REFERENCE_COLOUR, lw=0.8, ls=":",
+                      label=f"tan(delta), delta = {math.degrees(result.max_contact_angle_rad):.1f} deg")
+        ax_lift.plot(result.distance_m, result.lift_m * 1e3, color=colour, lw=0.8, label="wheel lift")
+        ax_lift.axhline(result.flange_height_m * 1e3, color=REFERENCE_COLOUR, lw=0.8, ls=":", label="flange height")
+        ax_lift.axhline((result.two_point_lift_m + 1e-3) * 1e3, color=MARKER_COLOUR, lw=0.8, ls="--",
+                        label="1 mm above two-point contact")
+        for ax in (ax_lv, ax_lift):
+            if result.climb_position_m is not None:
+                ax.axvline(result.climb_position_m, color=MARKER_COLOUR, lw=0.6)
+            if result.climb_distance_m is not None:
+                ax.axvline(result.climb_position_m + result.climb_distance_m, color=MARKER_COLOUR, lw=0.6)
+            ax.legend(fontsize="small")
+        ax_lv.set_ylabel("L/V, left wheel")
+        ax_lift.set_ylabel("wheel lift (mm)")
+        ax_lift.set_xlabel("track travelled (m)")
+        lv = f"L/V at the climb {result.climb_lv:.3f}" if result.climb_lv is not None else "no climb"
+        distance = (f", climb distance {result.climb_distance_m:.2f} m" if result.climb_distance_m is not None
+                    else "")
+        fig.suptitle(f"wheel climb, {result.wheel} on {result.rail}: attack angle {result.attack_angle_rad * 1e3:g} "
+                     f"mrad, friction {result.friction:g} ({result.creep_law})\n{lv}{distance}")
+
+
+def climb_sweep_figure(sweep, path):
+    """The wheel-climb rig over attack angles (`methods.climb.ClimbSweep`), a curve per friction: the L/V at
+    the climb with Nadal's limit at the largest contact angle (dashed), and the climb distance."""
+    with figure(path, (10.0, 4.5)) as fig:
+        ax_lv, ax_d = fig.subplots(1, 2)
+        for mu in sweep.frictions():
+            runs = sweep.curve(mu)
+            aoa = np.array([c.attack_angle_rad for c in runs]) * 1e3
+            lv = np.array([np.nan if c.climb_lv is None else c.climb_lv for c in runs])
+            line, = ax_lv.plot(aoa, lv, "o-", label=f"rig, friction {mu:g}")
+            ax_lv.plot(aoa, [c.nadal_limit for c in runs], "--", color=line.get_color(), lw=0.8,
+                       label=f"Nadal, friction {mu:g}")
+            distance = np.array([np.nan if c.climb_distance_m is None else c.climb_distance_m for c in runs])
+            ax_d.plot(aoa, distance, "o-", color=line.get_color(), label=f"friction {mu:g}")
+        ax_lv.set_xlabel("attack angle (mrad)")
+        ax_lv.set_ylabel("L/V at the climb, flanging wheel")
+        ax_lv.legend(fontsize="small")
+        ax_d.set_xlabel("attack angle (mrad)")
+        ax_d.set_ylabel("climb distance (m)")
+        ax_d.set_ylim(bottom=0.0)
+        ax_d.legend(fontsize="small")
+        first = sweep.climbs[0]
+        fig.suptitle(f"wheel climb rig, {sweep.wheel} on {sweep.rail}, creep law {first.creep_law}, "
+                     f"{first.speed_m_s * 3.6:g} km/h")
+
+
 def position_figure(path, series, ylabel, markers=(), xlabel="position of the car-body centre (m)"):
     """Quantities against track position: `series` of (position, values, label), guides at `markers`."""
     with figure(path, (8.0, 4.5)) as fig:

@@ -42,6 +42,8 @@ COMMANDS: tuple[Command, ...] = (
             "railderail_sim.cli.contact:geometry_command"),
     Command("contact-case", "contact patches and forces of a loaded wheelset (--json, --plot)",
             "railderail_sim.cli.contact:case_command"),
+    Command("climb", "wheel-climb rig: L/V at the climb, climb distance, Nadal's limit against attack angle "
+            "(--json, --plot)", "railderail_sim.cli.climb:climb_command"),
     Command("bench", "print the performance figures (add --json)", "railderail_sim.cli.bench:command"),
     Command("simulate", "run the car over the line at a constant speed (--out FILE.npz)",
             "railderail_sim.cli.methods:simulate_command"),
