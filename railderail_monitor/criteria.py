@@ -17,6 +17,7 @@ the monitor's parameters; the defaults are the shipped parameter file's, `defaul
 | `running_gear_unloading` | mean dP/P0 of a bogie's two wheels on one side | 0.90 (EN 14067-6)     | none                   |
 | `derailment_coefficient_duration` | Q/P of each wheel held 50 ms  | 1.0 (AAR Chapter XI)  | Nadal's limit          |
 | `derailment_coefficient_mean` | 2 m sliding mean of Q/P of each wheel | 0.8 (EN 14363) | Nadal's limit     |
+| `flange_climb_distance`  | track run with Q/P at Nadal's limit over TCRP's limit at the attack angle (-) | 0.5 | 1 (TCRP Report 71) |
 
 Sources and confidence:
 - attack angle 0.06 rad on the front wheelset: Yu et al., Appl. Sci. 2022, 12, 11199 (the paper
@@ -40,6 +41,10 @@ Sources and confidence:
   `duration_s` = 50 ms of time, not of track (AAR Manual of Standards, Chapter XI, single-wheel L/V
   1.0 over 50 ms, and the Japanese practice of a duration; medium confidence, as quoted in the
   issue tracker and TCRP Report 71; its CRITICAL level is Nadal's limit like the 2 m rule's).
+- flange-climb distance: TCRP Report 71 Vol. 5 (2005, Wu and Wilson) eq. 2.4, the distance over which a
+  wheel's L/V may stay at Nadal's limit, falling with the attack angle (`climb_distance`: the formula, its
+  constants and why their grouping is uncertain). Its limit is the CRITICAL level 1; the WARNING level
+  at half of it is a modelling choice. Nadal's limit is the monitor's (derailment_coefficient_critical).
 
 One event, one alert: a value must stay at or above its level over `debounce_m` of track (default
 2 m, the window length of EN 14363's Q/P sliding mean) before the alert is raised, and the channel
@@ -60,9 +65,11 @@ from railderail_sim.parameters import RUNNING_GEAR_UNLOADING_LIMIT
 from railderail_sim.ranges import check_range
 from railderail_sim.vehicle.layout import RUNNING_GEARS, running_gear_sides
 
+from .climb_distance import ClimbDistance, tcrp_coefficients
+
 SIDES = ("left", "right")
 CRITERIA = ("attack_angle", "wheel_lift", "derailment_coefficient", "wheel_unloading", "running_gear_unloading",
-            "derailment_coefficient_duration", "derailment_coefficient_mean")
+            "derailment_coefficient_duration", "derailment_coefficient_mean", "flange_climb_distance")
 SHARE_NADAL = ("derailment_coefficient_duration", "derailment_coefficient_mean")   # their CRITICAL level is Q/P's
 # a running gear's side by its leading wheelset, in the order of vehicle.layout.running_gear_sides
 BOGIE_PLACES = tuple((gear[0], side) for gear in RUNNING_GEARS for side in SIDES)
@@ -80,9 +87,10 @@ TIMED = ("derailment_coefficient_duration",)      # their debounce is time (s), 
 
 def debounce(criterion, limits):
     """What a criterion's value must be held over before it alerts: duration_s of time for the duration
-    rule, nothing for the sliding mean (its window is the evaluation), debounce_m of track otherwise."""
-    return {"derailment_coefficient_duration": limits.duration_s,
-            "derailment_coefficient_mean": 0.0}.get(criterion, limits.debounce_m)
+    rule, nothing for the sliding mean and the climb distance (their window or distance is the evaluation),
+    debounce_m of track otherwise."""
+    return {"derailment_coefficient_duration": limits.duration_s, "derailment_coefficient_mean": 0.0,
+            "flange_climb_distance": 0.0}.get(criterion, limits.debounce_m)
 
 
 def _value(unit, meaning, source, default=MISSING, accepted=(0.0, math.inf), lo_open=True, nan_disables=False):
@@ -116,6 +124,12 @@ class Limits:
     static_wheel_load: float = _value("N", "static wheel load P0 of the unloading ratio (P0 - P)/P0",
                                       "the car's load per wheel at rest on level track "
                                       "(VehicleParameters.static_wheel_load)")
+    climb_distance_scale: float = _value("m", "TCRP's limiting climb distance at zero attack angle, A of eq. 2.4",
+                                         "TCRP Report 71 Vol. 5 eq. 2.4 at the wheel's largest flange angle and "
+                                         "flange length (grouping of its constants uncertain, climb_distance.py)")
+    climb_attack_angle_scale: float = _value("rad", "attack angle at which TCRP's limiting climb distance is "
+                                             "halved, B Len of eq. 2.4", "TCRP Report 71 Vol. 5 eq. 2.4, as "
+                                             "climb_distance_scale")
     attack_angle: float = _level("rad", "magnitude of the front wheelset's attack angle, WARNING level",
                                  "Yu et al., Appl. Sci. 2022, 12, 11199", 0.06)
     attack_angle_critical: float = _level("rad", "attack angle, CRITICAL level",
@@ -136,6 +150,11 @@ class Limits:
     derailment_coefficient_mean: float = _level("", "sliding mean of Q/P over sliding_mean_m of track, each "
                                                 "wheel, WARNING level", "EN 14363:2016 / UIC 518 limit (Y/Q)lim "
                                                 "of the 2 m sliding mean", 0.8)
+    flange_climb_distance: float = _level("", "track run with Q/P at Nadal's limit over TCRP's limiting climb "
+                                          "distance at the wheelset's attack angle, each wheel, WARNING level",
+                                          "half TCRP's limit (a modelling choice)", 0.5)
+    flange_climb_distance_critical: float = _level("", "flange-climb distance ratio, CRITICAL level",
+                                                   "TCRP Report 71 Vol. 5 eq. 2.4: the limiting distance", 1.0)
     sliding_mean_m: float = _value("m", "track over which Q/P is averaged for its sliding-mean criterion",
                                    "EN 14363:2016: 2 m", 2.0, (0.0, 100.0))
     duration_s: float = _value("s", "time Q/P must stay at or above a level for the duration criterion",
@@ -175,26 +194,33 @@ class Limits:
 
 def model_basis(model):
     """What the limits take from a built `vehicle.assemble.Model`: flange height (m), the profile
-    pair's largest contact angle in rigid contact (rad) and the static wheel load (N). The one
-    function that reads the model's internals for the monitor."""
+    pair's largest contact angle in rigid contact (rad), the static wheel load (N), and the wheel's
+    largest flange angle (rad) and flange length (m, its face within 1 deg of that angle: TCRP's Len).
+    The one function that reads the model's internals for the monitor."""
+    from railderail_sim import profiles
     from railderail_sim.contact.conicity import max_contact_angle
 
     delta, _ = max_contact_angle(model.cg)
+    wheel = profiles.resolve(model.contact.wheel_profile, "wheel")
     return dict(flange_height=model.flange_height, max_contact_angle=float(delta),
-                static_wheel_load=float(model.vehicle.static_wheel_load))
+                static_wheel_load=float(model.vehicle.static_wheel_load), flange_angle=wheel.max_flange_angle(),
+                flange_length=wheel.flange_length())
 
 
 def limits_for_model(model, friction, **changes):
     """Limits whose model-dependent values come from a built model (`model_basis`): wheel lift 1/3
     and 2/3 of the flange height, Nadal's limit at the largest contact angle and `friction`, the
-    static wheel load; the others their defaults unless `changes` says otherwise."""
+    static wheel load, TCRP's climb-distance scales from the flange; the others their defaults unless
+    `changes` says otherwise."""
     from railderail_sim.contact.nadal import nadal_limit
 
     basis = model_basis(model)
     hf = basis["flange_height"]
+    distance, angle = tcrp_coefficients(basis["flange_angle"], basis["flange_length"])
     values = dict(wheel_lift=hf / 3.0, wheel_lift_critical=2.0 * hf / 3.0,
                   derailment_coefficient_critical=float(nadal_limit(basis["max_contact_angle"], friction)),
-                  static_wheel_load=basis["static_wheel_load"])
+                  static_wheel_load=basis["static_wheel_load"], climb_distance_scale=distance,
+                  climb_attack_angle_scale=angle)
     values.update(changes)
     return Limits(**values).validated()
 
@@ -420,16 +446,23 @@ class Monitor:
             self.channels[criterion] = [(sev, thr, [Detector(thr, held, r, rm) for _ in range(count)])
                                         for sev, thr in limits.levels(criterion)]
         self.curvatures = collections.deque(maxlen=256)       # (sample, curvature), arrival order
+        self.attack_angles = collections.deque(maxlen=256)    # (sample, 4 attack angles), arrival order
         self.qp_mean = SlidingMean(limits.sliding_mean_m, 8)
+        self.climb = ClimbDistance(limits.derailment_coefficient_critical, limits.climb_distance_scale,
+                                   limits.climb_attack_angle_scale)
 
     def set_curvature(self, sample, curvature):
         self.curvatures.append((int(sample), float(curvature)))
 
     def curvature_before(self, sample):
-        for s, k in reversed(self.curvatures):
+        return self._before(self.curvatures, sample, 0.0)
+
+    @staticmethod
+    def _before(kept, sample, none):
+        for s, value in reversed(kept):
             if s < sample:
-                return k
-        return 0.0
+                return value
+        return none
 
     def _check(self, criterion, values, t, sample, position, speed):
         t, sample, position, speed = float(t), int(sample), float(position), float(speed)
@@ -447,6 +480,7 @@ class Monitor:
 
     def on_states(self, t, sample, position, speed, attack_angle, wheel_lift):
         """Attack angle (4 wheelsets, rad) and wheel lift (8 wheels, m) of one sample."""
+        self.attack_angles.append((int(sample), np.asarray(attack_angle, dtype=float)))
         return (self._check("attack_angle", [front_attack_angle(attack_angle)], t, sample, position, speed)
                 + self._check("wheel_lift", wheel_lift, t, sample, position, speed))
 
@@ -459,7 +493,10 @@ class Monitor:
                               sample, position, speed)
                 + self._check("wheel_unloading", unloading, t, sample, position, speed)
                 + self._check("running_gear_unloading", running_gear_unloading(unloading), t, sample, position,
-                              speed))
+                              speed)
+                + self._check("flange_climb_distance", self.climb.update(
+                    derailment_coefficient, self._before(self.attack_angles, int(sample), np.zeros(4)), position),
+                    t, sample, position, speed))
 
 
 def alerts_of_run(arrays, limits: Limits = None):

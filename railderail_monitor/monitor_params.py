@@ -78,7 +78,9 @@ def parameter_file(limits, basis, command):
         f"# Made by `{command}`:",
         "# make a new file for another car rather than editing the model-dependent values by hand.",
         f"# The model: flange height {basis['flange_height'] * 1e3:.3f} mm, largest contact angle "
-        f"{math.degrees(basis['max_contact_angle']):.2f} deg, static wheel load {basis['static_wheel_load']:.2f} N.",
+        f"{math.degrees(basis['max_contact_angle']):.2f} deg, static wheel load {basis['static_wheel_load']:.2f} N,",
+        f"# largest flange angle {math.degrees(basis['flange_angle']):.2f} deg over a flange face of "
+        f"{basis['flange_length'] * 1e3:.2f} mm.",
         "# NaN (.nan) disables a level. Units SI; '-' = dimensionless.",
         f"{NODE}:",
         "  ros__parameters:",

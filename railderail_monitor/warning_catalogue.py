@@ -27,6 +27,7 @@ from pathlib import Path
 from railderail_sim import jsonout
 from railderail_sim.atomic import atomic_write
 
+from .climb_distance import climb_distance_ratio
 from .criteria import (TIMED, alert_indices, critical_name, debounce, default_limits, front_attack_angle,
                        running_gear_unloading, sliding_mean, unloading_ratio)
 from .warning_quality import RATE, run_to_end
@@ -40,6 +41,7 @@ THRESHOLDS = {
     "derailment_coefficient_mean": (0.4, 0.5, 0.6, 0.7, 0.8, 1.0),
     "wheel_unloading": (0.5, 0.6, 0.65, 0.7, 0.8, 0.9),
     "running_gear_unloading": (0.5, 0.6, 0.7, 0.8, 0.9),
+    "flange_climb_distance": (0.1, 0.25, 0.5, 0.75, 1.0),
 }
 FALSE_ALARMS_PER_1000_KM = 0.1
 
@@ -67,7 +69,10 @@ def criterion_values(arrays, limits):
             "derailment_coefficient_duration": qp,
             "derailment_coefficient_mean": sliding_mean(qp, arrays["position"], limits.sliding_mean_m),
             "wheel_unloading": unloading,
-            "running_gear_unloading": running_gear_unloading(unloading)}
+            "running_gear_unloading": running_gear_unloading(unloading),
+            "flange_climb_distance": climb_distance_ratio(qp, arrays["attack_angle"], arrays["position"],
+                                                          limits.derailment_coefficient_critical,
+                                                          limits.climb_distance_scale, limits.climb_attack_angle_scale)}
 
 
 def thresholds(criterion, limits):

@@ -105,8 +105,8 @@ def test_the_shipped_catalogue_loads_and_builds_every_scenario():
     for e in entries:
         for seed in e.seeds:
             e.scenario(seed)
-    mechanisms_meant = {e.name for e in entries if e.irregularity.endswith(".csv")}
-    assert mechanisms_meant == {"kink-r800"}
+    defects = {e.name for e in entries if e.irregularity.endswith(".csv")}
+    assert defects == {"kink-r800", "twist-r150", "twist-r150-friction-0.4"}
 
 
 def test_dask_and_local_processes_give_the_same_evaluation(small):

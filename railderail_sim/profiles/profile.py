@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import math
+
 import numpy as np
 from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq, minimize_scalar
@@ -177,6 +179,22 @@ class Profile:
         res = minimize_scalar(lambda t: float(self.eval(t, 1)), bounds=(a, b), method="bounded",
                               options={"xatol": 1e-10})
         return float(np.arctan(max(s[i], -float(self.eval(res.x, 1)))))
+
+    def flange_length(self, within: float = math.radians(1.0)) -> float:
+        """Wheel: length (m, along the profile) of the flange face whose angle is within `within` (rad) of
+        the maximum flange angle: the flange length Len of TCRP Report 71's climb-distance criterion."""
+        self._need("wheel", "flange_length")
+        tip = self.flange_tip_y()
+        ys = np.linspace(tip, 0.0, max(4000, int(-tip / 1e-6)))
+        slope = -self.eval(ys, 1)
+        face = np.arctan(slope) >= self.max_flange_angle() - within
+        i = int(np.argmax(slope))
+        lo, hi = i, i
+        while lo > 0 and face[lo - 1]:
+            lo -= 1
+        while hi < len(ys) - 1 and face[hi + 1]:
+            hi += 1
+        return float(np.sum(np.hypot(np.diff(ys[lo:hi + 1]), np.diff(self.eval(ys[lo:hi + 1])))))
 
     # ------------------------------------------------------------------ rail dimensions
     def top_y(self) -> float:
