@@ -73,9 +73,9 @@ stick p = -B^-1 r, else p = -(B + lam)^-1 r with |p| = g (lam = |s|/g > 0, Newto
 linear in lam for B proportional to the identity), where r is the slip without the element's change
 and B the diagonal coupling above (A_xy = 0 along a row). Rows are processed one after the other
 (each element of a row from the trailing to the leading edge; its slips updated in the row itself
-with the telescoped kernel, the other rows' slips after the row by a 1-D FFT of the row's change
-along x), i.e. an exact Gauss-Seidel in this ordering; every outer iteration starts from the slip
-recomputed by the 2-D FFT product. (The plain element-wise Gauss-Seidel on p diverges: its forward
+with the telescoped kernel, the slips of the rows still to come after the row by a 1-D FFT of the
+row's change along x), i.e. an exact Gauss-Seidel in this ordering; every outer iteration (sweep)
+starts from the slip recomputed by the 2-D FFT product. (The plain element-wise Gauss-Seidel on p diverges: its forward
 sweep integrates the upwind difference; lagging the other rows' slips over a sweep diverges too.)
 Measured: 50-120 sweeps to 1e-6 on 64 x 64 Hertz patches (a/b 1.7 ... 19, pure creepage to full
 sliding), 0.3-0.8 s.
@@ -354,6 +354,7 @@ def exact_rolling(xi_x, xi_y, phi, pressure, dx, dy, E, nu, mu, *, x=None, y=Non
     bx = (axx[ny - 1, nx] - axx[ny - 1, nx + 1]) / dx
     by = (ayy[ny - 1, nx] - ayy[ny - 1, nx + 1]) / dx
     rows = np.flatnonzero(active.any(axis=1))
+    last = int(rows[-1]) if rows.size else -1
     residual = 0.0
     sweeps = 0
     while True:
@@ -370,16 +371,15 @@ def exact_rolling(xi_x, xi_y, phi, pressure, dx, dy, E, nu, mu, *, x=None, y=Non
             if _row_sweep(j, px, py, sx, sy, bound, active, status, axx, ayy, 1.0 / dx, dpx_row,
                           dpy_row) == 0.0:
                 continue
-            # the other rows' slips: row j's change convolved along x with S at each row offset
+            if j == last:
+                continue
+            # the slips of the rows still to come in this sweep (the others are recomputed before the
+            # next): row j's change convolved along x with S at each row offset
             fx = np.fft.rfft(dpx_row, n=2 * nx)
             fy = np.fft.rfft(dpy_row, n=2 * nx)
-            offsets = slice(ny - 1 - j, 2 * ny - 1 - j)
-            dsx = np.fft.irfft(rxx[offsets] * fx + rxy[offsets] * fy, n=2 * nx)[:, :nx]
-            dsy = np.fft.irfft(rxy[offsets] * fx + ryy[offsets] * fy, n=2 * nx)[:, :nx]
-            dsx[j] = 0.0                           # row j itself: updated in the sweep
-            dsy[j] = 0.0
-            sx += dsx
-            sy += dsy
+            offsets = slice(ny, ny + last - j)             # row offsets 1 .. last - j
+            sx[j + 1:last + 1] += np.fft.irfft(rxx[offsets] * fx + rxy[offsets] * fy, n=2 * nx)[:, :nx]
+            sy[j + 1:last + 1] += np.fft.irfft(rxy[offsets] * fx + ryy[offsets] * fy, n=2 * nx)[:, :nx]
     converged = residual < tol
     if not converged:
         warnings.warn(f"{WHO}: not converged in {max_iter} sweeps (residual {residual:.2e} > tol {tol:.1e})",
