@@ -58,8 +58,8 @@ S(X) = -(A(X + dx) - A(X))/dx, applied by zero-padded FFT as in `halfspace.py` (
 
 The rigid slip at the element centre (rather than at x + dx/2, the middle of the difference) is our
 choice: on Hertz patches of a/b = 0.3, 1 and 3 at 32...128 elements it gives the spin force closest to
-the grid-converged value (C23 within 0.2-0.7 % of it at 64 x 64, against 0.6-1.2 % with CONTACT's
-default offset of dx/6 and 1-3 % with dx/2), and the discrete solution keeps Kalker's reciprocity
+the grid-converged value (C23 within 0.2-0.5 % of it at 64 x 64, against 0.6-1.2 % with CONTACT's
+default offset of dx/6 and 2.8-4 % with dx/2), and the discrete solution keeps Kalker's reciprocity
 (the Fy per unit spin equals minus the Mz per unit lateral creepage, both = G c^3 C23) exactly on an
 x-symmetric patch (the transpose of the steady-rolling operator is the operator reflected in x).
 
