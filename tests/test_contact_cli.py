@@ -162,6 +162,29 @@ def test_case_halfspace_and_plot(capsys, tmp_path):
     assert path.read_bytes()[:8] == PNG_MAGIC
 
 
+def test_case_exact_rolling(capsys):
+    """--contact exact: the hertz model's fields (same normal force, creepages and SHE forces), the exact
+    normal patch, and the exact rolling solution beside the creep laws on the Hertz ellipse."""
+    ref = run_json(capsys, "contact-case", "--lateral-mm", "8.7")
+    r = run_json(capsys, "contact-case", "--lateral-mm", "8.7", "--contact", "exact", "--grid", "32")
+    assert r["inputs"]["exact_rolling"] and r["inputs"]["halfspace"] and not ref["inputs"]["exact_rolling"]
+    p, q = r["wheels"][0]["patches"][0], ref["wheels"][0]["patches"][0]
+    for key in ("normal_force_N", "hertz_a_m", "hertz_b_m"):
+        assert p[key] == pytest.approx(q[key], rel=1e-9)
+    assert p["creep_force"] == pytest.approx(q["creep_force"], rel=1e-9)
+    e = p["exact_rolling"]
+    assert e["converged"] and e["residual"] < 1e-6 and 0.0 <= e["stick_fraction"] <= 1.0
+    assert set(e["laws"]) == {"she", "polach", "fastsim"}
+    assert e["laws"]["she"] == pytest.approx(q["creep_force"], rel=1e-9)
+    # the flange-root patch (31 deg, xi_x = -1.3e-2, spin -1.1 1/m) slides: |F| ~ mu N, Fx close to SHE's
+    f = e["creep_force"]
+    assert math.hypot(f["longitudinal_N"], f["lateral_N"]) == pytest.approx(0.3 * p["normal_force_N"], rel=0.03)
+    assert f["longitudinal_N"] == pytest.approx(q["creep_force"]["longitudinal_N"], rel=0.05)
+    assert cli.main(["contact-case", "--lateral-mm", "8.7", "--contact", "exact", "--grid", "32"]) == 0
+    out = capsys.readouterr().out
+    assert "exact rolling" in out and "fastsim" in out and "stick" in out
+
+
 def test_case_human_text(capsys):
     assert cli.main(["contact-case", "--lateral-mm", "-3", "--contact", "discrete"]) == 0
     out = capsys.readouterr().out

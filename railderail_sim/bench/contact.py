@@ -28,6 +28,9 @@ so the tracked search has to follow the minima. Keys:
     contact_table_build_s            building the contact table (`table.attach`, after compilation)
     halfspace_patch_ms_64            one exact half-space solve (`halfspace.halfspace_patch`) of the centred
                                      tread patch on a 64 x 64 grid (force control), milliseconds
+    exact_rolling_ms_64              one exact steady-rolling solve (`exact_rolling.exact_rolling`) on the
+                                     same patch's Hertz ellipse (`exact_rolling.hertz_grid`, 64 x 64) with its
+                                     creepages at v / r0 (partial slip), milliseconds
     contact_compile_s                first call of the timing loops (numba compilation or cache load)
 """
 from __future__ import annotations
@@ -40,12 +43,13 @@ import numba
 import numpy as np
 
 from .. import jit
+from ..contact import exact_rolling as er
 from ..contact import geometry as geo
 from ..contact import halfspace as hs
 from ..contact import table as tab
 from ..contact import wheelset as ws
 from ..methods.contact_case import contact_case
-from ..methods.contact_patch import gap_run
+from ..methods.contact_patch import gap_run, left_wheel_patches
 from ..methods.wheel_rail_pair import build_pair, static_wheelset_load
 from ..contact.layout import W_SIZE, Patch
 
@@ -163,7 +167,7 @@ def run() -> dict:
             t0 = time.perf_counter()
             tab.attach(cg)
             figures["contact_table_build_s"] = time.perf_counter() - t0
-            hertz_poses = poses
+            hertz_pair, hertz_poses = pair, poses
 
     # one 64 x 64 half-space solve of the centred tread patch at the static wheel load
     pose = (0.0, float(hertz_poses[0, 1]), 0.0, 0.0)
@@ -188,5 +192,20 @@ def run() -> dict:
             hs.halfspace_patch(h, dx, dy, E, nu, N=load, x=x, y=su)
             times.append(time.perf_counter() - t0)
     figures["halfspace_patch_ms_64"] = float(np.median(times)) * 1e3
+
+    # one 64 x 64 steady-rolling solve on the same patch's Hertz ellipse, with its creepages
+    rows = left_wheel_patches(hertz_pair.cg, hertz_pair.cp, pose, speed, spin)
+    row = Patch.split(rows[int(np.argmax(rows[:, Patch.normal_force]))])
+    p_n, x, y, dx, dy = er.hertz_grid(float(row["hertz_a"]), float(row["hertz_b"]), float(row["normal_force"]),
+                                      64, 64)
+    creepage = (float(row["creepage_x"]), float(row["creepage_y"]), float(row["spin_creepage"]))
+    mu = hertz_pair.contact.friction_coefficient
+    er.exact_rolling(*creepage, p_n, dx, dy, E, nu, mu, x=x, y=y)      # compiles / loads the sweep, caches
+    times = []
+    for _ in range(5):
+        t0 = time.perf_counter()
+        er.exact_rolling(*creepage, p_n, dx, dy, E, nu, mu, x=x, y=y)
+        times.append(time.perf_counter() - t0)
+    figures["exact_rolling_ms_64"] = float(np.median(times)) * 1e3
     figures["contact_compile_s"] = compile_s
     return figures

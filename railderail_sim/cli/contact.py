@@ -122,7 +122,9 @@ def case_command(parser: argparse.ArgumentParser):
                         help="Poisson's ratio (default %(default)s)")
     parser.add_argument("--contact", choices=tuple(MODELS), default="hertz",
                         help="hertz (Hertz + SHE), fastsim (Hertz + FASTSIM), discrete (Kik-Piotrowski + "
-                             "SHE), halfspace (discrete + exact half-space patches); default %(default)s")
+                             "SHE), halfspace (discrete + exact half-space patches), exact (hertz + exact "
+                             "half-space patches + Kalker's exact rolling on them, beside SHE, Polach and "
+                             "FASTSIM); default %(default)s")
     parser.add_argument("--spin", choices=("nominal", "free"), default="nominal",
                         help="wheelset spin: nominal = v / r0 as in the vehicle model (default), free = the "
                              "spin at which the total longitudinal force vanishes")

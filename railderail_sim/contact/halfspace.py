@@ -147,10 +147,10 @@ def influence_kernel(nx, ny, dx, dy, E_star):
     return rectangle_displacement(X[None, :], Y[:, None], dx, dy, E_star)
 
 
-@functools.lru_cache(maxsize=16)
-def _kernel_fft(nx, ny, dx, dy):
-    """rfft2 of the kernel (E* = 1) wrapped onto the (2 ny, 2 nx) circular grid."""
-    K = influence_kernel(nx, ny, dx, dy, 1.0)
+def circulant_spectrum(K, nx, ny):
+    """rfft2 of a (2 ny - 1, 2 nx - 1) offset kernel (entry [l + ny - 1, k + nx - 1] for offset l rows,
+    k columns) wrapped onto the (2 ny, 2 nx) circular grid, read-only: the spectrum of the exact linear
+    convolution of an (ny, nx) field with K."""
     Kc = np.zeros((2 * ny, 2 * nx))
     # offset (l, k) -> index (l mod 2ny, k mod 2nx)
     Kc[:ny, :nx] = K[ny - 1:, nx - 1:]
@@ -160,6 +160,12 @@ def _kernel_fft(nx, ny, dx, dy):
     Kf = np.fft.rfft2(Kc)
     Kf.setflags(write=False)
     return Kf
+
+
+@functools.lru_cache(maxsize=16)
+def _kernel_fft(nx, ny, dx, dy):
+    """rfft2 of the kernel (E* = 1) wrapped onto the (2 ny, 2 nx) circular grid."""
+    return circulant_spectrum(influence_kernel(nx, ny, dx, dy, 1.0), nx, ny)
 
 
 class _Operator:
@@ -187,22 +193,41 @@ def displacement(p, dx, dy, E, nu):
 # ---------------------------------------------------------------------------------------------
 # input checks
 # ---------------------------------------------------------------------------------------------
-def _positive(name, value, unit):
+def _positive(name, value, unit, who="halfspace"):
     try:
         v = float(value)
     except (TypeError, ValueError):
-        raise ValueError(f"halfspace: {name} = {value!r} must be a number > 0 {unit}") from None
+        raise ValueError(f"{who}: {name} = {value!r} must be a number > 0 {unit}") from None
     if not (v > 0.0 and math.isfinite(v)):
-        raise ValueError(f"halfspace: {name} = {value!r} {unit} must be finite and > 0")
+        raise ValueError(f"{who}: {name} = {value!r} {unit} must be finite and > 0")
     return v
 
 
-def _check_material(E, nu):
-    E = _positive("E", E, "Pa")
+def _check_material(E, nu, who="halfspace"):
+    E = _positive("E", E, "Pa", who)
     nu = float(nu)
     if not (0.0 <= nu < 0.5):
-        raise ValueError(f"halfspace: nu = {nu!r} must be within [0, 0.5)")
+        raise ValueError(f"{who}: nu = {nu!r} must be within [0, 0.5)")
     return E, nu
+
+
+def _check_solver(tol, max_iter, who="halfspace"):
+    tol = float(tol)
+    if not (0.0 < tol < 1.0):
+        raise ValueError(f"{who}: tol = {tol!r} must be within (0, 1)")
+    if int(max_iter) != max_iter or int(max_iter) < 1:
+        raise ValueError(f"{who}: max_iter = {max_iter!r} must be an integer >= 1")
+    return tol, int(max_iter)
+
+
+def _centres(name, v, n, d, who="halfspace"):
+    """The element-centre coordinates along one grid axis: v, checked, or centred on 0 when None."""
+    if v is None:
+        return (np.arange(n) - 0.5 * (n - 1)) * d
+    v = np.asarray(v, dtype=np.float64)
+    if v.shape != (n,) or abs((v[-1] - v[0]) / (n - 1) - d) > 1e-6 * d:
+        raise ValueError(f"{who}: {name} must have {n} points spaced d{name} = {d!r} m")
+    return v
 
 
 def _uniform_axis(name, v):
@@ -431,24 +456,9 @@ def halfspace_patch(h, dx, dy, E, nu, N=None, delta=None, tol=1e-8, max_iter=500
         delta = float(delta)
         if not math.isfinite(delta):
             raise ValueError(f"halfspace: delta = {delta!r} m must be finite")
-    tol = float(tol)
-    if not (0.0 < tol < 1.0):
-        raise ValueError(f"halfspace: tol = {tol!r} must be within (0, 1)")
-    if int(max_iter) != max_iter or int(max_iter) < 1:
-        raise ValueError(f"halfspace: max_iter = {max_iter!r} must be an integer >= 1")
-    max_iter = int(max_iter)
-    if x is None:
-        x = (np.arange(nx) - 0.5 * (nx - 1)) * dx
-    else:
-        x = np.asarray(x, dtype=np.float64)
-        if x.shape != (nx,) or abs((x[-1] - x[0]) / (nx - 1) - dx) > 1e-6 * dx:
-            raise ValueError(f"halfspace: x must have {nx} points spaced dx = {dx!r} m")
-    if y is None:
-        y = (np.arange(ny) - 0.5 * (ny - 1)) * dy
-    else:
-        y = np.asarray(y, dtype=np.float64)
-        if y.shape != (ny,) or abs((y[-1] - y[0]) / (ny - 1) - dy) > 1e-6 * dy:
-            raise ValueError(f"halfspace: y must have {ny} points spaced dy = {dy!r} m")
+    tol, max_iter = _check_solver(tol, max_iter)
+    x = _centres("x", x, nx, dx)
+    y = _centres("y", y, ny, dy)
 
     E_star = combined_modulus(E, nu, E, nu)
     dA = dx * dy

@@ -16,6 +16,10 @@ Models (`wheel_rail_pair.MODELS`):
     discrete   Kik-Piotrowski normal + SHE on its equivalent ellipse
     halfspace  as discrete (load sharing and creep forces); each patch is in addition solved by the exact
                half-space solver at the discrete patch's normal force (`contact_patch`)
+    exact      as hertz (load sharing and creep forces: the vehicle model's default laws); each patch is in
+               addition solved by the exact half-space solver at its Hertz normal force and then by Kalker's
+               exact steady rolling theory with its creepages (`exact_rolling`), beside the creep laws SHE,
+               Polach and FASTSIM on its Hertz ellipse (`contact_patch`)
 Per-patch quantities come from `contact_patch.wheel_patch_details`.
 
 Sign conventions: totals in track axes (x forward, y left, z up), forces on the wheelset. Per wheel,
@@ -119,6 +123,7 @@ class ContactCase:
             "command": "contact-case",
             "inputs": plain({**self.pair.inputs(), "model": self.pair.model, "normal_model": c.normal_model,
                              "creep_model": c.creep_model, "halfspace": self.pair.halfspace,
+                             "exact_rolling": self.pair.exact_rolling,
                              "lateral_m": self.lateral_m, "yaw_rad": self.yaw_rad, "roll_rad": self.roll_input_rad,
                              "load_N": self.load_N, "wheel_loads_N": self.wheel_loads_N,
                              "pitch_rate_rad_s": self.pose.spin_rad_s if self.pose.spin_mode == SPIN_MODES[
@@ -138,7 +143,8 @@ class ContactCase:
             f"contact case: wheel {pair.wheel.name} on rail {pair.rail.name}, inclination {pair.inclination_text}, "
             f"gauge {pair.track.gauge * 1e3:.1f} mm, back-to-back {c.back_to_back * 1e3:.1f} mm, r0 "
             f"{pair.radius * 1e3:.1f} mm; model {pair.model} (normal {c.normal_model}, creep {c.creep_model}"
-            f"{', + exact half-space patches' if pair.halfspace else ''}), mu {c.friction_coefficient:g}",
+            f"{', + exact half-space patches' if pair.halfspace else ''}"
+            f"{' and exact rolling on them' if pair.exact_rolling else ''}), mu {c.friction_coefficient:g}",
             f"  wheelset: lateral {pose.lateral_m * 1e3:.2f} mm, yaw {pose.yaw_rad * 1e3:.2f} mrad, roll "
             f"{pose.roll_rad * 1e3:.3f} mrad ({pose.roll_source}), vertical {pose.vertical_m * 1e3:.4f} mm "
             f"(touch {pose.touch_vertical_m * 1e3:.4f} mm), speed {self.speed_m_s * 3.6:g} km/h, load "
@@ -165,10 +171,23 @@ class ContactCase:
                         lines.append(f"             {label:14s} {q.length_m * 1e3:.2f} x {q.width_m * 1e3:.2f} mm, "
                                      f"area {q.area_m2 * 1e6:.1f} mm^2, p_max {q.p_max_Pa / 1e6:.0f} MPa"
                                      + _separate_patches(q))
+                if p.exact_rolling is not None:
+                    lines.extend(_rolling_lines(p.exact_rolling))
         f, t = self.totals.force_N, self.totals
         lines.append(f"  totals on the wheelset (track axes, y left, z up): Fx {f[0] / 1e3:+.3f} kN, Fy "
                      f"{f[1] / 1e3:+.3f} kN, Fz {f[2] / 1e3:+.3f} kN (load error {t.load_error_rel:+.1e})")
         return "\n".join(lines)
+
+
+def _rolling_lines(q):
+    """The exact rolling solution of a patch and the creep laws beside it (kN, N m)."""
+    def forces(f):
+        return (f"Fx {f.longitudinal_N / 1e3:+.3f} kN, Fy {f.lateral_N / 1e3:+.3f} kN, Mz "
+                f"{f.spin_moment_Nm:+.2f} N m")
+    lines = [f"             exact rolling  {forces(q.creep_force)}; stick {100.0 * q.stick_fraction:.0f} % of "
+             f"the patch{'' if q.converged else f' (not converged, residual {q.residual:.1e})'}"]
+    lines += [f"             {name:14s} {forces(f)}" for name, f in q.laws.items()]
+    return lines
 
 
 def _separate_patches(q):

@@ -6,7 +6,11 @@ forces (Hertz ellipse, creepages, creep forces), and adds on request the discret
 pressure): the undeformed separation is the patch's normal gap along the tangent coordinate,
 h(x, s) = g_n(s) + x^2 / (2 R(s)), g_n = vertical gap x cos(contact angle), s = lateral track coordinate
 / cos, R the wheel's longitudinal radius in the contact plane r sqrt(1 + r'^2) (docs/contact-models.md;
-the same locally plane reduction as the discrete model).
+the same locally plane reduction as the discrete model). With the exact model, Kalker's exact steady
+rolling theory (`exact_rolling.exact_rolling`) then solves the tangential problem on that grid, with that
+pressure, the patch's creepages (those of its contact point, the origin of x and s) and the friction
+coefficient; beside it the creep laws of `creep.py` on the patch's creep ellipse at the same normal force
+and creepages, for comparison.
 
 Everything is in the left wheel's frame (a right wheel is passed mirrored): lateral positions, lateral
 creepage and lateral creep force + toward the field side of its rail, contact angle + toward the flange.
@@ -20,6 +24,8 @@ import warnings
 import numpy as np
 from scipy.interpolate import CubicSpline
 
+from ..contact import creep
+from ..contact import exact_rolling as er
 from ..contact import geometry as geo
 from ..contact import halfspace as hs
 from ..contact import kik_piotrowski as kp
@@ -30,6 +36,7 @@ from ..contact.layout import W_SIZE, GeometryHeader, Patch, Wheel
 
 GRID = (16, 256)                      # accepted half-space grid (elements per direction)
 MIN_ELEMENTS_ACROSS = 16              # half-space: elements across the main patch (refined grid below)
+CREEP_LAWS = {"she": creep.SHEN_HEDRICK_ELKINS, "polach": creep.POLACH, "fastsim": creep.FASTSIM}
 
 
 @dataclass(frozen=True)
@@ -98,6 +105,21 @@ class HalfSpacePatch:
 
 
 @dataclass(frozen=True, kw_only=True)
+class ExactRollingPatch:
+    """Kalker's exact steady rolling on the half-space patch's grid and pressure, and the creep laws
+    (`CREEP_LAWS`) on the patch's creep ellipse at the same normal force and creepages."""
+    creep_force: CreepForce
+    stick_fraction: float
+    residual: float
+    iterations: int
+    converged: bool
+    laws: dict                                              # law name -> CreepForce
+    px: np.ndarray = field(metadata=NOT_WRITTEN)            # traction on the wheel (Pa), (len(s), len(x))
+    py: np.ndarray = field(metadata=NOT_WRITTEN)
+    stick: np.ndarray = field(metadata=NOT_WRITTEN)         # stick elements
+
+
+@dataclass(frozen=True, kw_only=True)
 class ContactPatch:
     """One contact patch of a wheel (SI, the wheel's own frame); length x width are those of the most
     exact model computed (half-space, else the normal model's patch)."""
@@ -123,6 +145,7 @@ class ContactPatch:
     force_on_wheel_N: list
     discrete: DiscretePatch | None = field(default=None, metadata=WRITTEN_IF_SET)
     halfspace: HalfSpacePatch | None = field(default=None, metadata=WRITTEN_IF_SET)
+    exact_rolling: ExactRollingPatch | None = field(default=None, metadata=WRITTEN_IF_SET)
 
 
 def steady_rolling(speed, spin):
@@ -142,10 +165,12 @@ def left_wheel_patches(cg, cp, pose, speed, spin):
 
 def wheel_patch_details(pair: WheelRailPair, pose, speed, spin, grid=64) -> list[ContactPatch]:
     """The patches of the left wheel at `pose` (the left-wheel form of either wheel) with a normal force,
-    with the discrete patch when the pair's normal model is discrete and the half-space solution on a
-    `grid` x `grid` window when its model is halfspace."""
+    with the discrete patch when the pair's normal model is discrete, the half-space solution on a
+    `grid` x `grid` window when its model has one (halfspace, exact) and the exact rolling solution on it
+    with the exact model."""
     cg = pair.cg
     E, nu = pair.contact.youngs_modulus, pair.contact.poisson_ratio
+    mu = pair.contact.friction_coefficient
     out = []
     for row in left_wheel_patches(cg, pair.cp, pose, speed, spin):
         p = Patch.split(row)
@@ -157,13 +182,17 @@ def wheel_patch_details(pair: WheelRailPair, pose, speed, spin, grid=64) -> list
         sd = slope * cd
         fx, ft = p["creep_force_x"], p["creep_force_lateral"]
         ha, hb = p["hertz_a"], p["hertz_b"]
-        discrete = halfspace = None
+        discrete = halfspace = rolling = None
         length, width = 2.0 * p["half_length"], 2.0 * p["half_width"]
         if pair.contact.normal_model == "discrete":
             discrete = _discrete_patch(cg, pose, int(p["grid_index"]), p["gap"], cd, E, nu)
-            if pair.halfspace:
-                halfspace = _halfspace_patch(cg, pose, int(p["grid_index"]), p["gap"], cd, normal, E, nu, grid)
-                length, width = halfspace.length_m, halfspace.width_m
+        if pair.halfspace:
+            halfspace = _halfspace_patch(cg, pose, int(p["grid_index"]), p["gap"], cd, normal, E, nu, grid)
+            length, width = halfspace.length_m, halfspace.width_m
+        creepage = (p["creepage_x"], p["creepage_y"], p["spin_creepage"])
+        if pair.exact_rolling:
+            rolling = _exact_rolling_patch(halfspace, tuple(map(float, creepage)),
+                                           (float(p["creep_a"]), float(p["creep_b"])), float(normal), E, nu, mu)
         out.append(ContactPatch(
             rail_y_m=p["y"] - cg[GeometryHeader.rail_axis_y], wheel_y_m=p["wheel_y"], lead_x_m=p["x"],
             contact_angle_rad=math.atan(slope), rolling_radius_m=p["radius"],
@@ -172,11 +201,25 @@ def wheel_patch_details(pair: WheelRailPair, pose, speed, spin, grid=64) -> list
             relative_curvature_A_1_m=p["curvature_a"], relative_curvature_B_1_m=p["curvature_b"],
             creep_ellipse_a_m=p["creep_a"], creep_ellipse_b_m=p["creep_b"], length_m=length,
             width_m=width,
-            creepage=Creepage(p["creepage_x"], p["creepage_y"], p["spin_creepage"]),
-            creep_force=CreepForce(fx, ft, p["spin_moment"]),
+            creepage=Creepage(*creepage), creep_force=CreepForce(fx, ft, p["spin_moment"]),
             force_on_wheel_N=[fx, normal * -sd + ft * cd, normal * cd + ft * sd],
-            discrete=discrete, halfspace=halfspace))
+            discrete=discrete, halfspace=halfspace, exact_rolling=rolling))
     return out
+
+
+def _exact_rolling_patch(hsp, creepage, ellipse, normal, E, nu, mu):
+    """Kalker's exact steady rolling on the half-space patch `hsp` (its grid and pressure; x and s measured
+    from the contact point, where the creepages are), and the creep laws on `ellipse` (a, b) at `normal`."""
+    x, s = hsp.x, hsp.s
+    with warnings.catch_warnings():        # not converged: reported by `converged`
+        warnings.simplefilter("ignore", RuntimeWarning)
+        sol = er.exact_rolling(*creepage, hsp.pressure, x[1] - x[0], s[1] - s[0], E, nu, mu, x=x, y=s)
+    shear = E / (2.0 * (1.0 + nu))
+    laws = {name: CreepForce(*creep.creep_forces(law, *creepage, *ellipse, normal, mu, shear, nu))
+            for name, law in CREEP_LAWS.items()}
+    return ExactRollingPatch(creep_force=CreepForce(sol.Fx, sol.Fy, sol.Mz), stick_fraction=sol.stick_fraction,
+                             residual=sol.residual, iterations=sol.iterations, converged=sol.converged, laws=laws,
+                             px=sol.px, py=sol.py, stick=sol.stick)
 
 
 def gap_run(cg, pose, jm, gmin, cd, margin=0):

@@ -30,11 +30,13 @@ YOUNGS_GPA = (50.0, 500.0)
 POISSON = (0.0, 0.5)                  # [0, 0.5)
 TREAD_ANGLE_MAX = 0.5                 # rad: the centred wheelset must touch its rails below this angle
 TIP_MARGIN = 5.0e-4                   # m: contact closer than this to the flange tip / profile end = lost
-MODELS = {  # name: (normal model, creep model, half-space)
-    "hertz": ("hertz", "she", False),
-    "fastsim": ("hertz", "fastsim", False),
-    "discrete": ("discrete", "she", False),
-    "halfspace": ("discrete", "she", True),
+MODELS = {  # name: (normal model, creep model, exact half-space normal patches, exact rolling on them)
+    "hertz": ("hertz", "she", False, False),
+    "fastsim": ("hertz", "fastsim", False, False),
+    "discrete": ("discrete", "she", False, False),
+    "halfspace": ("discrete", "she", True, False),
+    # the vehicle model's default laws for the load sharing, so that each exact patch checks them
+    "exact": ("hertz", "she", True, True),
 }
 SIDES = ("left", "right")
 
@@ -93,6 +95,11 @@ class WheelRailPair:
         """Whether each patch is also solved by the exact half-space solver."""
         return MODELS[self.model][2]
 
+    @property
+    def exact_rolling(self) -> bool:
+        """Whether each half-space patch is also solved by Kalker's exact steady rolling theory."""
+        return MODELS[self.model][3]
+
     def inputs(self) -> dict:
         """The pair's inputs as written in the JSON results (SI)."""
         return {
@@ -121,7 +128,7 @@ def build_pair(wheel="lm", rail="uic60", *, gauge_mm=1435.0, inclination="1/40",
     incl = parse_inclination(inclination)
     w = read_profile(wheel, "wheel")
     r = read_profile(rail, "rail")
-    normal, creep, _ = MODELS[model]
+    normal, creep = MODELS[model][:2]
     # the contact calculator answers with the exact search (the contact table is the time loop's shortcut)
     contact = ContactParameters(wheel_profile=w, back_to_back=b2b, youngs_modulus=E, poisson_ratio=nu,
                                 friction_coefficient=mu, contact_damping=0.0, normal_model=normal,
