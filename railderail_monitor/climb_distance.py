@@ -18,7 +18,9 @@ against the report's Table 2.1 before relying on the absolute distances. The for
 Ang = 76.6 deg and Len = 0.1 in, so it is accepted only inside FLANGE_ANGLE_DEG and FLANGE_LENGTH_IN.
 
 The monitor's value is the climb-distance ratio of each wheel: the track travelled since its Q/P last rose
-to Nadal's limit (zero while it is below), over D at the attack angle of its wheelset. 1 is TCRP's limit.
+to Nadal's limit with mu = CLIMB_FRICTION (zero while it is below; the US rule's friction, 49 CFR 238 App. C,
+since an on-board monitor does not know the friction), over D at the attack angle of its wheelset. 1 is
+TCRP's limit.
 The attack angle is the one of the latest wheelset-state sample before the force sample (as the monitor
 takes the curvature), so that a batch evaluation and the stream agree whatever order the topics arrive in.
 """
@@ -28,6 +30,7 @@ import math
 
 import numpy as np
 
+CLIMB_FRICTION = 0.5                  # Nadal's limit of the climb distance at this friction (49 CFR 238 App. C)
 FOOT = 0.3048                         # m
 INCH = 0.0254                         # m
 FLANGE_ANGLE_DEG = (60.0, 75.0)       # where eq. 2.4 stays regular (A's first term is singular at 76.6 deg)

@@ -44,7 +44,9 @@ Sources and confidence:
 - flange-climb distance: TCRP Report 71 Vol. 5 (2005, Wu and Wilson) eq. 2.4, the distance over which a
   wheel's L/V may stay at Nadal's limit, falling with the attack angle (`climb_distance`: the formula, its
   constants and why their grouping is uncertain). Its limit is the CRITICAL level 1; the WARNING level
-  at half of it is a modelling choice. Nadal's limit is the monitor's (derailment_coefficient_critical).
+  at half of it is a modelling choice. The distance runs while Q/P is at or above Nadal's limit with
+  mu = 0.5 (climb_nadal_limit, 0.931 for LM on UIC60), whatever the scenario's friction: the rule of
+  49 CFR 238 App. C, and the friction of TCRP's simulations.
 
 One event, one alert: a value must stay at or above its level over `debounce_m` of track (default
 2 m, the window length of EN 14363's Q/P sliding mean) before the alert is raised, and the channel
@@ -65,7 +67,7 @@ from railderail_sim.parameters import RUNNING_GEAR_UNLOADING_LIMIT
 from railderail_sim.ranges import check_range
 from railderail_sim.vehicle.layout import RUNNING_GEARS, running_gear_sides
 
-from .climb_distance import ClimbDistance, tcrp_coefficients
+from .climb_distance import CLIMB_FRICTION, ClimbDistance, tcrp_coefficients
 
 SIDES = ("left", "right")
 CRITERIA = ("attack_angle", "wheel_lift", "derailment_coefficient", "wheel_unloading", "running_gear_unloading",
@@ -124,6 +126,10 @@ class Limits:
     static_wheel_load: float = _value("N", "static wheel load P0 of the unloading ratio (P0 - P)/P0",
                                       "the car's load per wheel at rest on level track "
                                       "(VehicleParameters.static_wheel_load)")
+    climb_nadal_limit: float = _value("", "Nadal's limit that starts the climb distance: Q/P at or above it counts",
+                                      "Nadal at the profile pair's largest contact angle with mu = 0.5, the "
+                                      "friction of the US single-wheel L/V rule (49 CFR 238 App. C) and of TCRP "
+                                      "Report 71's climb simulations; the monitor does not know the friction")
     climb_distance_scale: float = _value("m", "TCRP's limiting climb distance at zero attack angle, A of eq. 2.4",
                                          "TCRP Report 71 Vol. 5 eq. 2.4 at the wheel's largest flange angle and "
                                          "flange length (grouping of its constants uncertain, climb_distance.py)")
@@ -220,6 +226,7 @@ def limits_for_model(model, friction, **changes):
     values = dict(wheel_lift=hf / 3.0, wheel_lift_critical=2.0 * hf / 3.0,
                   derailment_coefficient_critical=float(nadal_limit(basis["max_contact_angle"], friction)),
                   static_wheel_load=basis["static_wheel_load"], climb_distance_scale=distance,
+                  climb_nadal_limit=float(nadal_limit(basis["max_contact_angle"], CLIMB_FRICTION)),
                   climb_attack_angle_scale=angle)
     values.update(changes)
     return Limits(**values).validated()
@@ -448,7 +455,7 @@ class Monitor:
         self.curvatures = collections.deque(maxlen=256)       # (sample, curvature), arrival order
         self.attack_angles = collections.deque(maxlen=256)    # (sample, 4 attack angles), arrival order
         self.qp_mean = SlidingMean(limits.sliding_mean_m, 8)
-        self.climb = ClimbDistance(limits.derailment_coefficient_critical, limits.climb_distance_scale,
+        self.climb = ClimbDistance(limits.climb_nadal_limit, limits.climb_distance_scale,
                                    limits.climb_attack_angle_scale)
 
     def set_curvature(self, sample, curvature):

@@ -25,6 +25,8 @@ def test_eq_2_4_at_the_lm_flange_by_hand():
 
 def test_the_shipped_monitor_file_carries_the_lm_scales():
     limits = C.default_limits()
+    # Nadal at LM/UIC60's 69.54 deg with mu 0.5: (2.676 - 0.5) / (1 + 0.5 x 2.676) = 0.931
+    assert limits.climb_nadal_limit == pytest.approx(0.931, abs=1e-3)
     wheel = profiles.resolve("lm", "wheel")
     assert (limits.climb_distance_scale, limits.climb_attack_angle_scale) == pytest.approx(
         CD.tcrp_coefficients(wheel.max_flange_angle(), wheel.flange_length()))
@@ -51,10 +53,10 @@ def test_the_monitor_raises_it_where_the_batch_does_and_from_the_attack_angle_be
     n, ds = 400, 0.02
     position = np.arange(n) * ds
     qp = np.zeros((n, 8))
-    qp[position >= 1.0, 2] = 1.5 * limits.derailment_coefficient_critical       # wheelset 1, left
+    qp[position >= 1.0, 2] = 1.5 * limits.climb_nadal_limit       # wheelset 1, left
     aoa = np.zeros((n, 4))
     aoa[20:, 1] = 0.010
-    batch = CD.climb_distance_ratio(qp, aoa, position, limits.derailment_coefficient_critical,
+    batch = CD.climb_distance_ratio(qp, aoa, position, limits.climb_nadal_limit,
                                     limits.climb_distance_scale, limits.climb_attack_angle_scale)
     monitor = C.Monitor(limits)
     running, alerts = [], []

@@ -215,6 +215,8 @@ def _sensitivity(radius, stair, workers):
         ("friction 0.3 -> 0.4", dict(contact=dict(friction_coefficient=0.4))),
         ("discrete (Kik-Piotrowski) normal contact", dict(contact=dict(normal_model="discrete"))),
         ("exact online contact search instead of the contact table", dict(contact=dict(contact_geometry="online"))),
+        ("creep law FASTSIM instead of Shen-Hedrick-Elkins", dict(contact=dict(creep_model="fastsim"))),
+        ("creep law Polach instead of Shen-Hedrick-Elkins", dict(contact=dict(creep_model="polach"))),
     ]
     from concurrent.futures import ProcessPoolExecutor
     with ProcessPoolExecutor(max_workers=workers) as pool:
@@ -356,7 +358,8 @@ def write_report(out="report", quick=False, workers=None):
         "LM wheel (reconstructed, docs/profiles.md) on UIC60 at 1:40, Hertz normal contact with Shen-Hedrick-Elkins",
         "creep, friction 0.3, ideal rigid track of Table 2. Nothing was tuned to the paper. The same trial on",
         "irregular and elastic track: real-track.md (`railderail real-track`); under crosswind, and the",
-        "characteristic wind curves: cwc.md (`railderail cwc`); with suspension faults: faults.md.",
+        "characteristic wind curves: cwc.md (`railderail cwc`); with suspension faults: faults.md; the warning",
+        "criteria over a catalogue of scenarios (which warns, how early, how often falsely): warnings-catalogue.md.",
         "",
         "## Critical speeds on straight track",
         "",
