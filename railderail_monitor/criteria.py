@@ -17,7 +17,7 @@ the monitor's parameters; the defaults are the shipped parameter file's, `defaul
 | `running_gear_unloading` | mean dP/P0 of a bogie's two wheels on one side | 0.90 (EN 14067-6)     | none                   |
 | `derailment_coefficient_duration` | Q/P of each wheel held 50 ms  | 1.0 (AAR Chapter XI)  | Nadal's limit          |
 | `derailment_coefficient_mean` | 2 m sliding mean of Q/P of each wheel | 0.8 (EN 14363) | Nadal's limit     |
-| `flange_climb_distance`  | track run with Q/P at Nadal's limit over TCRP's limit at the attack angle (-) | 0.5 | 1 (TCRP Report 71) |
+| `flange_climb_distance`  | climb run at Nadal / TCRP's distance (-)       | 0.5 (half the limit)  | 1 (TCRP Report 71)     |
 
 Sources and confidence:
 - attack angle 0.06 rad on the front wheelset: Yu et al., Appl. Sci. 2022, 12, 11199 (the paper

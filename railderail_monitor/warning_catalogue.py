@@ -219,7 +219,8 @@ def findings(result):
              "At the shipped levels (`railderail_monitor/config/monitor.yaml`): per mechanism, the criterion whose "
              "first alert came earliest, in how many of its runs, its median lead, and the false alarms it raised "
              "at that level.", "",
-             "| mechanism | first to warn (runs) | its median lead (s) | its false alarms / 1000 km |", "|---|---|---|---|"]
+             "| mechanism | first to warn (runs) | its median lead (s) | its false alarms / 1000 km |",
+             "|---|---|---|---|"]
     for m in mechanisms:
         firsts = {}
         for r in (r for r in derailed if r["mechanism"] == m):
@@ -237,8 +238,8 @@ def findings(result):
     lines += ["", "### The paper's 0.06 rad attack-angle warning", "",
               f"The front wheelset's attack angle reached at most {largest[0] * 1e3:.1f} mrad in any run "
               f"({largest[1]}, seed {largest[2]}); up to the derailment instant of the {len(derailed)} derailed runs "
-              f"its largest value was {before[len(before) // 2] * 1e3:.1f} mrad in the median and {before[-1] * 1e3:.1f}"
-              f" mrad at most. At 0.06 rad (Yu 2022) it warned {paper['derailments_warned']} of "
+              f"its largest value was {before[len(before) // 2] * 1e3:.1f} mrad in the median and "
+              f"{before[-1] * 1e3:.1f} mrad at most. At 0.06 rad (Yu 2022) it warned {paper['derailments_warned']} of "
               f"{paper['derailments']} derailments and raised {paper['false_alarms_per_1000_km']:.1f} false alarms "
               "per 1000 km."]
     if paper["derailments_warned"] == 0:

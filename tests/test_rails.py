@@ -156,7 +156,7 @@ def test_a_twist_in_a_sharp_curve_makes_the_outer_wheel_climb_over_its_flange_ti
     twist = resolve(str(tmp_path / "twist.csv"), 0, 1800.0)
     sc = replace(scenario(radius=150.0, speed_kmh=30.0, friction=0.6),
                  track=replace(scenario(radius=150.0).track, cant_height=0.150), irregularity=twist,
-                 start_position=150.0, end_position=640.0)  # from the straight: a car cannot start settled in a 150 m curve
+                 start_position=150.0, end_position=640.0)      # from the straight: no settled start in the curve
     result = simulate(sc)
     event = result.derailment
     assert event is not None and event["mechanism"] == "flange_climbing", event
