@@ -2,6 +2,7 @@
 written out here with the published constants, generated samples against the spectra (Welch, Parseval),
 determinism, the CSV format and its errors, the packed layout the core reads, the command."""
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -198,6 +199,17 @@ def test_csv_round_trip_to_the_micrometre(tmp_path):
 
 
 HEADER = "s_m,left_lateral_mm,left_vertical_mm,right_lateral_mm,right_vertical_mm\n"
+
+
+def test_a_record_off_zero_at_an_end_warns_of_the_step_a_run_meets(tmp_path):
+    path = tmp_path / "cut.csv"
+    path.write_text(HEADER + "100,0,0,0,0\n110,0,0.5,0,0\n120,0,-4.5,0,0\n")
+    with pytest.warns(UserWarning, match=r"last row \(s = 120 m\) has left_vertical_mm -4.5; .* 4.5 mm step"):
+        ir.read_csv(path)
+    path.write_text(HEADER + "100,0,0,0,0\n110,0,0.5,0,0\n120,0,0.9,0,0\n")      # within 1 mm: quiet
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ir.read_csv(path)
 BAD_FILES = [
     ("", "line 1", "empty"),
     ("s,yl,zl,yr,zr\n0,0,0,0,0\n1,0,0,0,0\n", "line 1", "'s,yl,zl,yr,zr'"),

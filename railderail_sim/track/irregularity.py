@@ -47,6 +47,7 @@ from array import array
 from dataclasses import dataclass
 from functools import partial
 import math
+import warnings
 from pathlib import Path
 from typing import Callable
 
@@ -65,6 +66,7 @@ LENGTH_M = (10.0, 200e3)         # accepted sample length
 STEP_M = (0.05, 1.0)             # accepted grid step
 BAND_LIMITS_M = (0.5, 1000.0)    # a band's wavelengths must lie inside
 MAX_FILE_MM = 500.0              # a file value beyond this is a unit error, not a track
+STEP_WARNING_MM = 1.0            # a record that starts or ends further off zero meets its rails with a step
 SEEDS = (0, 999_999)             # accepted seeds
 TAPER_M = 50.0                   # a generated sample's fade-in and fade-out (`taper`)
 NONE = "none"                    # no irregularity: the ideal rails
@@ -511,6 +513,12 @@ def read_csv(path):
     table = np.frombuffer(values, dtype=float).reshape(-1, len(names))
     if len(table) < 2:
         raise ValueError(f"{where}, line {number}: {len(table)} data row(s) after the header, at least 2 needed")
+    for row, end in ((table[0], "first"), (table[-1], "last")):
+        k = int(np.argmax(np.abs(row[1:])))
+        if abs(row[1 + k]) > STEP_WARNING_MM:
+            warnings.warn(f"{where}: its {end} row (s = {row[0]:g} m) has {names[1 + k]} {row[1 + k]:g}; outside the "
+                          f"record the rails are at zero, so a run meets a {abs(row[1 + k]):g} mm step there (start "
+                          "and end the record at zero, or taper it)", stacklevel=2)
     return Irregularity(table[:, 0].copy(), table[:, 1:] * 1e-3, None, name=Path(path).stem,
                         description=f"read from {Path(path).name}")
 
