@@ -9,8 +9,9 @@ from __future__ import annotations
 
 import argparse
 
-from .. import jsonout, plotting
+from .. import plotting
 from ..vehicle.assemble import CREEP_MODELS
+from .contact import compute_and_print
 
 
 def _numbers(text, option):
@@ -53,29 +54,16 @@ def climb_command(parser: argparse.ArgumentParser):
                              "against the attack angle (.png, .pdf or .svg)")
 
     def run(args):
-        plot = plotting.checked_path(args.plot) if args.plot is not None else None
         frictions = _numbers(args.friction, "--friction")
         options = dict(wheel=args.wheel, rail=args.rail, speed_kmh=args.speed_kmh, creep=args.creep,
                        wheel_load_kn=args.wheel_load_kn)
         if args.sweep_attack_angle_mrad is not None:
-            result = c.climb_sweep(_numbers(args.sweep_attack_angle_mrad, "--sweep-attack-angle-mrad"), frictions,
-                                   **options)
-            draw = plotting.climb_sweep_figure
-        else:
-            if len(frictions) > 1:
-                raise ValueError(f"--friction {args.friction!r}: several friction coefficients need "
-                                 "--sweep-attack-angle-mrad")
-            result = c.climb(attack_angle_mrad=args.attack_angle_mrad, friction=frictions[0], **options)
-            draw = plotting.climb_figure
-        if plot is not None:
-            draw(result, plot)
-        if args.json:
-            obj = result.as_dict()
-            if plot is not None:
-                obj["plot"] = str(plot)
-            print(jsonout.dumps(obj))
-        else:
-            print(result.text())
-            if plot is not None:
-                print(f"  plot written to {plot}")
+            angles = _numbers(args.sweep_attack_angle_mrad, "--sweep-attack-angle-mrad")
+            compute_and_print(args, lambda: c.climb_sweep(angles, frictions, **options), plotting.climb_sweep_figure)
+            return
+        if len(frictions) > 1:
+            raise ValueError(f"--friction {args.friction!r}: several friction coefficients need "
+                             "--sweep-attack-angle-mrad")
+        compute_and_print(args, lambda: c.climb(attack_angle_mrad=args.attack_angle_mrad, friction=frictions[0],
+                                                **options), plotting.climb_figure)
     return run

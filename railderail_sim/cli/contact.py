@@ -39,7 +39,7 @@ def _pair(args, **more):
                       **more)
 
 
-def _run(args, compute, draw):
+def compute_and_print(args, compute, draw):
     """Check the plot file, compute the result, draw it, print it as JSON (--json) or as text."""
     with _one_line_errors():
         plot = plotting.checked_path(args.plot) if args.plot is not None else None
@@ -80,7 +80,7 @@ def geometry_command(parser: argparse.ArgumentParser):
 
     def run(args):
         from ..methods.contact_geometry import contact_geometry
-        _run(args, lambda: contact_geometry(_pair(args), y_max_mm=args.y_max_mm, step_mm=args.step_mm,
+        compute_and_print(args, lambda: contact_geometry(_pair(args), y_max_mm=args.y_max_mm, step_mm=args.step_mm,
                                             amplitude_mm=args.amplitude_mm),
              plotting.contact_geometry_figure)
     return run
@@ -137,7 +137,7 @@ def case_command(parser: argparse.ArgumentParser):
 
     def run(args):
         from ..methods.contact_case import contact_case
-        _run(args, lambda: contact_case(_pair(args, youngs_gpa=args.youngs_gpa, poisson=args.poisson,
+        compute_and_print(args, lambda: contact_case(_pair(args, youngs_gpa=args.youngs_gpa, poisson=args.poisson,
                                               model=args.contact),
                                         lateral_mm=args.lateral_mm, yaw_mrad=args.yaw_mrad,
                                         roll_mrad=args.roll_mrad, load_kn=args.load_kn,
