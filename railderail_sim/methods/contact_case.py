@@ -256,8 +256,8 @@ def _wheel_loads(wheel_loads_kn, load_kn, roll_mrad):
             for side, value in zip(SIDES, loads)]
 
 
-def _spin_rule(spin, pitch_rate_rad_s, spin_nominal):
-    """The spin mode and a function (cg, cp, pose, speed) -> spin (rad/s)."""
+def _spin_rule(spin, pitch_rate_rad_s, cg, cp, speed, spin_nominal):
+    """The spin mode and a function pose -> spin (rad/s)."""
     if pitch_rate_rad_s is not None:
         if spin == "free":
             raise ValueError("--spin free solves the pitch rate; leave out --pitch-rate-rad-s (or use --spin "
@@ -268,19 +268,19 @@ def _spin_rule(spin, pitch_rate_rad_s, spin_nominal):
             raise ValueError(f"pitch rate --pitch-rate-rad-s {rate:g} rad/s is outside the accepted range "
                              f"[{lo:.4f}, {hi:.4f}] rad/s ({PITCH_RATE_REL[0]:g}..{PITCH_RATE_REL[1]:g} times "
                              f"v / r0 = {spin_nominal:.4f} rad/s at this speed and rolling radius)")
-        return "prescribed", lambda cg, cp, pose, speed: rate
+        return "prescribed", lambda pose: rate
     if spin not in ("nominal", "free"):
         raise ValueError(f"spin {spin!r} is unknown; choose nominal or free")
     if spin == "free":
-        return spin, lambda cg, cp, pose, speed: _free_spin(cg, cp, pose, speed, spin_nominal)
-    return spin, lambda cg, cp, pose, speed: spin_nominal
+        return spin, lambda pose: _free_spin(cg, cp, pose, speed, spin_nominal)
+    return spin, lambda pose: spin_nominal
 
 
 def _vertical_position(cg, cp, y, phi, psi, speed, spin_at, z_touch, load, load_text):
     """Vertical position (m) at which the two wheels together carry `load` (N) at roll phi."""
     def excess(zz):
         pose = (y, zz, phi, psi)
-        return _vertical_force(cg, cp, pose, speed, spin_at(cg, cp, pose, speed)) - load
+        return _vertical_force(cg, cp, pose, speed, spin_at(pose)) - load
 
     step = 1e-4
     z_lo = z_touch - step
@@ -292,15 +292,19 @@ def _vertical_position(cg, cp, y, phi, psi, speed, spin_at, z_touch, load, load_
     return brentq(excess, z_lo, z_touch, xtol=1e-14, rtol=1e-13, maxiter=200)
 
 
+def _wheel_loads_text(loads):
+    return (f"wheel loads {loads[0] / 1e3:g},{loads[1] / 1e3:g} kN (--wheel-loads-kn; accepted range per wheel "
+            f"(0, {WHEEL_LOAD_KN[1]:g}] kN)")
+
+
 def _roll_for_wheel_loads(cg, cp, y, psi, speed, spin_at, loads, phi_rigid):
-    """Roll (rad) and vertical position (m) at which each wheel carries its own load.
+    """Roll (rad) at which each wheel carries its own load.
 
     A positive roll lifts the left wheel, so the left wheel's shortfall (its load minus the vertical force
     it carries, with both together carrying the sum) rises with the roll: it is bracketed by steps that
     double outward from the rigid-contact roll, then bisected."""
     total = sum(loads)
-    text = (f"wheel loads {loads[0] / 1e3:g},{loads[1] / 1e3:g} kN (--wheel-loads-kn; accepted range per wheel "
-            f"(0, {WHEEL_LOAD_KN[1]:g}] kN)")
+    text = _wheel_loads_text(loads)
 
     def shortfall(phi):
         z_touch = _touch_height(cg, y, phi, psi)
@@ -309,7 +313,7 @@ def _roll_for_wheel_loads(cg, cp, y, psi, speed, spin_at, loads, phi_rigid):
                              "rail under it")
         z = _vertical_position(cg, cp, y, phi, psi, speed, spin_at, z_touch, total, text)
         pose = (y, z, phi, psi)
-        return loads[0] - steady_wheel_forces(cg, cp, 0, pose, speed, spin_at(cg, cp, pose, speed))[0][2]
+        return loads[0] - steady_wheel_forces(cg, cp, 0, pose, speed, spin_at(pose))[0][2]
 
     inner, f_inner = phi_rigid, shortfall(phi_rigid)
     direction = 1.0 if f_inner < 0.0 else -1.0
@@ -323,10 +327,8 @@ def _roll_for_wheel_loads(cg, cp, y, psi, speed, spin_at, loads, phi_rigid):
         outer = phi_rigid + direction * step
         f_outer = shortfall(outer)
         step *= 2.0
-    phi = outer if f_outer == 0.0 else brentq(shortfall, min(inner, outer), max(inner, outer), xtol=1e-14,
-                                              rtol=1e-12, maxiter=200)
-    z = _vertical_position(cg, cp, y, phi, psi, speed, spin_at, _touch_height(cg, y, phi, psi), total, text)
-    return phi, z
+    return outer if f_outer == 0.0 else brentq(shortfall, min(inner, outer), max(inner, outer), xtol=1e-14,
+                                               rtol=1e-12, maxiter=200)
 
 
 def contact_case(pair: WheelRailPair, *, lateral_mm=0.0, yaw_mrad=0.0, roll_mrad=None, load_kn=None,
@@ -349,7 +351,7 @@ def contact_case(pair: WheelRailPair, *, lateral_mm=0.0, yaw_mrad=0.0, roll_mrad
     else:
         load = sum(wheel_loads)
     spin_nominal = speed / pair.radius
-    spin_mode, spin_at = _spin_rule(spin, pitch_rate_rad_s, spin_nominal)
+    spin_mode, spin_at = _spin_rule(spin, pitch_rate_rad_s, cg, cp, speed, spin_nominal)
     grid = int(check_range("half-space grid --grid", grid, *GRID, "elements"))
     y = float(lateral_mm) * 1e-3
     if not math.isfinite(y):
@@ -362,24 +364,23 @@ def contact_case(pair: WheelRailPair, *, lateral_mm=0.0, yaw_mrad=0.0, roll_mrad
                          "tip or the end of the wheel profile)")
     z_rigid, phi_rigid, _ = conicity.rigid_pose(cg, y, psi)
     if wheel_loads is not None:
-        phi, z = _roll_for_wheel_loads(cg, cp, y, psi, speed, spin_at, wheel_loads, phi_rigid)
-        roll_input, roll_source = None, "wheel loads"
+        phi = _roll_for_wheel_loads(cg, cp, y, psi, speed, spin_at, wheel_loads, phi_rigid)
+        roll_input, roll_source, load_text = None, "wheel loads", _wheel_loads_text(wheel_loads)
     else:
         if roll_mrad is None:
             phi, roll_input, roll_source = phi_rigid, None, "rigid contact"
         else:
             phi = roll_input = check_range("roll --roll-mrad", roll_mrad, *ROLL_MRAD, "mrad") * 1e-3
             roll_source = "input"
-        z_touch0 = _touch_height(cg, y, phi, psi)
-        if not math.isfinite(z_touch0):
-            raise ValueError(f"roll {phi * 1e3:g} mrad at lateral shift {lateral_mm:g} mm leaves a wheel without "
-                             "rail under it; use a roll nearer the rigid-contact roll "
-                             f"{phi_rigid * 1e3:.2f} mrad")
-        z = _vertical_position(cg, cp, y, phi, psi, speed, spin_at, z_touch0, load,
-                               f"vertical wheelset load {load / 1e3:g} kN (accepted range (0, {LOAD_KN[1]:g}] kN)")
+        load_text = f"vertical wheelset load {load / 1e3:g} kN (accepted range (0, {LOAD_KN[1]:g}] kN)"
     z_touch = _touch_height(cg, y, phi, psi)
+    if not math.isfinite(z_touch):          # the roll search keeps to rolls with both rails under the wheels
+        raise ValueError(f"roll {phi * 1e3:g} mrad at lateral shift {lateral_mm:g} mm leaves a wheel without "
+                         "rail under it; use a roll nearer the rigid-contact roll "
+                         f"{phi_rigid * 1e3:.2f} mrad")
+    z = _vertical_position(cg, cp, y, phi, psi, speed, spin_at, z_touch, load, load_text)
     pose = (y, z, phi, psi)
-    spin_rate = spin_at(cg, cp, pose, speed)
+    spin_rate = spin_at(pose)
     if not math.isfinite(spin_rate):
         raise ValueError("spin free: no spin within +-10 % of v / r0 balances the longitudinal forces; "
                          "use --spin nominal")
