@@ -119,28 +119,14 @@ STICK, SLIP = 1.0, 2.0          # element states (0 = exterior)
 # ---------------------------------------------------------------------------------------------
 # influence coefficients and the FFT product
 # ---------------------------------------------------------------------------------------------
-def _s_asinh_t_over_s(s, t):
-    """s asinh(t/|s|), 0 at s = 0: the mixed antiderivative of t^2/r^3 (r^2 = s^2 + t^2)."""
-    s = np.asarray(s, dtype=np.float64)
-    t = np.asarray(t, dtype=np.float64)
-    abs_s = np.abs(s)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(abs_s > 0.0, s * np.arcsinh(t / np.where(abs_s > 0.0, abs_s, 1.0)), 0.0)
-
-
-def _corners(fun, X, Y, dx, dy):
-    hx, hy = 0.5 * dx, 0.5 * dy
-    return fun(X + hx, Y + hy) - fun(X + hx, Y - hy) - fun(X - hx, Y + hy) + fun(X - hx, Y - hy)
-
-
 def rectangle_tangential_displacement(X, Y, dx, dy, G, nu):
     """(A_xx, A_xy, A_yy) [m/Pa]: the combined tangential displacement (wheel minus rail) at offset (X, Y)
     from the centre of a dx x dy rectangle carrying a uniform unit traction, x component from an x
     traction (A_xx), y from x or x from y (A_xy), y from y (A_yy); G shear modulus, nu Poisson's ratio of
     both bodies. X, Y may be arrays (broadcast)."""
-    ixx = _corners(lambda s, t: _s_asinh_t_over_s(t, s), X, Y, dx, dy)     # int int x^2 / r^3
-    iyy = _corners(_s_asinh_t_over_s, X, Y, dx, dy)                          # int int y^2 / r^3
-    ixy = -_corners(np.hypot, X, Y, dx, dy)                                  # int int x y / r^3
+    ixx = hs.corners(lambda s, t: hs.s_asinh_t_over_s(t, s), X, Y, dx, dy)     # int int x^2 / r^3
+    iyy = hs.corners(hs.s_asinh_t_over_s, X, Y, dx, dy)                          # int int y^2 / r^3
+    ixy = -hs.corners(np.hypot, X, Y, dx, dy)                                    # int int x y / r^3
     c = 1.0 / (math.pi * G)
     return c * (ixx + (1.0 - nu) * iyy), c * nu * ixy, c * (iyy + (1.0 - nu) * ixx)
 
@@ -327,15 +313,15 @@ def exact_rolling(xi_x, xi_y, phi, pressure, dx, dy, E, nu, mu, *, x=None, y=Non
     if not np.all(np.isfinite(p_n)) or float(p_n.min()) < 0.0:
         raise ValueError(f"{WHO}: pressure must be finite and >= 0 Pa everywhere (min {float(np.nanmin(p_n))!r})")
     ny, nx = p_n.shape
-    dx = hs._positive("dx", dx, "m", WHO)
-    dy = hs._positive("dy", dy, "m", WHO)
-    E, nu = hs._check_material(E, nu, WHO)
+    dx = hs.positive("dx", dx, "m", WHO)
+    dy = hs.positive("dy", dy, "m", WHO)
+    E, nu = hs.check_material(E, nu, WHO)
     mu = float(mu)
     if not mu > 0.0:
         raise ValueError(f"{WHO}: friction coefficient mu = {mu!r} must be within (0, inf]")
-    tol, max_iter = hs._check_solver(tol, max_iter, WHO)
-    x = hs._centres("x", x, nx, dx, WHO)
-    y = hs._centres("y", y, ny, dy, WHO)
+    tol, max_iter = hs.check_solver(tol, max_iter, WHO)
+    x = hs.centres("x", x, nx, dx, WHO)
+    y = hs.centres("y", y, ny, dy, WHO)
 
     G = E / (2.0 * (1.0 + nu))
     disp, spectra, along_x = _operator(nx, ny, dx, dy, G, nu)
@@ -400,9 +386,9 @@ def hertz_grid(a, b, N, nx=64, ny=64):
     """Hertz's pressure p0 sqrt(1 - x^2/a^2 - y^2/b^2) on nx x ny elements that tile the ellipse's
     bounding box [-a, a] x [-b, b] exactly, scaled so that sum p dA = N (then full sliding gives exactly
     mu N). a (along x) and b [m] > 0, N [N] > 0. Returns (pressure, x, y, dx, dy)."""
-    a = hs._positive("a", a, "m", WHO)
-    b = hs._positive("b", b, "m", WHO)
-    N = hs._positive("N", N, "N", WHO)
+    a = hs.positive("a", a, "m", WHO)
+    b = hs.positive("b", b, "m", WHO)
+    N = hs.positive("N", N, "N", WHO)
     for name, n in (("nx", nx), ("ny", ny)):
         if int(n) != n or int(n) < hs.MIN_ELEMENTS:
             raise ValueError(f"{WHO}: {name} = {n!r} must be an integer >= {hs.MIN_ELEMENTS}")

@@ -117,26 +117,33 @@ _STRUCT8 = np.ones((3, 3), dtype=bool)
 # ---------------------------------------------------------------------------------------------
 # influence coefficients and the FFT product
 # ---------------------------------------------------------------------------------------------
-def _F(s, t):
-    """Mixed antiderivative of 1/sqrt(s^2 + t^2), modulo one-variable terms (module docstring)."""
+def s_asinh_t_over_s(s, t):
+    """s asinh(t/|s|), 0 at s = 0: the mixed antiderivative of t^2/r^3 (r^2 = s^2 + t^2), and half of the
+    one of 1/r (`_F`)."""
     s = np.asarray(s, dtype=np.float64)
     t = np.asarray(t, dtype=np.float64)
     abs_s = np.abs(s)
-    abs_t = np.abs(t)
     with np.errstate(divide="ignore", invalid="ignore"):
-        f1 = np.where(abs_s > 0.0, s * np.arcsinh(t / np.where(abs_s > 0.0, abs_s, 1.0)), 0.0)
-        f2 = np.where(abs_t > 0.0, t * np.arcsinh(s / np.where(abs_t > 0.0, abs_t, 1.0)), 0.0)
-    return f1 + f2
+        return np.where(abs_s > 0.0, s * np.arcsinh(t / np.where(abs_s > 0.0, abs_s, 1.0)), 0.0)
+
+
+def _F(s, t):
+    """Mixed antiderivative of 1/sqrt(s^2 + t^2), modulo one-variable terms (module docstring)."""
+    return s_asinh_t_over_s(s, t) + s_asinh_t_over_s(t, s)
+
+
+def corners(fun, X, Y, dx, dy):
+    """The four-corner sum of a mixed antiderivative `fun` over a dx x dy rectangle centred at offset
+    (X, Y): its integral over the rectangle."""
+    hx, hy = 0.5 * dx, 0.5 * dy
+    return fun(X + hx, Y + hy) - fun(X + hx, Y - hy) - fun(X - hx, Y + hy) + fun(X - hx, Y - hy)
 
 
 def rectangle_displacement(X, Y, dx, dy, E_star):
     """Combined normal displacement [m] at offset (X, Y) from the centre of a dx x dy rectangle
     carrying unit uniform pressure (1 Pa), for two bodies of combined modulus E_star (Love 1929).
     X, Y may be arrays (broadcast)."""
-    hx = 0.5 * dx
-    hy = 0.5 * dy
-    val = (_F(X + hx, Y + hy) - _F(X + hx, Y - hy) - _F(X - hx, Y + hy) + _F(X - hx, Y - hy))
-    return val / (math.pi * E_star)
+    return corners(_F, X, Y, dx, dy) / (math.pi * E_star)
 
 
 def influence_kernel(nx, ny, dx, dy, E_star):
@@ -191,9 +198,9 @@ def displacement(p, dx, dy, E, nu):
 
 
 # ---------------------------------------------------------------------------------------------
-# input checks
+# input checks (shared with exact_rolling)
 # ---------------------------------------------------------------------------------------------
-def _positive(name, value, unit, who="halfspace"):
+def positive(name, value, unit, who="halfspace"):
     try:
         v = float(value)
     except (TypeError, ValueError):
@@ -203,15 +210,15 @@ def _positive(name, value, unit, who="halfspace"):
     return v
 
 
-def _check_material(E, nu, who="halfspace"):
-    E = _positive("E", E, "Pa", who)
+def check_material(E, nu, who="halfspace"):
+    E = positive("E", E, "Pa", who)
     nu = float(nu)
     if not (0.0 <= nu < 0.5):
         raise ValueError(f"{who}: nu = {nu!r} must be within [0, 0.5)")
     return E, nu
 
 
-def _check_solver(tol, max_iter, who="halfspace"):
+def check_solver(tol, max_iter, who="halfspace"):
     tol = float(tol)
     if not (0.0 < tol < 1.0):
         raise ValueError(f"{who}: tol = {tol!r} must be within (0, 1)")
@@ -220,7 +227,7 @@ def _check_solver(tol, max_iter, who="halfspace"):
     return tol, int(max_iter)
 
 
-def _centres(name, v, n, d, who="halfspace"):
+def centres(name, v, n, d, who="halfspace"):
     """The element-centre coordinates along one grid axis: v, checked, or centred on 0 when None."""
     if v is None:
         return (np.arange(n) - 0.5 * (n - 1)) * d
@@ -443,9 +450,9 @@ def halfspace_patch(h, dx, dy, E, nu, N=None, delta=None, tol=1e-8, max_iter=500
                          f"{MIN_ELEMENTS} elements in each direction")
     if not np.all(np.isfinite(h)):
         raise ValueError("halfspace: h contains NaN or inf; it must be finite everywhere")
-    dx = _positive("dx", dx, "m")
-    dy = _positive("dy", dy, "m")
-    E, nu = _check_material(E, nu)
+    dx = positive("dx", dx, "m")
+    dy = positive("dy", dy, "m")
+    E, nu = check_material(E, nu)
     if (N is None) == (delta is None):
         raise ValueError("halfspace: give exactly one of N (force, >= 0 N) and delta (approach, m)")
     if N is not None:
@@ -456,9 +463,9 @@ def halfspace_patch(h, dx, dy, E, nu, N=None, delta=None, tol=1e-8, max_iter=500
         delta = float(delta)
         if not math.isfinite(delta):
             raise ValueError(f"halfspace: delta = {delta!r} m must be finite")
-    tol, max_iter = _check_solver(tol, max_iter)
-    x = _centres("x", x, nx, dx)
-    y = _centres("y", y, ny, dy)
+    tol, max_iter = check_solver(tol, max_iter)
+    x = centres("x", x, nx, dx)
+    y = centres("y", y, ny, dy)
 
     E_star = combined_modulus(E, nu, E, nu)
     dA = dx * dy
@@ -534,7 +541,7 @@ def wheelrail_gap(s, gap_lateral, R_long, x_half_length, nx):
                          f"got {R.shape}")
     if not np.all(R > 0.0) or not np.all(np.isfinite(R)):
         raise ValueError(f"halfspace: R_long must be finite and > 0 m (min {float(np.min(R))!r})")
-    L = _positive("x_half_length", x_half_length, "m")
+    L = positive("x_half_length", x_half_length, "m")
     if int(nx) != nx or int(nx) < MIN_ELEMENTS:
         raise ValueError(f"halfspace: nx = {nx!r} must be an integer >= {MIN_ELEMENTS}")
     x = np.linspace(-L, L, int(nx))
