@@ -125,8 +125,8 @@ class Climb:
         lines = [head, f"  {self.outcome}"]
         if self.climb_lv is not None:
             lines.append(f"  L/V at the climb {self.climb_lv:.3f} (lateral force "
-                         f"{self.climb_lateral_force_N / 1e3:.1f} kN, contact angle {math.degrees(self.climb_contact_angle_rad):.2f} deg), peak L/V "
-                         f"{self.peak_lv:.3f}")
+                         f"{self.climb_lateral_force_N / 1e3:.1f} kN, contact angle "
+                         f"{math.degrees(self.climb_contact_angle_rad):.2f} deg), peak L/V {self.peak_lv:.3f}")
         lines.append(f"  Nadal's limit {self.nadal_limit:.3f} at the largest contact angle reached "
                      f"{math.degrees(self.max_contact_angle_rad):.2f} deg")
         if self.climb_distance_m is not None:
