@@ -231,18 +231,18 @@ def findings(result):
             fa = _row(result, c, float(getattr(limits, c)))["false_alarms_per_1000_km"]
             lines.append(f"| {m.replace('_', ' ')} | {c} ({len(leads)} of {count[m]}) | "
                          f"{statistics.median(leads):.2f} | {fa:.1f} |")
-    peaks = [(r["peaks"]["attack_angle"], r["scenario"], r["seed"]) for r in runs]
-    largest = max(peaks)
-    before = sorted(r["peaks"]["attack_angle"] for r in derailed)
+    largest = max((r["peaks"]["attack_angle"], r["scenario"], r["seed"]) for r in runs)
+    before = [r["peaks"]["attack_angle"] for r in derailed]
     paper = _row(result, "attack_angle", 0.06)
     lines += ["", "### The paper's 0.06 rad attack-angle warning", "",
               f"The front wheelset's attack angle reached at most {largest[0] * 1e3:.1f} mrad in any run "
-              f"({largest[1]}, seed {largest[2]}); up to the derailment instant of the {len(derailed)} derailed runs "
-              f"its largest value was {before[len(before) // 2] * 1e3:.1f} mrad in the median and "
-              f"{before[-1] * 1e3:.1f} mrad at most. At 0.06 rad (Yu 2022) it warned {paper['derailments_warned']} of "
-              f"{paper['derailments']} derailments and raised {paper['false_alarms_per_1000_km']:.1f} false alarms "
-              "per 1000 km."]
-    if paper["derailments_warned"] == 0:
+              f"({largest[1]}, seed {largest[2]})"
+              + (f"; up to the derailment instant of the {len(derailed)} derailed runs its largest value was "
+                 f"{statistics.median(before) * 1e3:.1f} mrad in the median and {max(before) * 1e3:.1f} mrad at most"
+                 if derailed else "") +
+              f". At 0.06 rad (Yu 2022) it warned {paper['derailments_warned']} of {paper['derailments']} "
+              f"derailments and raised {paper['false_alarms_per_1000_km']:.1f} false alarms per 1000 km."]
+    if derailed and paper["derailments_warned"] == 0:
         lines += ["A wheelset whose wheels are still on their rails cannot yaw that far: in a bogie its attack angle "
                   "is about half the wheelbase over the curve radius plus what the flange clearance allows over the "
                   "wheelbase, tens of mrad even at R 150 m, and the derailment (the wheel lifted to its flange "

@@ -164,3 +164,14 @@ def test_the_demo_refuses_what_the_node_cannot_run():
         catalogue_parameters(None, "line-straight-china-hsr")
     with pytest.raises(ValueError, match="--seed 9 is not one of the scenario's seeds"):
         catalogue_parameters(None, "overspeed-r1000-erri-high", 9)
+
+
+def test_a_catalogue_without_a_derailment_is_still_reported(small):
+    """Ordinary running only (the small catalogue's run, from the cache): the report's findings say what
+    there is, with no derailment to take peaks or leads from."""
+    folder, entries, _ = small
+    result = wc.evaluate([e for e in entries if e.name == "ordinary"], cache=folder / "cache", workers=1,
+                         progress=False)
+    text = wc.markdown(result)
+    assert "1 runs of 1 scenarios: 0 derailed" in text
+    assert "it warned 0 of 0 derailments" in text
