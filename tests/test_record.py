@@ -62,7 +62,7 @@ def test_the_numba_core_indexes_with_the_members():
 
 def test_core_layouts_agree_with_the_array_sizes():
     assert N_STATE == 2 * len(Body) * Dof.size() + State.dampers.width + 1 + 2 * State.rail_deflections.width
-    assert N_OUT == OutputRow.wheels + 8 * W_SIZE + 8 * RailDof.size() + AeroLoad.size()
+    assert N_OUT == OutputRow.wheels + 8 * W_SIZE + 8 * RailDof.size() + AeroLoad.size() + len(Body) * 9
     assert W_SIZE == Wheel.patches + Wheel.patches.shape[0] * WheelPatch.size()
     x = np.arange(N_STATE, dtype=float)
     positions = State.split(x)["positions"]

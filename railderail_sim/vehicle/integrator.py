@@ -26,8 +26,9 @@ from ..track import alignment as trk, rails
 from ..track import elastic as track_elastic
 from ..track.layout import N_RAIL_DOF, RailDof
 from . import dynamics as dyn
-from .layout import (BodyTable, Dof, N_BODY, N_DAMPER, N_DOF, N_STATE, N_WHEEL, N_WHEELSET, OutputRow,
-                     State, VehicleConstants, WheelsetOutput, WHEELSETS)
+from .dynamics import Kinematics
+from .layout import (BodyMotion, BodyTable, Dof, N_BODY, N_DAMPER, N_DOF, N_STATE, N_WHEEL, N_WHEELSET, OutputRow,
+                     State, Vector, VehicleConstants, WheelsetOutput, WHEELSETS)
 from ..contact.layout import W_SIZE, WP_SIZE, Wheel, WheelPatch
 
 RUNNING, DERAILED, DIVERGED, END_OF_LINE = 0, 1, 2, 3
@@ -66,6 +67,7 @@ class Stepper(Record):
 
 EV_SIZE = Event.size()
 WS_SIZE = WheelsetOutput.size()
+BM_SIZE = BodyMotion.size()
 
 # limits beyond which the integration has run away (not a physical state of a car on or near the track)
 LIMIT_DISPLACEMENT = 0.5       # m, any lateral/vertical body displacement
@@ -96,9 +98,11 @@ def workspace(cg):
 
 
 @core
-def fill_row(row, t, x, v, model, recs):
-    """One output row (OutputRow) from the state and the wheel records of the same instant."""
+def fill_row(row, t, x, dx, v, model, sp, buffers):
+    """One output row (OutputRow) from the state, its rate dx and the right-hand side's buffers (the wheel
+    records and the per-body kinematics) of the same instant."""
     bodies, vp, track = model.bodies, model.vp, model.track
+    recs, kin = buffers.recs, buffers.kin
     s = x[State.s]
     kap, _ = trk.curvature(track, s)
     roll, _ = trk.cant(track, s)
@@ -143,6 +147,42 @@ def fill_row(row, t, x, v, model, recs):
     row[a + AeroLoad.rolling_moment] = mx
     row[a + AeroLoad.pitching_moment] = my
     row[a + AeroLoad.yawing_moment] = mz
+    _fill_motion(row, x, dx, v, vp, sp, bodies, kin)
+
+
+@core
+def _fill_motion(row, x, dx, v, vp, sp, bodies, kin):
+    """Each body's BodyMotion: from dV/dt = F/m + g_T - omega_T x V (dynamics.rhs) the specific force
+    F/m = dV/dt - g_T + omega_T x V, and the inertial angular acceleration d(omega)/dt + omega_T x omega, in
+    track axes. V_x is not a state (the body keeps its station): its rate is taken as the forward
+    acceleration v dv/ds, without the small rates of the track's turn and of the body's offsets; so is
+    the rate of the wheelsets' non-spinning pitch, the track's own."""
+    g = vp[VehicleConstants.gravity]
+    _, dvds = dyn.speed_at(sp, x[State.s])
+    for b in range(N_BODY):
+        ov = State.velocities + N_DOF * b
+        w_t = Kinematics.track_angular_velocity
+        wtx, wty, wtz = kin[b, w_t + Vector.x], kin[b, w_t + Vector.y], kin[b, w_t + Vector.z]
+        v_t = Kinematics.track_velocity
+        vtx, vty, vtz = kin[b, v_t + Vector.x], kin[b, v_t + Vector.y], kin[b, v_t + Vector.z]
+        # the track's roll at the body's station (its rotation matrix: ground <- track, row-major)
+        roll_t = math.atan2(kin[b, Kinematics.track_rotation + 7], kin[b, Kinematics.track_rotation + 8])
+        is_ws = bodies[b, BodyTable.is_wheelset] > 0.5
+        wx, wz = x[ov + Dof.roll], x[ov + Dof.yaw]
+        wy = wty if is_ws else x[ov + Dof.pitch]
+        dwy = 0.0 if is_ws else dx[ov + Dof.pitch]
+        r = OutputRow.body_motion + b * BM_SIZE
+        row[r + BodyMotion.specific_force + Vector.x] = v * dvds + wty * vtz - wtz * vty
+        row[r + BodyMotion.specific_force + Vector.y] = dx[ov + Dof.lateral] + g * math.sin(roll_t) + wtz * vtx \
+            - wtx * vtz
+        row[r + BodyMotion.specific_force + Vector.z] = dx[ov + Dof.vertical] + g * math.cos(roll_t) + wtx * vty \
+            - wty * vtx
+        row[r + BodyMotion.angular_velocity + Vector.x] = wx
+        row[r + BodyMotion.angular_velocity + Vector.y] = wy
+        row[r + BodyMotion.angular_velocity + Vector.z] = wz
+        row[r + BodyMotion.angular_acceleration + Vector.x] = dx[ov + Dof.roll] + wty * wz - wtz * wy
+        row[r + BodyMotion.angular_acceleration + Vector.y] = dwy + wtz * wx - wtx * wz
+        row[r + BodyMotion.angular_acceleration + Vector.z] = dx[ov + Dof.yaw] + wtx * wy - wty * wx
 
 
 @core
@@ -307,7 +347,7 @@ def advance(x, t, duration, out_dt, first_row, model, sp, control, work, out):
     h_prop = stepper[Stepper.step]
     for interval in range(n_intervals + 1):
         if (interval > 0 or first_row) and rows < nout:
-            fill_row(out[rows], t, x, v, model, recs)
+            fill_row(out[rows], t, x, k0, v, model, sp, buffers)
             rows += 1
         if control.stop_on_derailment and _check_derailment(x, v, t, model, recs, work.last_contact, event):
             stepper[Stepper.step] = h_prop

@@ -161,6 +161,16 @@ class WheelsetOutput(Record):
     wheelset_roll = "rad", "roll relative to the track"
 
 
+class BodyMotion(Record):
+    """What an ideal accelerometer and gyro at a body's reference point measure, in the track axes at its
+    station (vehicle.motion carries them to any point of the body and into its axes)."""
+    specific_force = ("m/s^2", "specific force F/m (the acceleration minus gravity: what an accelerometer reads; "
+                      "+g up at rest) of the reference point", (), Vector)
+    angular_velocity = "rad/s", "absolute angular velocity (wheelsets: of the axle boxes, without the spin)", (), Vector
+    angular_acceleration = "rad/s^2", "absolute angular acceleration (the inertial rate of angular_velocity)", (), \
+        Vector
+
+
 class OutputRow(Record):
     """One output sample of the core."""
     time = "s", "simulated time"
@@ -175,6 +185,7 @@ class OutputRow(Record):
     wheels = "-", "each wheel's contact record, [wheelset 0 left, wheelset 0 right, ...]", (N_WHEEL,), Wheel
     rails = "m, rad", "each wheel's rail deflection (elastic track; zero on rigid track)", (N_WHEEL,), RailDof
     aerodynamics = "-", "the wind and its load on the car body (zero without wind)", (), AeroLoad
+    body_motion = "-", "every body's specific force and angular motion (ideal inertial sensors)", (N_BODY,), BodyMotion
 
 
 N_OUT = OutputRow.size()
