@@ -17,6 +17,9 @@ the monitor's parameters; the defaults are the shipped parameter file's, `defaul
 | `running_gear_unloading` | mean dP/P0 of a bogie's two wheels on one side | 0.90 (EN 14067-6)     | none                   |
 | `derailment_coefficient_duration` | Q/P of each wheel held 50 ms  | 1.0 (AAR Chapter XI)  | Nadal's limit          |
 | `derailment_coefficient_mean` | 2 m sliding mean of Q/P of each wheel | 0.8 (EN 14363) | Nadal's limit     |
+
+Each criterion has its own two levels (a Limits field each): the three Q/P rules start with the same
+CRITICAL level, Nadal's limit, but choosing one of them never moves another's.
 | `flange_climb_distance`  | climb run at Nadal / TCRP's distance (-)       | 0.5 (half the limit)  | 1 (TCRP Report 71)     |
 
 Sources and confidence:
@@ -40,7 +43,9 @@ Sources and confidence:
 - derailment coefficient with a duration rule: Q/P at or above its level for at least
   `duration_s` = 50 ms of time, not of track (AAR Manual of Standards, Chapter XI, single-wheel L/V
   1.0 over 50 ms, and the Japanese practice of a duration; medium confidence, as quoted in the
-  issue tracker and TCRP Report 71; its CRITICAL level is Nadal's limit like the 2 m rule's).
+  issue tracker and TCRP Report 71; its CRITICAL level is Nadal's limit like the 2 m rule's). The time is
+  counted in integer nanoseconds, the resolution of a ROS stamp, so that the node (which sees the stamps)
+  and a batch evaluation (which sees the simulator's clock) decide every sample alike.
 - flange-climb distance: TCRP Report 71 Vol. 5 (2005, Wu and Wilson) eq. 2.4, the distance over which a
   wheel's L/V may stay at Nadal's limit, falling with the attack angle (`climb_distance`: the formula, its
   constants and why their grouping is uncertain). Its limit is the CRITICAL level 1; the WARNING level
@@ -58,8 +63,10 @@ from __future__ import annotations
 
 import collections
 import functools
+from importlib.resources import files
 import math
 from dataclasses import MISSING, asdict, dataclass, field, fields
+from pathlib import Path
 
 import numpy as np
 
@@ -72,7 +79,6 @@ from .climb_distance import CLIMB_FRICTION, ClimbDistance, tcrp_coefficients
 SIDES = ("left", "right")
 CRITERIA = ("attack_angle", "wheel_lift", "derailment_coefficient", "wheel_unloading", "running_gear_unloading",
             "derailment_coefficient_duration", "derailment_coefficient_mean", "flange_climb_distance")
-SHARE_NADAL = ("derailment_coefficient_duration", "derailment_coefficient_mean")   # their CRITICAL level is Q/P's
 # a running gear's side by its leading wheelset, in the order of vehicle.layout.running_gear_sides
 BOGIE_PLACES = tuple((gear[0], side) for gear in RUNNING_GEARS for side in SIDES)
 SEVERITY_WARNING, SEVERITY_CRITICAL = 1, 2          # the Alert message's constants
@@ -80,18 +86,27 @@ SEVERITY_NAMES = {SEVERITY_WARNING: "warning", SEVERITY_CRITICAL: "critical"}
 
 
 def critical_name(criterion):
-    """The Limits field of a criterion's CRITICAL level (the duration rule shares Nadal's limit with Q/P)."""
-    return "derailment_coefficient_critical" if criterion in SHARE_NADAL else criterion + "_critical"
+    """The Limits field of a criterion's CRITICAL level."""
+    return criterion + "_critical"
 
 
-TIMED = ("derailment_coefficient_duration",)      # their debounce is time (s), not track
+TIMED = ("derailment_coefficient_duration",)      # their debounce is time, not track
+NANOSECOND = 1e-9                                 # s: the clock of the timed rules (a ROS stamp's resolution)
+
+
+def nanoseconds(seconds):
+    """Integer nanoseconds of a time (s) or an array of times, as a ROS stamp holds it
+    (`ros_interface.set_time`): exact for times below 10^6 s, whether they come from the simulator's clock
+    or from a stamp's sec + 1e-9 nanosec."""
+    ns = np.round(np.asarray(seconds, dtype=float) / NANOSECOND)
+    return ns.astype(np.int64) if ns.ndim else int(ns)
 
 
 def debounce(criterion, limits):
     """What a criterion's value must be held over before it alerts: duration_s of time for the duration
-    rule, nothing for the sliding mean and the climb distance (their window or distance is the evaluation),
-    debounce_m of track otherwise."""
-    return {"derailment_coefficient_duration": limits.duration_s, "derailment_coefficient_mean": 0.0,
+    rule (in integer nanoseconds, `nanoseconds`), nothing for the sliding mean and the climb distance (their
+    window or distance is the evaluation), debounce_m of track otherwise."""
+    return {"derailment_coefficient_duration": nanoseconds(limits.duration_s), "derailment_coefficient_mean": 0.0,
             "flange_climb_distance": 0.0}.get(criterion, limits.debounce_m)
 
 
@@ -122,6 +137,12 @@ class Limits:
                                         "full height)")
     derailment_coefficient_critical: float = _level(
         "", "derailment coefficient Q/P of each wheel, CRITICAL level",
+        "Nadal's limit (tan d - mu)/(1 + mu tan d) at the profile pair's largest contact angle d, friction mu")
+    derailment_coefficient_duration_critical: float = _level(
+        "", "Q/P held for duration_s, CRITICAL level",
+        "Nadal's limit (tan d - mu)/(1 + mu tan d) at the profile pair's largest contact angle d, friction mu")
+    derailment_coefficient_mean_critical: float = _level(
+        "", "2 m sliding mean of Q/P, CRITICAL level",
         "Nadal's limit (tan d - mu)/(1 + mu tan d) at the profile pair's largest contact angle d, friction mu")
     static_wheel_load: float = _value("N", "static wheel load P0 of the unloading ratio (P0 - P)/P0",
                                       "the car's load per wheel at rest on level track "
@@ -174,8 +195,7 @@ class Limits:
                             "level a few metres apart", 50.0, (0.0, 10000.0), False)
 
     def levels(self, criterion):
-        """[(severity, threshold)] of a criterion, enabled levels only (the duration rule's CRITICAL level is
-        Nadal's limit, derailment_coefficient_critical)."""
+        """[(severity, threshold)] of a criterion, enabled levels only."""
         out = [(SEVERITY_WARNING, getattr(self, criterion)),
                (SEVERITY_CRITICAL, getattr(self, critical_name(criterion)))]
         return [(sev, float(thr)) for sev, thr in out if math.isfinite(thr)]
@@ -223,8 +243,9 @@ def limits_for_model(model, friction, **changes):
     basis = model_basis(model)
     hf = basis["flange_height"]
     distance, angle = tcrp_coefficients(basis["flange_angle"], basis["flange_length"])
-    values = dict(wheel_lift=hf / 3.0, wheel_lift_critical=2.0 * hf / 3.0,
-                  derailment_coefficient_critical=float(nadal_limit(basis["max_contact_angle"], friction)),
+    nadal = float(nadal_limit(basis["max_contact_angle"], friction))
+    values = dict(wheel_lift=hf / 3.0, wheel_lift_critical=2.0 * hf / 3.0, derailment_coefficient_critical=nadal,
+                  derailment_coefficient_duration_critical=nadal, derailment_coefficient_mean_critical=nadal,
                   static_wheel_load=basis["static_wheel_load"], climb_distance_scale=distance,
                   climb_nadal_limit=float(nadal_limit(basis["max_contact_angle"], CLIMB_FRICTION)),
                   climb_attack_angle_scale=angle)
@@ -232,12 +253,34 @@ def limits_for_model(model, friction, **changes):
     return Limits(**values).validated()
 
 
+NODE = "railderail_monitor"
+SHIPPED = files("railderail_monitor") / "config" / "monitor.yaml"
+
+
+def read_limits(path):
+    """Limits from a parameter file of the monitor node (ValueError naming the file and what is wrong)."""
+    import yaml
+    try:
+        data = yaml.safe_load(Path(path).read_text())
+        values = data[NODE]["ros__parameters"]
+    except OSError as error:
+        raise ValueError(f"{path}: cannot read it ({error.strerror or error})") from None
+    except (yaml.YAMLError, TypeError, KeyError):
+        raise ValueError(f"{path} is not a parameter file with a '{NODE}: ros__parameters:' mapping") from None
+    names = [f.name for f in fields(Limits)]
+    unknown, missing = sorted(set(values) - set(names)), [n for n in names if n not in values]
+    if unknown or missing:
+        raise ValueError(f"{path}: " + "; ".join(
+            text for text in (unknown and f"unknown parameter(s) {', '.join(unknown)}",
+                              missing and f"missing parameter(s) {', '.join(missing)}") if text))
+    return Limits(**{name: float(values[name]) for name in names}).validated()
+
+
 @functools.lru_cache(maxsize=None)
 def default_limits():
     """The monitor's default limits: those of the parameter file shipped with the package
     (railderail_monitor/config/monitor.yaml, made by `railderail monitor-params` for the built-in
     car: vehicle set hs19, LM on UIC60 at 1:40, friction 0.3). Reads no model, imports no numba."""
-    from .monitor_params import SHIPPED, read_limits
     return read_limits(SHIPPED)
 
 
@@ -303,7 +346,7 @@ def rail_side(wheel_side, curvature):
 
 class Detector:
     """One alert per event on one channel: the value must stay >= threshold over `debounce` (m of
-    track, or s of time for a duration rule) to raise the alert; the channel re-arms once the value has
+    track, or integer nanoseconds of time for a duration rule) to raise the alert; the channel re-arms once the value has
     stayed below rearm_fraction x threshold over `rearm_m` of track. `update` returns True on the
     sample that raises the alert."""
 
@@ -312,14 +355,14 @@ class Detector:
     def __init__(self, threshold, debounce=2.0, rearm_fraction=0.9, rearm_m=50.0):
         self.threshold = float(threshold)
         self.rearm_level = float(rearm_fraction) * self.threshold
-        self.debounce = float(debounce)
+        self.debounce = debounce                   # m, or integer ns of a timed rule
         self.rearm_m = float(rearm_m)
         self.armed = True
         self.start = None      # where (or when) the value crossed (the level, or the re-arm level)
 
     def update(self, value, position, clock=None):
         """`clock`: what the debounce is measured on, the track position by default (a duration rule
-        passes the time); the re-arm is always measured on the track."""
+        passes the time in integer nanoseconds); the re-arm is always measured on the track."""
         if not self.armed:
             if value < self.rearm_level:
                 if self.start is None:
@@ -343,15 +386,16 @@ class Detector:
         return False
 
 
-def alert_indices(values, position, threshold, debounce=2.0, rearm_fraction=0.9, rearm_m=50.0, clock=None):
-    """The samples at which a Detector fed (values[i], position[i], clock[i]) raises its alerts, found over
-    the runs of samples above the level and below the re-arm level instead of sample by sample: the same
-    decisions (the same comparisons of the same differences), so that a threshold sweep over long runs
-    (`warning_catalogue`) is what the monitor would have said at each threshold. Positions (and the clock)
-    must not decrease."""
+def alarm_intervals(values, position, threshold, debounce=2.0, rearm_fraction=0.9, rearm_m=50.0, clock=None):
+    """[(alert, rearm)] of a Detector fed (values[i], position[i], clock[i]): the sample that raises each
+    alert and the one at which the channel re-arms (len(values) if it never does), so the channel is in
+    alarm over alert <= i < rearm. Found over the runs of samples above the level and below the re-arm level
+    instead of sample by sample, with the same decisions (the same comparisons of the same differences), so
+    that a threshold sweep over long runs (`warning_catalogue`) is what the monitor would have said at each
+    threshold. Positions (and the clock) must not decrease."""
     v = np.asarray(values, dtype=float)
     pos = np.asarray(position, dtype=float)
-    at = pos if clock is None else np.asarray(clock, dtype=float)
+    at = pos if clock is None else np.asarray(clock)
     above = np.flatnonzero(v >= float(threshold))
     not_above = np.flatnonzero(~(v >= float(threshold)))
     rearm_level = float(rearm_fraction) * float(threshold)
@@ -371,16 +415,16 @@ def alert_indices(values, position, threshold, debounce=2.0, rearm_fraction=0.9,
             k += 1
         return k
 
-    alerts, i, armed = [], 0, True
+    intervals, i, armed = [], 0, True
     while i < n:
         if armed:
             start = first_after(above, i)
             if start >= n:
                 break
             end = first_after(not_above, start)
-            k = held(at, start, end, float(debounce))
+            k = held(at, start, end, debounce)
             if k < end:
-                alerts.append(k)
+                intervals.append([k, n])
                 armed = False
             i = k + 1 if k < end else end
         else:
@@ -390,9 +434,16 @@ def alert_indices(values, position, threshold, debounce=2.0, rearm_fraction=0.9,
             end = first_after(not_below, start)
             k = held(pos, start, end, float(rearm_m))
             if k < end:
+                intervals[-1][1] = k
                 armed = True
             i = k + 1 if k < end else end
-    return alerts
+    return [tuple(x) for x in intervals]
+
+
+def alert_indices(values, position, threshold, debounce=2.0, rearm_fraction=0.9, rearm_m=50.0, clock=None):
+    """The samples at which a Detector fed (values[i], position[i], clock[i]) raises its alerts
+    (`alarm_intervals`' first samples)."""
+    return [a for a, _ in alarm_intervals(values, position, threshold, debounce, rearm_fraction, rearm_m, clock)]
 
 
 # --- the monitor --------------------------------------------------------------------------------
@@ -473,7 +524,7 @@ class Monitor:
 
     def _check(self, criterion, values, t, sample, position, speed):
         t, sample, position, speed = float(t), int(sample), float(position), float(speed)
-        clock = t if criterion in TIMED else None
+        clock = nanoseconds(t) if criterion in TIMED else None
         alerts = []
         for sev, thr, detectors in self.channels[criterion]:
             for k, detector in enumerate(detectors):

@@ -112,12 +112,15 @@ def catalogue_parameters(path, name, seed=None):
     if math.isinf(e.radius_m):
         raise ValueError(f"scenario {name!r} runs on straight track, which the simulator node does not model "
                          "(its line is always the Table 2 curve)")
+    if e.defect or not math.isnan(e.approach_m):
+        raise ValueError(f"scenario {name!r} has a track defect or a longer approach, which the simulator node's "
+                         "parameters do not take (give the defect as an irregularity file instead)")
     irregularity = str(Path(e.folder, e.irregularity)) if e.irregularity.endswith(".csv") else e.irregularity
     return {"radius": e.radius_m, "speed_mode": "progressive" if e.progressive else "constant",
             "speed_kmh": 200.0 if e.progressive else e.speed_kmh, "cant_mm": e.cant_mm, "friction": e.friction,
             "irregularity": irregularity, "irregularity_seed": seed, "track": e.track,
             "line_length_m": 0.0 if math.isnan(e.line_length_m) else e.line_length_m,
-            "wind_speed_m_s": e.wind_speed_m_s, "wind_direction_deg": 90.0,
+            "wind_speed_m_s": e.wind_speed_m_s, "wind_direction_deg": 90.0, "gust": e.gust,
             **({"faults": list(e.faults)} if e.faults else {})}
 
 

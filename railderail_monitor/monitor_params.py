@@ -19,36 +19,13 @@ import argparse
 import math
 import sys
 from dataclasses import fields
-from importlib.resources import files
 from pathlib import Path
-
-import yaml
 
 from railderail_sim.atomic import atomic_write
 
-from .criteria import Limits, limits_for_model, model_basis
+from .criteria import NODE, SHIPPED, Limits, limits_for_model, model_basis, read_limits  # noqa: F401 (the file's API)
 
-NODE = "railderail_monitor"
-SHIPPED = files("railderail_monitor") / "config" / "monitor.yaml"
 REGENERATE = "railderail monitor-params --out railderail_monitor/config/monitor.yaml"
-
-
-def read_limits(path):
-    """Limits from a parameter file of the monitor node (ValueError naming the file and what is wrong)."""
-    try:
-        data = yaml.safe_load(Path(path).read_text())
-        values = data[NODE]["ros__parameters"]
-    except OSError as error:
-        raise ValueError(f"{path}: cannot read it ({error.strerror or error})") from None
-    except (yaml.YAMLError, TypeError, KeyError):
-        raise ValueError(f"{path} is not a parameter file with a '{NODE}: ros__parameters:' mapping") from None
-    names = [f.name for f in fields(Limits)]
-    unknown, missing = sorted(set(values) - set(names)), [n for n in names if n not in values]
-    if unknown or missing:
-        raise ValueError(f"{path}: " + "; ".join(
-            text for text in (unknown and f"unknown parameter(s) {', '.join(unknown)}",
-                              missing and f"missing parameter(s) {', '.join(missing)}") if text))
-    return Limits(**{name: float(values[name]) for name in names}).validated()
 
 
 def limits_of_car(wheel="lm", rail="uic60", friction=0.3, vehicle_set="hs19"):

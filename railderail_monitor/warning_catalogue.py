@@ -1,19 +1,18 @@
-"""`railderail warnings --catalogue`: which criterion warns, how early, and how often falsely, over a
-scenario catalogue (`catalogue`), each criterion swept over its thresholds.
+"""`railderail warnings --catalogue`: which criterion warns, how early and how usefully, and how often falsely,
+over a scenario catalogue (`catalogue`), each criterion swept over its thresholds; the thresholds chosen on
+one part of the catalogue and scored on the other (docs/warning-evaluation.md).
 
-Each run is the core at the monitor's 200 Hz (no ROS). For every criterion and threshold of THRESHOLDS the
-alerts are those a monitor at that threshold would raise (`criteria.alert_indices`: the Detector's
-decisions, with the shipped debounce and re-arm); the threshold named by the shipped parameter file
-(`default_limits`) is always among them. On a run that derails, the first alert's lead before the
-derailment (s, and m of track of the car-body centre); on a run that does not, every alert is a false
-alarm, alerts of one criterion within `rearm_m` of track of each other counting as one. Scored over the
-runs: the derailments warned (by mechanism), the median and the least lead, and the false alarms per
-1000 km of the runs without derailment; the recommended threshold of a criterion is the one that warns
-the most derailments, then with the longest median lead, within the false-alarm budget.
+Each run is the core at the monitor's 200 Hz (no ROS), labelled by its hazards (`hazards`: derailment
+windows, near misses by margin, normal running) and scored per criterion and threshold (`scoring`: the
+alarms a monitor at that threshold would show, attributed to the hazard at their place or counted false
+over the normal running). The runs are split by seed (odd seeds train, even test, or the entry's `part`);
+`summarize` gives the table of one part, `recommend` chooses each criterion's WARNING and CRITICAL levels
+on the train part under their false-alarm budgets and checks them on the test part, recommending nothing
+where the exposure cannot resolve the budget or too few derailments are usefully warned.
 
 A run's result depends only on its catalogue entry, its seed and the code: it is cached on disk under
-the hash of those (the package's source included), so an interrupted evaluation resumes and a larger one
-reuses the runs it shares with an earlier one. Runs go in parallel processes or on Dask (`parallel`).
+the hash of those (both packages' sources and the monitor's shipped parameter file included), so an
+interrupted evaluation resumes and loses no finished run. Runs go in parallel processes or on Dask.
 """
 from __future__ import annotations
 
@@ -21,18 +20,22 @@ import functools
 import hashlib
 import json
 import math
+import os
 import statistics
+import time
 from pathlib import Path
 
 import numpy as np
 
 from railderail_sim import jsonout
-from railderail_sim.atomic import atomic_write
+from railderail_sim.node import PARAMETERS
 
 from .climb_distance import climb_distance_ratio
-from .criteria import (TIMED, alert_indices, critical_name, debounce, default_limits, front_attack_angle,
-                       running_gear_unloading, sliding_mean, unloading_ratio)
-from .warning_quality import RATE, run_to_end
+from .criteria import (TIMED, critical_name, debounce, default_limits, front_attack_angle, model_basis,
+                       nanoseconds, running_gear_unloading, sliding_mean, unloading_ratio)
+from .hazards import Car, HazardRules, cant_deficiency, hazards, windows
+from .scoring import (channel_places, exposure, in_alarm, is_useful, rate_per_1000_km, resolvable_km, score,
+                      share_interval)
 
 # thresholds of each criterion's sweep (its unit); the shipped levels are added to them
 THRESHOLDS = {
@@ -45,13 +48,17 @@ THRESHOLDS = {
     "running_gear_unloading": (0.5, 0.6, 0.7, 0.8, 0.9),
     "flange_climb_distance": (0.1, 0.25, 0.5, 0.75, 1.0),
 }
-FALSE_ALARMS_PER_1000_KM = 0.1
+SIGNALS = {criterion: "ground_truth" for criterion in THRESHOLDS}     # what each criterion needs measured
+RATE = next(spec.default for spec in PARAMETERS if spec.name == "publish_rate")   # Hz, as the node publishes
+BUDGETS = {"warning": 10.0, "critical": 3.0}      # false-alarm episodes per 1000 km of each level by default
+MIN_USEFUL_SHARE = 0.5     # a level is recommended only if it usefully warns at least this share of derailments
+SPLIT = "by seed: odd seeds train, even seeds test (an entry's `part` overrides)"
 
 
 @functools.lru_cache(maxsize=1)
 def source_hash():
     """SHA-256 of both packages' Python sources and the monitor's shipped parameter file (the model, the
-    criteria and their levels): a cached run is valid for these only."""
+    criteria, the labelling and their levels): a cached run is valid for these only."""
     import railderail_sim
     digest = hashlib.sha256()
     for package in (Path(railderail_sim.__file__).parent, Path(__file__).parent):
@@ -83,32 +90,32 @@ def thresholds(criterion, limits):
     return sorted({float(x) for x in THRESHOLDS[criterion]} | {float(x) for x in shipped if math.isfinite(x)})
 
 
-def score_run(arrays, limits):
-    """({criterion: [{threshold, first: {time_s, position_m} or None, alerts}]}, {criterion: its largest value})
-    of one run's arrays."""
-    t, s = arrays["time"], arrays["position"]
-    out, peaks = {}, {}
+def score_run(arrays, found, limits, rules):
+    """{window_s: {normal_km, normal_h, criteria: {criterion: [{threshold, warnings, false_episodes,
+    false_time_s, false_km}]}}} of one run's arrays and hazards, every criterion over its thresholds."""
+    s = arrays["position"]
+    clock = nanoseconds(arrays["time"])
+    alarms = {}
     for criterion, values in criterion_values(arrays, limits).items():
-        peaks[criterion] = float(np.max(values))
-        rows = []
-        held, clock = debounce(criterion, limits), t if criterion in TIMED else None
-        for thr in thresholds(criterion, limits):
-            hits = sorted(i for k in range(values.shape[1])
-                          for i in alert_indices(values[:, k], s, thr, held, limits.rearm_fraction, limits.rearm_m,
-                                                 clock))
-            events, last = 0, -math.inf
-            for i in hits:                       # alerts of several wheels at one place are one false alarm
-                if s[i] - last > limits.rearm_m:
-                    events += 1
-                last = s[i]
-            first = dict(time_s=float(t[hits[0]]), position_m=float(s[hits[0]])) if hits else None
-            rows.append(dict(threshold=thr, first=first, alerts=events))
-        out[criterion] = rows
-    return out, peaks
+        held = debounce(criterion, limits)
+        at = clock if criterion in TIMED else None
+        alarms[criterion] = {thr: np.array([in_alarm(values[:, k], s, thr, held, limits.rearm_fraction,
+                                                     limits.rearm_m, at) for k in range(values.shape[1])])
+                             for thr in thresholds(criterion, limits)}
+    out = {}
+    for w in rules.windows_s:
+        place_windows, label = windows(arrays["time"], found, w)
+        km, h = exposure(arrays, label)
+        out[str(w)] = dict(normal_km=km, normal_h=h, criteria={
+            criterion: [dict(threshold=thr, **score(mask, channel_places(criterion, mask.shape[0]), arrays, found, w,
+                                                    place_windows, label))
+                        for thr, mask in by_threshold.items()]
+            for criterion, by_threshold in alarms.items()})
+    return out
 
 
 def run_one(item, cache=None):
-    """One catalogue run (entry, seed): its derailment, distance and scores (a module-level function for the
+    """One catalogue run (entry, seed): its hazards, distance and scores (a module-level function for the
     process pool and Dask), from the cache when it holds it."""
     entry, seed = item
     key = hashlib.sha256(jsonout.dumps(dict(run=entry.key(seed), code=source_hash())).encode()).hexdigest()
@@ -117,198 +124,233 @@ def run_one(item, cache=None):
         return json.loads(path.read_text())
     from dataclasses import replace
 
-    sim, arrays, error = run_to_end(replace(entry.scenario(seed), output_rate=RATE), 10.0)
-    limits = default_limits()          # every run swept over the same thresholds: the shipped file's car
+    from railderail_sim.vehicle.simulate import run_to_stop
+
+    started = time.process_time()
+    sc = replace(entry.scenario(seed), output_rate=RATE)
+    sim, arrays, error = run_to_stop(sc)
+    limits, rules = default_limits(), HazardRules()     # every run swept over the same thresholds: the shipped car
+    basis = model_basis(sim.model)
+    car = Car(basis["flange_height"], basis["max_contact_angle"], basis["static_wheel_load"], entry.friction)
     event = sim.derailment()
-    scores, peaks = score_run(arrays, limits)
-    result = dict(scenario=entry.name, seed=seed, derailed=event is not None, diverged=error,
-                  mechanism=event["mechanism"] if event else None,
-                  derailment=None if event is None else dict(time_s=event["time_s"],
-                                                              position_m=event["car_body_position_m"],
-                                                              speed_kmh=event["speed_kmh"]),
-                  distance_km=float(arrays["position"][-1] - arrays["position"][0]) / 1000.0,
-                  scores=scores, peaks=peaks)
+    found = hazards(arrays, event, car, rules)
+    deficiency = cant_deficiency(arrays, sc.track.rail_spacing)
+    s, t = arrays["position"], arrays["time"]
+    result = dict(scenario=entry.name, family=entry.family, seed=seed, part=entry.part_of(seed),
+                  derailed=event is not None, diverged=error, derailment=None if event is None else dict(
+                      time_s=event["time_s"], position_m=event["car_body_position_m"], speed_kmh=event["speed_kmh"],
+                      wheelset=event["wheelset"], wheel_side=event["wheel_side"], mechanism=event["mechanism"]),
+                  km=float(s[-1] - s[0]) / 1000.0, hours=float(t[-1] - t[0]) / 3600.0,
+                  cant_deficiency_mm_max=float(np.max(deficiency, initial=0.0)) * 1e3,
+                  hazards=[{**h, "places": [list(p) for p in h["places"]]} for h in found],
+                  peaks={c: float(np.max(v, initial=0.0)) for c, v in criterion_values(arrays, limits).items()},
+                  windows=score_run(arrays, found, limits, rules))
+    result["cpu_s"] = time.process_time() - started
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
         jsonout.write(path, result)
     return result
 
 
-def first_alert(run, criterion, threshold):
-    """The first alert of a criterion at a threshold in a run (None if it raised none)."""
-    for row in run["scores"][criterion]:
-        if row["threshold"] == threshold:
-            return row
-    raise ValueError(f"threshold {threshold:g} of {criterion} was not swept")
+def hazard_of(run):
+    """'derailment', 'near_miss' or 'normal': the worst hazard of a run."""
+    kinds = {h["kind"] for h in run["hazards"]}
+    return "derailment" if "derailment" in kinds else "near_miss" if kinds else "normal"
 
 
-def summarize(runs, limits, budget=FALSE_ALARMS_PER_1000_KM):
-    """The criteria table (one row per criterion and threshold) and the recommended thresholds."""
-    derailing = [r for r in runs if r["derailed"]]
-    safe = [r for r in runs if not r["derailed"] and not r["diverged"]]
-    km = sum(r["distance_km"] for r in safe)
-    table, recommended = [], []
+def mechanism_of(run):
+    """What the run shows: the derailment's mechanism, else the margins that fell, else none."""
+    if run["derailed"]:
+        return run["derailment"]["mechanism"]
+    margins = sorted({h["margin"] for h in run["hazards"]})
+    return "near miss: " + ", ".join(m.replace("_", " ") for m in margins) if margins else "none"
+
+
+def _rows(run, window, criterion):
+    return run["windows"][str(window)]["criteria"][criterion]
+
+
+def summarize(runs, window, rules, reduction=None, signals=SIGNALS):
+    """Per criterion and threshold over `runs` at the window W: derailments usefully warned (share and
+    interval), warned, the median lead, near misses warned, false-alarm episodes per 1000 km and per hour
+    (interval), and the share of normal time in false alarm."""
+    km = sum(r["windows"][str(window)]["normal_km"] for r in runs)
+    hours = sum(r["windows"][str(window)]["normal_h"] for r in runs)
+    table, limits = [], default_limits()
     for criterion in THRESHOLDS:
-        rows = []
-        for thr in thresholds(criterion, limits):
-            leads = []
-            warned = {}
-            for r in derailing:
-                first = first_alert(r, criterion, thr)["first"]
-                if first is not None:
-                    leads.append((r["derailment"]["time_s"] - first["time_s"],
-                                  r["derailment"]["position_m"] - first["position_m"]))
-                    warned[r["mechanism"]] = warned.get(r["mechanism"], 0) + 1
-            alarms = [first_alert(r, criterion, thr)["alerts"] for r in safe]
-            rows.append(dict(criterion=criterion, threshold=thr, derailments=len(derailing),
-                             derailments_warned=len(leads), warned_by_mechanism=warned,
-                             lead_s_median=statistics.median(x for x, _ in leads) if leads else math.nan,
-                             lead_s_min=min((x for x, _ in leads), default=math.nan),
-                             lead_m_median=statistics.median(x for _, x in leads) if leads else math.nan,
-                             runs_without_derailment=len(safe),
-                             false_alarm_runs=sum(n > 0 for n in alarms),
-                             false_alarms_per_1000_km=1000.0 * sum(alarms) / km if km > 0 else math.nan))
-        table += rows
-        within = [row for row in rows if row["false_alarms_per_1000_km"] <= budget and row["derailments_warned"]]
-        if within:
-            best = max(within, key=lambda row: (row["derailments_warned"], row["lead_s_median"]))
-            recommended.append({k: best[k] for k in ("criterion", "threshold", "derailments_warned",
-                                                     "lead_s_median", "false_alarms_per_1000_km")})
-    return table, recommended
+        for i, thr in enumerate(thresholds(criterion, limits)):
+            derail, near, episodes, alarm_s, family = [], [], 0, 0.0, {}
+            for r in runs:
+                row = _rows(r, window, criterion)[i]
+                for h, w in zip(r["hazards"], row["warnings"]):
+                    (derail if h["kind"] == "derailment" else near).append(w)
+                    if h["kind"] == "derailment":
+                        count = family.setdefault(r["family"], [0, 0])
+                        count[0] += is_useful(w, rules, reduction)
+                        count[1] += 1
+                episodes += row["false_episodes"]
+                alarm_s += row["false_time_s"]
+            warned = [w for w in derail if w is not None and w[0] > 0.0]
+            useful = sum(is_useful(w, rules, reduction) for w in derail)
+            rate, ci = rate_per_1000_km(episodes, km)
+            table.append(dict(
+                criterion=criterion, threshold=thr, signals=signals[criterion], derailments=len(derail),
+                warned=len(warned), usefully_warned=useful, usefully_warned_ci95=share_interval(useful, len(derail)),
+                usefully_warned_by_family=family,
+                lead_s_median=statistics.median(w[0] for w in warned) if warned else math.nan,
+                near_misses=len(near), near_misses_warned=sum(w is not None and w[0] > 0.0 for w in near),
+                false_alarm_episodes=episodes, false_alarms_per_1000_km=rate, false_alarms_per_1000_km_ci95=ci,
+                false_alarms_per_hour=episodes / hours if hours > 0 else math.nan,
+                time_in_alarm_share=alarm_s / (3600.0 * hours) if hours > 0 else math.nan))
+    return table
 
 
-def evaluate(entries, cache=None, workers=None, scheduler=None, progress=True, budget=FALSE_ALARMS_PER_1000_KM):
-    """The evaluation of a catalogue's entries: {runs, criteria, recommended} (the --json object)."""
+def split(runs):
+    """(train runs, test runs)."""
+    return [r for r in runs if r["part"] == "train"], [r for r in runs if r["part"] == "test"]
+
+
+def _choice(rows, budget, km, above, min_share):
+    """The threshold chosen on one part's rows of a criterion at a level's budget (the most derailments
+    usefully warned, then the highest threshold: the farthest from the false alarms), or (None, reason)."""
+    if km < resolvable_km(budget):
+        return None, (f"{km:.0f} km of normal running cannot resolve {budget:g} false alarms per 1000 km "
+                      f"(needs {resolvable_km(budget):.0f} km)")
+    fit = [r for r in rows if r["threshold"] > above and r["false_alarms_per_1000_km_ci95"][1] <= budget
+           and r["derailments"] and r["usefully_warned"] >= min_share * r["derailments"]]
+    if not fit:
+        return None, (f"no threshold usefully warns {min_share:.0%} of the derailments with the upper 95 % "
+                      f"bound of its false alarms within {budget:g} per 1000 km")
+    return max(fit, key=lambda r: (r["usefully_warned"], r["threshold"]))["threshold"], ""
+
+
+def recommend(runs, rules, budgets=BUDGETS, min_share=MIN_USEFUL_SHARE):
+    """Per criterion and level: the threshold chosen on the train part and confirmed on the test part, or
+    null with the reason. A criterion's CRITICAL level is chosen above its WARNING level; no level depends on
+    another criterion's."""
+    train, test = split(runs)
+    w = rules.window_s
+    train_km = sum(r["windows"][str(w)]["normal_km"] for r in train)
+    test_km = sum(r["windows"][str(w)]["normal_km"] for r in test)
+    train_rows, test_rows = summarize(train, w, rules), summarize(test, w, rules)
+    out = []
+    for criterion in THRESHOLDS:
+        mine = [r for r in train_rows if r["criterion"] == criterion]
+        held_out = {r["threshold"]: r for r in test_rows if r["criterion"] == criterion}
+        above = -math.inf
+        for level in ("warning", "critical"):
+            budget = budgets[level]
+            threshold, reason = _choice(mine, budget, train_km, above, min_share)
+            if threshold is not None:
+                check = held_out[threshold]
+                if test_km < resolvable_km(budget):
+                    threshold, reason = None, (f"the test part's {test_km:.0f} km of normal running cannot resolve "
+                                               f"{budget:g} per 1000 km")
+                elif check["false_alarms_per_1000_km_ci95"][1] > budget:
+                    threshold, reason = None, (f"chosen {threshold:g} on the train part, its false alarms on the "
+                                               f"test part reach {check['false_alarms_per_1000_km_ci95'][1]:.2f} "
+                                               f"per 1000 km (upper 95 %), above {budget:g}")
+                elif check["usefully_warned"] < min_share * max(check["derailments"], 1):
+                    threshold, reason = None, (f"chosen {threshold:g} on the train part, it usefully warns "
+                                               f"{check['usefully_warned']} of {check['derailments']} derailments of "
+                                               "the test part")
+            test_row = held_out.get(threshold) if threshold is not None else None
+            out.append(dict(criterion=criterion, level=level, threshold=threshold, reason=reason or None,
+                            budget_per_1000_km=budget, test=None if test_row is None else {
+                                k: test_row[k] for k in ("usefully_warned", "derailments", "usefully_warned_ci95",
+                                                         "false_alarms_per_1000_km", "false_alarms_per_1000_km_ci95")}))
+            if threshold is not None:
+                above = threshold
+    return out
+
+
+def first_true_alerts(run, limits, rules):
+    """{criterion: {lead_s, useful} or None}: the first hazard each criterion warned at its shipped WARNING
+    level, in the window of the recommendation (the derailment if it warned it, else the first near miss)."""
+    out = {}
+    order = sorted(range(len(run["hazards"])), key=lambda i: run["hazards"][i]["kind"] != "derailment")
+    for criterion in THRESHOLDS:
+        level = getattr(limits, criterion)
+        rows = [r for r in _rows(run, rules.window_s, criterion) if r["threshold"] == level]
+        hits = [rows[0]["warnings"][i] for i in order if rows and rows[0]["warnings"][i] is not None
+                and rows[0]["warnings"][i][0] > 0.0]
+        out[criterion] = dict(lead_s=hits[0][0], useful=is_useful(hits[0], rules)) if hits else None
+    return out
+
+
+def evaluate(entries, cache=None, workers=None, scheduler=None, progress=True, budgets=BUDGETS,
+             min_share=MIN_USEFUL_SHARE):
+    """The evaluation of a catalogue's entries (the --json object)."""
     from railderail_sim.methods.parallel import run_all
     items = [run for e in entries for run in e.runs()]
+    started = time.perf_counter()
     runs = run_all(functools.partial(run_one, cache=cache), items, workers=workers, scheduler=scheduler,
                    progress=progress, desc="warnings", unit="run")
-    limits = default_limits()
-    table, recommended = summarize(runs, limits, budget)
-    for r in runs:
-        r["first_alerts"] = {}
-        for criterion in THRESHOLDS:
-            first = first_alert(r, criterion, float(getattr(limits, criterion)))["first"]
-            if first is not None:
-                d = r["derailment"]
-                lead = (d["time_s"] - first["time_s"], d["position_m"] - first["position_m"]) if r["derailed"] \
-                    else (math.nan, math.nan)
-                r["first_alerts"][criterion] = dict(time_s=first["time_s"], lead_s=lead[0], lead_m=lead[1])
-    return dict(runs=[{k: r[k] for k in ("scenario", "seed", "derailed", "mechanism", "distance_km", "first_alerts",
-                                         "diverged", "peaks")} for r in runs],
-                criteria=table, recommended=recommended, false_alarm_budget_per_1000_km=budget)
+    wall = time.perf_counter() - started
+    limits, rules = default_limits(), HazardRules()
+    w = rules.window_s
+    train, test = split(runs)
+    return dict(
+        derailment_window_s=w,
+        exposure=dict(normal_km=sum(r["windows"][str(w)]["normal_km"] for r in runs),
+                      normal_h=sum(r["windows"][str(w)]["normal_h"] for r in runs),
+                      train_km=sum(r["windows"][str(w)]["normal_km"] for r in train),
+                      test_km=sum(r["windows"][str(w)]["normal_km"] for r in test)),
+        split=dict(how=SPLIT, train=sorted({r["scenario"] for r in train}), test=sorted({r["scenario"] for r in test})),
+        criteria=summarize(test, w, rules),
+        recommended=recommend(runs, rules, budgets, min_share),
+        budgets_per_1000_km=dict(budgets), min_useful_share=min_share,
+        rules=[dict(name=n, value=v, unit=u, meaning=m, source=s, sure=c) for n, v, u, m, s, c in rules.table()],
+        sensitivity=sensitivity(test, limits, rules),
+        runs=[dict(scenario=r["scenario"], family=r["family"], seed=r["seed"], part=r["part"], km=r["km"],
+                   hazard=hazard_of(r), mechanism=mechanism_of(r), derailment=r["derailment"],
+                   cant_deficiency_mm_max=r["cant_deficiency_mm_max"], diverged=r["diverged"], peaks=r["peaks"],
+                   first_true_alert=first_true_alerts(r, limits, rules)) for r in runs],
+        throughput=dict(wall_s=wall, cpu_s=sum(r["cpu_s"] for r in runs), km=sum(r["km"] for r in runs),
+                        cores=os.cpu_count() if not scheduler else None))
 
 
-def _row(result, criterion, threshold):
-    return next(r for r in result["criteria"] if r["criterion"] == criterion and r["threshold"] == threshold)
+SENSITIVITY_REDUCTIONS = (0.05, 0.10, 0.20, 1.0)
 
 
-def findings(result):
-    """What the evaluation says, in sentences and two small tables: the runs, which criterion warns first for
-    each mechanism, and what the paper's 0.06 rad attack-angle warning achieves."""
-    runs, limits = result["runs"], default_limits()
-    derailed = [r for r in runs if r["derailed"]]
-    safe = [r for r in runs if not r["derailed"] and not r["diverged"]]
-    mechanisms = sorted({r["mechanism"] for r in derailed})
-    count = {m: sum(r["mechanism"] == m for r in derailed) for m in mechanisms}
-    lines = [f"{len(runs)} runs of {len({r['scenario'] for r in runs})} scenarios: {len(derailed)} derailed ("
-             + ", ".join(f"{m.replace('_', ' ')} {count[m]}" for m in mechanisms) + f"), {len(safe)} ran "
-             f"{sum(r['distance_km'] for r in safe):.0f} km without derailing (every alert there is a false alarm)"
-             + (f", {sum(r['diverged'] is not None for r in runs)} diverged" if any(r["diverged"] for r in runs)
-                else "") + ".", "", "### Which criterion warns first", "",
-             "At the shipped levels (`railderail_monitor/config/monitor.yaml`): per mechanism, the criterion whose "
-             "first alert came earliest, in how many of its runs, its median lead, and the false alarms it raised "
-             "at that level.", "",
-             "| mechanism | first to warn (runs) | its median lead (s) | its false alarms / 1000 km |",
-             "|---|---|---|---|"]
-    for m in mechanisms:
-        firsts = {}
-        for r in (r for r in derailed if r["mechanism"] == m):
-            if r["first_alerts"]:
-                c = max(r["first_alerts"], key=lambda k: r["first_alerts"][k]["lead_s"])
-                firsts.setdefault(c, []).append(r["first_alerts"][c]["lead_s"])
-        for c, leads in sorted(firsts.items(), key=lambda kv: -len(kv[1])):
-            fa = _row(result, c, float(getattr(limits, c)))["false_alarms_per_1000_km"]
-            lines.append(f"| {m.replace('_', ' ')} | {c} ({len(leads)} of {count[m]}) | "
-                         f"{statistics.median(leads):.2f} | {fa:.1f} |")
-    largest = max((r["peaks"]["attack_angle"], r["scenario"], r["seed"]) for r in runs)
-    before = [r["peaks"]["attack_angle"] for r in derailed]
-    paper = _row(result, "attack_angle", 0.06)
-    lines += ["", "### The paper's 0.06 rad attack-angle warning", "",
-              f"The front wheelset's attack angle reached at most {largest[0] * 1e3:.1f} mrad in any run "
-              f"({largest[1]}, seed {largest[2]})"
-              + (f"; up to the derailment instant of the {len(derailed)} derailed runs its largest value was "
-                 f"{statistics.median(before) * 1e3:.1f} mrad in the median and {max(before) * 1e3:.1f} mrad at most"
-                 if derailed else "") +
-              f". At 0.06 rad (Yu 2022) it warned {paper['derailments_warned']} of {paper['derailments']} "
-              f"derailments and raised {paper['false_alarms_per_1000_km']:.1f} false alarms per 1000 km."]
-    if derailed and paper["derailments_warned"] == 0:
-        lines += ["A wheelset whose wheels are still on their rails cannot yaw that far: in a bogie its attack angle "
-                  "is about half the wheelbase over the curve radius plus what the flange clearance allows over the "
-                  "wheelbase, tens of mrad even at R 150 m, and the derailment (the wheel lifted to its flange "
-                  "height) comes first. In this catalogue the paper's claim that the attack angle reaching 0.06 rad "
-                  "announces the derailment does not hold: it could only describe the motion after the wheel has "
-                  "left its rail, which this model stops at."]
-    return lines
-
-
-def markdown(result):
-    """The evaluation as Markdown: what it found (`findings`), the runs, the recommended thresholds, the
-    criteria over their thresholds."""
-    lines = ["## Warning quality over the scenario catalogue (`railderail warnings --catalogue`)", "",
-             *findings(result), "", "![detection against false alarms](warnings-catalogue.png)", "",
-             "### The runs", "",
-             "| scenario | seed | derailed | mechanism | km | first alert of each criterion at its shipped level "
-             "(lead s) |", "|---|---|---|---|---|---|"]
-    for r in result["runs"]:
-        firsts = ", ".join(f"{c} {a['lead_s']:.2f}" if r["derailed"] else f"{c} FA"
-                           for c, a in r["first_alerts"].items()) or "-"
-        lines.append(f"| {r['scenario']} | {r['seed']} | {'yes' if r['derailed'] else 'no'} | "
-                     f"{r['mechanism'] or '-'} | {r['distance_km']:.1f} | {firsts} |")
-    lines += ["", "### Recommended thresholds", "",
-              f"Recommended at {result['false_alarm_budget_per_1000_km']:g} false alarms per 1000 km:", "",
-              "| criterion | threshold | derailments warned | median lead (s) | false alarms / 1000 km |",
-              "|---|---|---|---|---|"]
-    for row in result["recommended"]:
-        lines.append(f"| {row['criterion']} | {row['threshold']:g} | {row['derailments_warned']} | "
-                     f"{row['lead_s_median']:.2f} | {row['false_alarms_per_1000_km']:.2f} |")
-    lines += ["", "### Every criterion over its thresholds", "",
-              "| criterion | threshold | warned / derailments | by mechanism | median / least lead (s) | "
-              "false-alarm runs | false alarms / 1000 km |", "|---|---|---|---|---|---|---|"]
-    for row in result["criteria"]:
-        mech = ", ".join(f"{k} {v}" for k, v in sorted(row["warned_by_mechanism"].items())) or "-"
-        lines.append(f"| {row['criterion']} | {row['threshold']:g} | {row['derailments_warned']}/{row['derailments']}"
-                     f" | {mech} | {row['lead_s_median']:.2f} / {row['lead_s_min']:.2f} | "
-                     f"{row['false_alarm_runs']}/{row['runs_without_derailment']} | "
-                     f"{row['false_alarms_per_1000_km']:.2f} |")
-    return "\n".join(lines)
+def sensitivity(runs, limits, rules):
+    """At each criterion's shipped WARNING level over `runs`: derailments usefully warned for every window W
+    and for every share of the speed to brake off (1: to a stop)."""
+    out = []
+    for criterion in THRESHOLDS:
+        level = getattr(limits, criterion)
+        for w in rules.windows_s:
+            for reduction in SENSITIVITY_REDUCTIONS:
+                row = next(r for r in summarize(runs, w, rules, reduction) if r["criterion"] == criterion
+                           and r["threshold"] == level)
+                out.append(dict(criterion=criterion, threshold=level, window_s=w, safe_speed_reduction=reduction,
+                                derailments=row["derailments"], warned=row["warned"],
+                                usefully_warned=row["usefully_warned"],
+                                false_alarms_per_1000_km=row["false_alarms_per_1000_km"]))
+    return out
 
 
 def recommended_limits(result):
-    """The shipped limits with each criterion's WARNING level at its recommended threshold, and the WARNING
-    level of a criterion without one (none warned within the budget) disabled; (Limits, the criteria
-    disabled). A recommendation at or above the criterion's CRITICAL level disables that level."""
+    """The shipped limits with each criterion's levels at their recommended thresholds, a level without one
+    disabled (NaN); (Limits, the levels disabled)."""
     from dataclasses import replace
-    limits = default_limits()
-    chosen = {row["criterion"]: row["threshold"] for row in result["recommended"]}
     changes, disabled = {}, []
-    for criterion in THRESHOLDS:
-        if criterion in chosen:
-            changes[criterion] = chosen[criterion]
-            if not chosen[criterion] < getattr(limits, critical_name(criterion)):
-                changes[critical_name(criterion)] = math.nan
-        else:
-            changes[criterion] = math.nan
-            disabled.append(criterion)
-    return replace(limits, **changes).validated(), disabled
+    for row in result["recommended"]:
+        name = row["criterion"] if row["level"] == "warning" else critical_name(row["criterion"])
+        changes[name] = math.nan if row["threshold"] is None else row["threshold"]
+        if row["threshold"] is None:
+            disabled.append(name)
+    return replace(default_limits(), **changes).validated(), disabled
 
 
 def write(result, out):
     """OUT/warnings-catalogue.json and .md, the figure OUT/warnings-catalogue.png and the monitor's parameter
-    file of the recommended thresholds, OUT/monitor-recommended.yaml (`--ros-args --params-file`)."""
+    file of the recommended levels, OUT/monitor-recommended.yaml (`--ros-args --params-file`)."""
     from railderail_sim import plotting
+    from railderail_sim.atomic import atomic_write
 
     from .monitor_params import limits_of_car, parameter_file
+    from .warning_report import markdown
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     jsonout.write(out / "warnings-catalogue.json", result)
@@ -316,20 +358,19 @@ def write(result, out):
         handle.write(markdown(result) + "\n")
     plotting.warning_quality_figure(result["criteria"], result["runs"], out / "warnings-catalogue.png")
     limits, disabled = recommended_limits(result)
-    made_by = (f"railderail warnings --catalogue (the recommended thresholds at "
-               f"{result['false_alarm_budget_per_1000_km']:g} false alarms per 1000 km; WARNING levels disabled for "
-               f"{', '.join(disabled) or 'none'})")
+    made_by = (f"railderail warnings --catalogue (the levels chosen on the train part and confirmed on the test "
+               f"part at {result['budgets_per_1000_km']['warning']:g} / {result['budgets_per_1000_km']['critical']:g} "
+               f"false alarms per 1000 km; disabled: {', '.join(disabled) or 'none'})")
     with atomic_write(out / "monitor-recommended.yaml") as handle:
         handle.write(parameter_file(limits, limits_of_car()[1], made_by))
     return out / "warnings-catalogue.md"
 
 
 def bench():
-    """`railderail bench --only warnings`: warnings_catalogue_s, the shipped catalogue evaluated on this
-    machine's cores without a cache, and warnings_catalogue_cached_s, the same again from the cache it
-    left; warnings_catalogue_runs."""
+    """`railderail bench --only warnings`: the shipped catalogue evaluated on this machine's cores without a
+    cache (warnings_catalogue_s, warnings_catalogue_km_per_min, catalogue_cpu_efficiency: the runs'
+    process time over wall time x cores) and again from the cache it left (warnings_catalogue_cached_s)."""
     import tempfile
-    import time
 
     from . import catalogue
     entries = catalogue.load()
@@ -340,5 +381,29 @@ def bench():
         t = time.perf_counter()
         evaluate(entries, cache=cache, progress=False)
         warm = time.perf_counter() - t
-    return dict(warnings_catalogue_s=cold, warnings_catalogue_cached_s=warm,
-                warnings_catalogue_runs=len(result["runs"]))
+    through = result["throughput"]
+    return dict(warnings_catalogue_s=cold, warnings_catalogue_cached_s=warm, warnings_catalogue_runs=len(result["runs"]),
+                warnings_catalogue_km=through["km"], warnings_catalogue_km_per_min=60.0 * through["km"] / cold,
+                catalogue_cpu_efficiency=through["cpu_s"] / (through["wall_s"] * through["cores"]))
+
+
+def command_line(args):
+    """`railderail warnings --catalogue [FILE]` (the arguments of warning_quality.command)."""
+    import sys
+
+    from railderail_sim.ranges import check_range
+
+    from . import catalogue
+    from .warning_report import markdown
+    budgets = dict(warning=check_range("--warning-budget-per-1000-km", args.warning_budget_per_1000_km, 0.0, 1.0e6,
+                                       lo_open=True),
+                   critical=check_range("--critical-budget-per-1000-km", args.critical_budget_per_1000_km, 0.0,
+                                        1.0e6, lo_open=True))
+    entries = catalogue.load(None if args.catalogue == "shipped" else args.catalogue)
+    cache = args.cache or (str(Path(args.out) / "cache") if args.out else None)
+    result = evaluate(entries, cache=cache, workers=args.workers, scheduler=args.scheduler, progress=not args.json,
+                      budgets=budgets)
+    if args.out:
+        print(f"wrote {write(result, args.out)}", file=sys.stderr)
+    print(jsonout.dumps(result, indent=1) if args.json else markdown(result))
+

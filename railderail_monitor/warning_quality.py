@@ -32,17 +32,16 @@ from pathlib import Path
 
 from railderail_sim import jsonout
 from railderail_sim.atomic import atomic_write
-from railderail_sim.node import PARAMETERS
 from railderail_sim.ranges import check_range
 from railderail_sim.vehicle.simulate import RADIUS_RANGE
 
 from .criteria import CRITERIA, SEVERITY_NAMES, alerts_of_run, default_limits, lead_times
+from .warning_catalogue import BUDGETS, RATE
 
 PAPER_RADII = (800.0, 1000.0, 1200.0, 1400.0, 1600.0, 1800.0)
 CASES = ("trial", "critical", "near", "balance", "operating")
 NEAR_BELOW_KMH = 10.0
 OPERATING_CANT_DEFICIENCY = 0.100      # m
-RATE = next(spec.default for spec in PARAMETERS if spec.name == "publish_rate")   # Hz, as the node publishes
 def levels():
     """Every enabled criterion level of the built-in limits, as 'criterion/severity'."""
     limits = default_limits()
@@ -65,30 +64,13 @@ def _scenario(radius, case, speed_kmh, friction):
     return replace(base, output_rate=RATE)
 
 
-def run_to_end(sc, chunk_s):
-    """(the Simulation, its output arrays, the divergence message or '') of a scenario run until it stops,
-    `chunk_s` of simulated time at a time; a diverging run keeps the rows before it."""
-    import numpy as np
-
-    from railderail_sim.vehicle.layout import N_OUT
-    from railderail_sim.vehicle.simulate import Simulation, SimulationDiverged, output_arrays
-
-    sim = Simulation(sc)
-    parts, error = [], ""
-    try:
-        while sim.status == 0:
-            parts.append(sim.advance(chunk_s))
-    except SimulationDiverged as exc:
-        error = str(exc)
-    return sim, output_arrays(np.concatenate(parts) if parts else np.zeros((0, N_OUT))), error
-
-
 def run_case(radius, case, speed_kmh, friction=0.3):
     """One run and its alerts (a module-level function for the process pool)."""
     from .criteria import limits_for_model
 
     t0 = time.monotonic()
-    sim, arrays, error = run_to_end(_scenario(radius, case, speed_kmh, friction), 5.0)
+    from railderail_sim.vehicle.simulate import run_to_stop
+    sim, arrays, error = run_to_stop(_scenario(radius, case, speed_kmh, friction), 5.0)
     limits = limits_for_model(sim.model, friction)
     alerts = alerts_of_run(arrays, limits)
     from .criteria import front_attack_angle, unloading_ratio
@@ -227,19 +209,6 @@ def evaluate(radii, critical=None, cases=CASES, workers=None, friction=0.3, prog
                 summary=summarize(runs))
 
 
-def run_catalogue(args):
-    """`railderail warnings --catalogue [FILE]` (warning_catalogue)."""
-    from . import catalogue, warning_catalogue as wc
-    check_range("--false-alarms-per-1000-km", args.false_alarms_per_1000_km, 0.0, 1.0e6)
-    entries = catalogue.load(None if args.catalogue == "shipped" else args.catalogue)
-    cache = args.cache or (str(Path(args.out) / "cache") if args.out else None)
-    result = wc.evaluate(entries, cache=cache, workers=args.workers, scheduler=args.scheduler,
-                         progress=not args.json, budget=args.false_alarms_per_1000_km)
-    if args.out:
-        print(f"wrote {wc.write(result, args.out)}", file=sys.stderr)
-    print(jsonout.dumps(result, indent=1) if args.json else wc.markdown(result))
-
-
 def command(parser: argparse.ArgumentParser):
     parser.add_argument("--radii", default=",".join(f"{r:g}" for r in PAPER_RADII), help="curve radii, m")
     parser.add_argument("--critical", metavar="SWEEP.json",
@@ -254,12 +223,17 @@ def command(parser: argparse.ArgumentParser):
     parser.add_argument("--cache", metavar="DIR", default=None,
                         help="with --catalogue: keep each run's result here (default OUT/cache, or none)")
     parser.add_argument("--scheduler", default=None, help="with --catalogue: a Dask scheduler's address")
-    parser.add_argument("--false-alarms-per-1000-km", type=float, default=0.1,
-                        help="with --catalogue: the false-alarm budget of the recommended thresholds")
+    parser.add_argument("--warning-budget-per-1000-km", type=float, default=BUDGETS["warning"],
+                        help="with --catalogue: the false-alarm budget of a recommended WARNING level "
+                             "(default %(default)g)")
+    parser.add_argument("--critical-budget-per-1000-km", type=float, default=BUDGETS["critical"],
+                        help="with --catalogue: the false-alarm budget of a recommended CRITICAL level "
+                             "(default %(default)g)")
 
     def run(args):
         if args.catalogue is not None:
-            return run_catalogue(args)
+            from .warning_catalogue import command_line
+            return command_line(args)
         try:
             radii = [float(x) for x in args.radii.split(",") if x]
         except ValueError:

@@ -292,20 +292,21 @@ def cwc_figure(curves, path, limit):
 
 
 def warning_quality_figure(criteria, runs, path, marked=("attack_angle", 0.06)):
-    """Warning quality over a catalogue: per criterion the share of derailments warned against the false
-    alarms per 1000 km as its threshold moves (each point labelled with its threshold; `marked` =
-    (criterion, threshold) circled), and the lead times of each criterion's first alert at its shipped
-    level over the derailing runs."""
-    import math
+    """Warning quality over a catalogue: per criterion the share of derailments usefully warned (filled) and
+    warned at all (open) against the false alarms per 1000 km as its threshold moves (each point labelled
+    with its threshold; `marked` = (criterion, threshold) circled), and the leads of each criterion's first
+    true alert at its shipped level over the runs (a hazard warned: a derailment or a near miss)."""
     with figure(path, (11.0, 4.8)) as fig:
         roc, leads = fig.subplots(1, 2)
         names = list(dict.fromkeys(row["criterion"] for row in criteria))
         for name in names:
             rows = sorted((r for r in criteria if r["criterion"] == name), key=lambda r: r["threshold"])
             x = [max(r["false_alarms_per_1000_km"], 0.1) for r in rows]      # 0 drawn at the axis' floor
-            y = [r["derailments_warned"] / max(r["derailments"], 1) for r in rows]
-            line, = roc.plot(x, y, "o-", label=name.replace("_", " "))
-            for r, xi, yi in zip(rows, x, y):
+            useful = [r["usefully_warned"] / max(r["derailments"], 1) for r in rows]
+            warned = [r["warned"] / max(r["derailments"], 1) for r in rows]
+            line, = roc.plot(x, useful, "o-", label=name.replace("_", " "))
+            roc.plot(x, warned, "o:", mfc="none", color=line.get_color())
+            for r, xi, yi in zip(rows, x, useful):
                 roc.annotate(f"{r['threshold']:g}", (xi, yi), fontsize=6, xytext=(2, 2), textcoords="offset points",
                              color=line.get_color())
                 if (name, r["threshold"]) == marked:
@@ -313,17 +314,17 @@ def warning_quality_figure(criteria, runs, path, marked=("attack_angle", 0.06)):
                     roc.annotate("Yu 2022: 0.06 rad", (xi, yi), xytext=(10, -14), textcoords="offset points",
                                  fontsize=8)
         roc.set_xscale("log")
-        roc.set_xlabel("false alarms per 1000 km (0 drawn at 0.1)")
-        roc.set_ylabel("share of derailments warned")
+        roc.set_xlabel("false-alarm episodes per 1000 km of normal running (0 drawn at 0.1)")
+        roc.set_ylabel("share of derailments usefully warned (open: warned)")
         roc.legend(fontsize=7)
-        data = [[a["lead_s"] for r in runs if r["derailed"] for c, a in r["first_alerts"].items()
-                 if c == name and a["lead_s"] is not None and not math.isnan(a["lead_s"])] for name in names]
+        data = [[r["first_true_alert"][name]["lead_s"] for r in runs if r["first_true_alert"].get(name)]
+                for name in names]
         shown = [(n, d) for n, d in zip(names, data) if d]
         if shown:
             leads.boxplot([d for _, d in shown], orientation="horizontal",
                           tick_labels=[n.replace("_", " ") for n, _ in shown])
             leads.set_xscale("symlog", linthresh=1.0)
-        leads.set_xlabel("lead of the first alert at the shipped level (s)")
+        leads.set_xlabel("lead of the first true alert at the shipped level (s)")
 
 
 def real_track_figure(summaries, path):

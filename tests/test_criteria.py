@@ -279,3 +279,33 @@ def test_the_sliding_mean_of_q_p_is_en_14363_s_and_the_monitor_s():
     running = C.SlidingMean(2.0, 8)
     online = np.array([running.update(values[i], s[i]) for i in range(2000)])
     assert np.array_equal(online, C.sliding_mean(values, s, 2.0))
+
+
+def test_the_duration_rule_decides_alike_on_the_simulator_s_clock_and_on_the_node_s_stamps():
+    """The node sees each sample's time as a stamp (integer nanoseconds, then sec + 1e-9 nanosec), a batch
+    the simulator's float clock: on floats, a 50 ms span of 10 samples is >= 50 ms on one clock and not on the
+    other for many spans; on the integer nanoseconds of both the monitor raises the same alerts."""
+    from railderail_sim.ros_interface import seconds, set_time
+    from builtin_interfaces.msg import Time
+    n = 3000
+    t_sim = np.cumsum(np.full(n, 0.005)) + 4.0                     # the simulator's float clock
+    t_node = np.array([seconds(set_time(Time(), x)) for x in t_sim])
+    spans = [(i, i + 10) for i in range(n - 10)]
+    differ = sum((t_sim[j] - t_sim[i] >= 0.05) != (t_node[j] - t_node[i] >= 0.05) for i, j in spans)
+    assert differ > 0                                             # why the clock is integer nanoseconds
+    assert np.array_equal(C.nanoseconds(t_sim), C.nanoseconds(t_node))
+    rng = np.random.default_rng(3)
+    qp = np.full((n, 8), 0.2)
+    for k in range(8):                      # excursions of 8-12 samples (35-55 ms), 130-200 samples apart (re-armed)
+        i = int(rng.integers(0, 100))
+        while i < n:
+            qp[i:i + int(rng.integers(8, 13)), k] = 1.4
+            i += int(rng.integers(130, 200))
+    alerts = {}
+    for name, clock in (("sim", t_sim), ("node", t_node)):
+        monitor = C.Monitor(C.default_limits())
+        alerts[name] = [(a.sample, a.criterion, a.severity, a.wheelset, a.wheel_side)
+                        for i in range(n) for a in monitor.on_forces(clock[i], i, 80.0 * i * 0.005, 80.0, qp[i],
+                                                                       np.full(8, monitor.limits.static_wheel_load))]
+    timed = [x for x in alerts["sim"] if x[1] == "derailment_coefficient_duration"]
+    assert len(timed) > 10 and alerts["sim"] == alerts["node"]

@@ -107,3 +107,54 @@ def test_a_core_module_loads_without_the_model():
     loaded = eval(result.stdout.strip().splitlines()[-1])
     assert [m for m in loaded if layer(m) not in (None, CORE)] == []
     assert "railderail_sim.contact.wheelset" in loaded
+
+
+def import_graph(root=ROOT):
+    """{module: modules of the two packages it imports, at any depth of its code} over both packages."""
+    graph = {}
+    for package in ("railderail_sim", "railderail_monitor"):
+        for path in sorted((root / package).rglob("*.py")):
+            targets = {t for _, t in imports(path, root) if t.split(".")[0] in ("railderail_sim", "railderail_monitor")}
+            graph[module_name(path, root)] = targets - {module_name(path, root)}
+    return graph
+
+
+def cycles(graph):
+    """The strongly connected groups of more than one module (Tarjan), each sorted."""
+    index, low, stack, on, out = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in graph.get(v, ()):
+            if w not in graph:
+                continue
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            group = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                group.append(w)
+                if w == v:
+                    break
+            if len(group) > 1:
+                out.append(sorted(group))
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return sorted(out)
+
+
+def test_no_module_imports_one_that_imports_it_back():
+    """Every import statement, at module level or inside a function: no circle of modules."""
+    assert cycles(import_graph()) == []
+
+
+def test_the_walk_finds_a_circle_through_a_function_level_import():
+    assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]

@@ -55,7 +55,7 @@ import numpy as np
 
 from ..atomic import atomic_write
 from ..ranges import check_range
-from .rails import HERMITE, RailDeviation, pack_rails, rail_deviations
+from .rails import HERMITE, RailDeviation, pack_rails, rail_deviation, rail_deviations
 
 COMPONENTS = ("vertical", "cross_level", "alignment", "gauge")
 COMPONENT_TITLES = {"vertical": "vertical profile", "cross_level": "cross-level (rails' height difference)",
@@ -362,6 +362,49 @@ def lateral_kink(start, length, amplitude, step=0.25):
     return Irregularity(s, np.column_stack((lateral, zero, lateral, zero)),
                         np.column_stack((slope, zero, slope, zero)), name=f"kink {amplitude * 1e3:g} mm",
                         description=f"lateral kink of {amplitude * 1e3:g} mm over {length:g} m from s = {start:g} m")
+
+
+def twist(start, length, amplitude, hold, side, step=0.25):
+    """One rail (`side` 0 left, 1 right) lowered by a half cosine, A/2 (1 - cos(pi (s - start) / L)) over
+    start <= s <= start + L (m), held at A over `hold` m and raised again the same way: a twist of A over L
+    (1 : L/A), the other rail untouched. Cubic Hermite on a `step` grid with the exact slopes."""
+    if not (length > 0.0 and hold >= 0.0 and step > 0.0) or side not in (0, 1):
+        raise ValueError(f"twist: length {length:g} m and step {step:g} m must be positive, hold {hold:g} m not "
+                         f"negative and side {side!r} 0 (left) or 1 (right)")
+    n = max(int(round(length / step)), 2) + 1
+    ramp = np.linspace(0.0, length, n)
+    w = math.pi / length
+    down, slope_down = -0.5 * amplitude * (1.0 - np.cos(w * ramp)), -0.5 * amplitude * w * np.sin(w * ramp)
+    s = np.concatenate((start + ramp, start + length + hold + ramp[1:] if hold > 0 else start + length + ramp[1:]))
+    z = np.concatenate((down, down[::-1][1:]))
+    slope = np.concatenate((slope_down, -slope_down[::-1][1:]))
+    values, slopes = np.zeros((len(s), 4)), np.zeros((len(s), 4))
+    values[:, 2 * side + 1], slopes[:, 2 * side + 1] = z, slope
+    rail = ("left", "right")[side]
+    return Irregularity(s, values, slopes, name=f"twist {amplitude * 1e3:g} mm",
+                        description=f"the {rail} rail {amplitude * 1e3:g} mm down over {length:g} m from s = "
+                                    f"{start:g} m, held {hold:g} m")
+
+
+def superpose(a, b):
+    """The sum of two irregularities (either may be None) on the union of their points, values and slopes of
+    each taken as the core interpolates it (`rails.rail_deviation`), so cubic Hermite throughout."""
+    if a is None or b is None:
+        return b if a is None else a
+    s = np.union1d(a.s, b.s)
+    values, slopes = np.zeros((len(s), 4)), np.zeros((len(s), 4))
+    for irregularity in (a, b):
+        packed = irregularity.pack()
+        for i, x in enumerate(s):
+            for side in range(2):
+                y, z, dy, dz = rail_deviation(packed, side, float(x))
+                values[i, 2 * side] += y
+                values[i, 2 * side + 1] += z
+                slopes[i, 2 * side] += dy
+                slopes[i, 2 * side + 1] += dz
+    return Irregularity(s, values, slopes, name=f"{a.name} + {b.name}", description=f"{a.description}; {b.description}",
+                        seed=a.seed if a.seed is not None else b.seed, spectrum=a.spectrum or b.spectrum,
+                        band_m=a.band_m or b.band_m)
 
 
 def vertical_wave(amplitude, wavelength, length, step):

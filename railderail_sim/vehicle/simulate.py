@@ -314,6 +314,20 @@ def simulate(sc: Scenario, progress=None, chunk=1.0):
                   flange_height=sim.model.flange_height)
 
 
+def run_to_stop(sc: Scenario, chunk_s=10.0):
+    """(the Simulation, its output arrays, the divergence message or '') of a scenario run until it stops,
+    `chunk_s` of simulated time at a time: a diverging run keeps the rows before it (the evaluations that
+    must score every run to its end: the warning evaluations)."""
+    sim = Simulation(sc)
+    parts, error = [], ""
+    try:
+        while sim.status == itg.RUNNING:
+            parts.append(sim.advance(chunk_s))
+    except SimulationDiverged as exc:
+        error = str(exc)
+    return sim, output_arrays(np.concatenate(parts) if parts else np.zeros((0, N_OUT))), error
+
+
 def output_arrays(rows):
     """Named arrays (views) of output rows: the fields of OutputRow, with the wheelsets' and the wheels'
     records spread into one array per field of WheelsetOutput, (n, 4), and of Wheel, (n, 8) (wheels
