@@ -11,6 +11,7 @@ import json
 import signal
 import sys
 import time
+from pathlib import Path
 
 import pytest
 import rclpy
@@ -18,7 +19,7 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.signals import SignalHandlerOptions
 
 from railderail_sim import ros_interface as m
-from railderail_monitor.criteria import CRITERIA
+from railderail_monitor.criteria import CRITERIA, alerts_of_run, default_limits, nanoseconds
 from railderail_monitor.replay import read_recording, review
 
 PY = sys.executable
@@ -126,6 +127,61 @@ def test_nodes_warn_before_the_derailment_and_the_recording_replays_to_the_same_
         assert keys(listener.alerts) == keys(live)
     finally:
         listener.close()
+
+
+# Node = batch: a flange climb at a 20 mm twist on R = 150 m (30 km/h, mu 0.6, the catalogue's twist-20mm
+# without its random track) with every level lowered so that every criterion fires, the 50 ms Q/P duration,
+# the 2 m mean and the climb distance included; the running-gear rule with a short debounce to see it fire.
+TWIST = dict(radius=150.0, cant_mm=150.0, speed_mode="constant", speed_kmh=30.0, friction=0.6,
+             irregularity=str(Path(__file__).parents[1] / "railderail_monitor" / "config" / "twist-20mm-5m.csv"))
+LOWERED = dict(attack_angle=0.01, attack_angle_critical=0.015, wheel_lift=0.004, wheel_lift_critical=0.008,
+               wheel_unloading=0.3, wheel_unloading_critical=0.4, derailment_coefficient=0.6,
+               derailment_coefficient_critical=0.8, derailment_coefficient_duration=0.6,
+               derailment_coefficient_duration_critical=0.8, derailment_coefficient_mean=0.6,
+               derailment_coefficient_mean_critical=0.8, running_gear_unloading=0.2,
+               flange_climb_distance=0.1, flange_climb_distance_critical=0.3, climb_nadal_limit=0.6, debounce_m=0.5)
+
+
+def alert_keys(alerts):
+    """What must agree, alert for alert: sample, criterion, level, wheel, and the stamp in integer ns."""
+    return sorted((a["sample"], a["criterion"], a["severity"], a["wheelset"], a["wheel_side"], a["rail_side"],
+                   nanoseconds(a["time_s"])) for a in alerts)
+
+
+@pytest.mark.timeout(600)
+def test_every_criterion_alerts_through_the_nodes_as_on_the_simulator_s_own_arrays(spawn, read_until, tmp_path):
+    from dataclasses import replace
+
+    from railderail_monitor.monitor_params import limits_of_car, parameter_file
+    from railderail_sim import node
+    from railderail_sim.vehicle.simulate import run_to_stop
+
+    limits = replace(default_limits(), **LOWERED).validated()
+    params = tmp_path / "lowered.yaml"
+    params.write_text(parameter_file(limits, limits_of_car()[1], "test_ros_end_to_end (levels lowered)"))
+    p = {spec.name: spec.default for spec in node.PARAMETERS} | TWIST
+    sim, arrays, error = run_to_stop(node.build_scenario(p))
+    assert not error and sim.derailment() is not None
+    batch = [a.as_dict() for a in alerts_of_run(arrays, limits)]
+    assert {a["criterion"] for a in batch} == set(CRITERIA), "the scenario must exercise every criterion"
+
+    listener = Listener()
+    try:
+        monitor = spawn([PY, "-m", "railderail_monitor.node", "--ros-args", "--params-file", str(params)])
+        read_until(monitor, "monitoring", timeout=60)
+        simulator = spawn([PY, "-m", "railderail_sim.node", "--ros-args", "-p", "real_time_factor:=0.0",
+                           "-p", "wait_for_subscribers:=2"]
+                          + [arg for k, v in TWIST.items() for arg in ("-p", f"{k}:={v}")])
+        assert listener.spin_until(lambda: listener.final is not None, timeout=420), simulator.stderr.read()
+        assert simulator.wait(timeout=30) == 0
+        listener.spin_for(1.0)
+        assert stop(monitor) == 0
+        log = monitor.stderr.read()
+        assert "wheelset states (0 missed) and" in log and "contact forces (0 missed)" in log
+    finally:
+        listener.close()
+    assert listener.derailment["time_s"] == pytest.approx(sim.derailment()["time_s"])
+    assert alert_keys(listener.alerts) == alert_keys(batch)
 
 
 @pytest.mark.timeout(560)

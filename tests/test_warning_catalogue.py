@@ -158,11 +158,13 @@ def test_the_shipped_catalogue_is_large_enough_to_mean_something():
 
 
 def test_dask_and_local_processes_give_the_same_evaluation(small):
+    """Every run simulated again on a Dask worker (its own empty cache): the same JSON but the throughput."""
     from dask.distributed import LocalCluster
     folder, entries, result = small
     with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
         remote = wc.evaluate(entries, scheduler=cluster.scheduler_address, progress=False, budgets=GENEROUS,
-                             min_share=0.0, cache=folder / "cache")
+                             min_share=0.0, cache=folder / "dask-cache")
+    assert len(list((folder / "dask-cache").rglob("*.json"))) == 6
     for r in (remote, result):
         r.pop("throughput")
     assert json.dumps(remote, sort_keys=True, default=str) == json.dumps(result, sort_keys=True, default=str)
