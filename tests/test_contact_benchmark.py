@@ -124,5 +124,14 @@ def test_the_exact_rolling_theory_gives_contact_s_longitudinal_forces_within_3_p
     case = contact_case(pair, lateral_mm=-y, yaw_mrad=-left["yaw_ws_rad"] * 1e3, wheel_loads_kn=(10, 10),
                         speed_kmh=2.0 * 3.6, pitch_rate_rad_s=-left["vpitch_ws_rad_s"])
     for k, side in enumerate(("left", "right")):
-        exact = sum(-p.exact_rolling.creep_force.longitudinal_N for p in case.wheels[k].patches)
+        wheel = case.wheels[k]
+        exact = sum(-p.exact_rolling.creep_force.longitudinal_N for p in wheel.patches)
         assert exact == pytest.approx(reference(side, y)["fx_N"], rel=0.03), side
+        # the wheel's totals are the exact model's, the shared-load law's beside them
+        assert wheel.creep_forces == "exact rolling"
+        assert on_rail_in_contact_axes(case, side)[0] == pytest.approx(exact, rel=1e-12), side
+        assert wheel.longitudinal_force_on_rail_N == pytest.approx(exact, rel=1e-12), side
+        assert -wheel.laws["she"].force_on_rail_N[2] == pytest.approx(10e3, rel=1e-9), side
+    if y == 8.0:        # the flanging right wheel: the figure of issue 26 (SHE -1692 N, CONTACT -2070 N)
+        assert on_rail_in_contact_axes(case, "right")[0] == pytest.approx(reference("right", y)["fx_N"], rel=0.01)
+        assert case.wheels[1].laws["she"].force_on_rail_N[0] == pytest.approx(-1692.0, abs=5.0)

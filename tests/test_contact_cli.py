@@ -180,8 +180,21 @@ def test_case_exact_rolling(capsys):
     f = e["creep_force"]
     assert math.hypot(f["longitudinal_N"], f["lateral_N"]) == pytest.approx(0.3 * p["normal_force_N"], rel=0.03)
     assert f["longitudinal_N"] == pytest.approx(q["creep_force"]["longitudinal_N"], rel=0.05)
+    # the wheels' totals carry the exact rolling forces; SHE's, beside them, are the hertz model's totals
+    for w, v in zip(r["wheels"], ref["wheels"]):
+        assert w["creep_forces"] == "exact rolling" and v["creep_forces"] == "she" and "laws" not in v
+        assert set(w["laws"]) == {"she", "polach", "fastsim"}
+        for key in ("Q_N", "P_N", "Q_over_P", "longitudinal_force_on_rail_N", "force_on_rail_N"):
+            assert w["laws"]["she"][key] == pytest.approx(v[key], rel=1e-9, abs=1e-6), key
+        exact = [p["exact_rolling"]["creep_force"] for p in w["patches"]]
+        assert w["longitudinal_force_on_rail_N"] == pytest.approx(-sum(e["longitudinal_N"] for e in exact), rel=1e-12)
+        assert w["longitudinal_force_on_rail_N"] == pytest.approx(w["force_on_rail_N"][0], rel=1e-12)
+        assert w["Q_N"] != pytest.approx(v["Q_N"], rel=1e-3)
+    assert r["totals"]["force_N"][0] == pytest.approx(
+        -sum(w["force_on_rail_N"][0] for w in r["wheels"]), rel=1e-12)
     assert cli.main(["contact-case", "--lateral-mm", "8.7", "--contact", "exact", "--grid", "32"]) == 0
     out = capsys.readouterr().out
+    assert "creep forces exact rolling" in out and "with fastsim" in out
     assert "exact rolling" in out and "fastsim" in out and "stick" in out
 
 

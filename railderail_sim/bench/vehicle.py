@@ -6,9 +6,16 @@ for the default scenario (R = 1000 m, constant 300 km/h on the Table 2 line, whi
 so the run ends there) and for the whole line at 250 km/h, with Hertz and with discrete contact, at the
 default tolerances and at the looser atol 1e-7 / rtol 1e-6 of the tolerance study; and the whole line at
 250 km/h on rigid track with an ERRI B176 high-level irregularity (seed 1, `track.irregularity`).
+
+speedup_vs_c4e3c65: the wall time of commit c4e3c65's default scenario over this code's, both timed in
+this bench run (the old commit checked out with `git worktree add` to a temporary folder and run there in
+a subprocess with its own import path; the two alternate, REFERENCE_REPEATS times each, minimum of
+each), so that the gain is a ratio on one machine; NaN when this code is not a git checkout.
 """
 from dataclasses import replace
+import math
 import os
+from pathlib import Path
 import resource
 import subprocess
 import sys
@@ -20,6 +27,14 @@ from ..track.irregularity import resolve
 from ..vehicle import integrator as itg
 from ..vehicle.simulate import Simulation, scenario
 
+REFERENCE_COMMIT = "c4e3c65"
+REFERENCE_REPEATS = 3
+# the default scenario run to its end after compilation; prints its wall time (s)
+_DEFAULT_WALL = ("import time; from railderail_sim.vehicle import integrator as itg; "
+                 "from railderail_sim.vehicle.simulate import Simulation, scenario; "
+                 "sim = Simulation(scenario()); sim.advance(0.01); t0 = time.perf_counter()\n"
+                 "while sim.status == itg.RUNNING: sim.advance(1.0)\n"
+                 "print(time.perf_counter() - t0)")
 _COLD = "from railderail_sim.vehicle.simulate import scenario, Simulation; Simulation(scenario()).advance(0.01)"
 
 
@@ -31,6 +46,36 @@ def _rtf(sc):
         sim.advance(1.0)
     wall = time.perf_counter() - t0
     return sim.t / wall, sim
+
+
+def _default_wall(folder):
+    env = dict(os.environ, PYTHONPATH=str(folder))
+    done = subprocess.run([sys.executable, "-c", _DEFAULT_WALL], env=env, cwd=folder, check=True,
+                          capture_output=True, text=True)
+    return float(done.stdout.split()[-1])
+
+
+def speedup_vs_reference():
+    """REFERENCE_COMMIT's wall time for the default scenario over this code's (module docstring)."""
+    here = Path(__file__).resolve().parents[2]
+    git = ["git", "-C", str(here)]
+    if subprocess.run(git + ["rev-parse", "--verify", "--quiet", REFERENCE_COMMIT + "^{commit}"],
+                      capture_output=True).returncode != 0:
+        print(f"bench: speedup_vs_{REFERENCE_COMMIT} needs a git checkout holding that commit", file=sys.stderr)
+        return math.nan
+    with tempfile.TemporaryDirectory() as tmp:
+        old = Path(tmp) / REFERENCE_COMMIT
+        subprocess.run(git + ["worktree", "add", "--detach", str(old), REFERENCE_COMMIT], check=True,
+                       capture_output=True)
+        try:
+            _default_wall(old)                          # compiles the old core into its own cache
+            walls_old, walls_new = [], []
+            for _ in range(REFERENCE_REPEATS):
+                walls_old.append(_default_wall(old))
+                walls_new.append(_default_wall(here))
+        finally:
+            subprocess.run(git + ["worktree", "remove", "--force", str(old)], capture_output=True)
+    return min(walls_old) / min(walls_new)
 
 
 def run():
@@ -53,5 +98,6 @@ def run():
     out["real_time_factor_rigid_irregular"] = _rtf(irregular)[0]
     out["real_time_factor_elastic_irregular"] = _rtf(replace(irregular, track_model="elastic"))[0]
     out["real_time_factor_discrete"] = _rtf(scenario(radius=1000.0, speed_kmh=300.0, contact_model="discrete"))[0]
+    out[f"speedup_vs_{REFERENCE_COMMIT}"] = speedup_vs_reference()
     out["peak_memory_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
     return out

@@ -35,8 +35,16 @@ def command(parser: argparse.ArgumentParser):
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     known = groups()
     parser.add_argument("--only", default="", help=f"comma-separated groups of {', '.join(known)}")
+    parser.add_argument("--profile", action="store_true",
+                        help="instead of the groups: where the vehicle core's time goes (docs/performance.md)")
+    parser.add_argument("--cases", default="", help="with --profile: comma-separated cases (default: all)")
 
     def run(args):
+        if args.profile:
+            from ..bench import profile
+            result = profile.profile([n for n in args.cases.split(",") if n])
+            print(jsonout.dumps(result, indent=1) if args.json else profile.text(result))
+            return
         names = [n for n in args.only.split(",") if n] or list(known)
         unknown = [n for n in names if n not in known]
         if unknown:

@@ -195,13 +195,10 @@ def wheel_forces(cg, cp, side, pose, motion, scratch, cand, tracked, rec):
             row[Patch.creep_force_x] = fx
             row[Patch.creep_force_lateral] = ft
             row[Patch.spin_moment] = mz
-        Fx = fx
-        Fy = normal * nY + ft * tY
-        Fz = normal * nZ + ft * tZ
-        # moment of the force about the wheelset centre, plus the spin moment about the normal
-        mx_tot += ry * Fz - rz * Fy
-        my_tot += rz * Fx - rx * Fz + mz * nY
-        mz_tot += rx * Fy - ry * Fx + mz * nZ
+        Fx, Fy, Fz, Mx, My, Mz = patch_load(nY, nZ, rx, ry, rz, normal, fx, ft, mz)
+        mx_tot += Mx
+        my_tot += My
+        mz_tot += Mz
         fx_tot += Fx
         fy_tot += Fy
         fz_tot += Fz
@@ -228,6 +225,18 @@ def wheel_forces(cg, cp, side, pose, motion, scratch, cand, tracked, rec):
     loaded = rec[Wheel.vertical_force] > cp[ContactConstants.qp_min_load]
     rec[Wheel.derailment_coefficient] = rec[Wheel.lateral_force] / rec[Wheel.vertical_force] if loaded else 0.0
     return fx_tot, mirror * fy_tot, fz_tot, mirror * mx_tot, my_tot, mirror * mz_tot
+
+
+@core
+def patch_load(nY, nZ, rx, ry, rz, normal, fx, ft, mz):
+    """Force and moment on the wheel of one patch (Fx, Fy, Fz, Mx, My, Mz; left-wheel track axes, about the
+    wheelset centre): the normal force along n = (0, nY, nZ) (rail into wheel), the creep forces fx along x
+    and ft along the lateral tangent t = (0, nZ, -nY), the spin moment mz about n, applied at the contact
+    point r = (rx, ry, rz) from the wheelset centre."""
+    Fx = fx
+    Fy = normal * nY + ft * nZ
+    Fz = normal * nZ - ft * nY
+    return (Fx, Fy, Fz, ry * Fz - rz * Fy, rz * Fx - rx * Fz + mz * nY, rx * Fy - ry * Fx + mz * nZ)
 
 
 @core

@@ -42,11 +42,11 @@ from scipy.optimize import brentq
 from ..contact import conicity
 from ..contact import geometry as geo
 from ..contact import wheelset as ws
-from ..jsonout import NOT_WRITTEN, plain
+from ..jsonout import NOT_WRITTEN, WRITTEN_IF_SET, plain
 from ..ranges import check_range
 from .contact_patch import GRID, ContactPatch, steady_rolling, wheel_patch_details
 from .wheel_rail_pair import SIDES, WheelRailPair, contact_range, gap_buffers, static_wheelset_load
-from ..contact.layout import W_SIZE, Wheel
+from ..contact.layout import W_SIZE, ContactConstants, Wheel
 
 LOAD_KN = (0.0, 1000.0)               # (0, 1000]
 WHEEL_LOAD_KN = (0.0, 500.0)          # (0, 500] per wheel
@@ -78,9 +78,23 @@ class WheelsetPose:
 
 
 @dataclass(frozen=True, kw_only=True)
+class WheelForces:
+    """One wheel's force on its rail with one set of creep forces: Q, P in the wheel's own frame, the whole
+    force in track axes."""
+    Q_N: float
+    P_N: float
+    Q_over_P: float
+    longitudinal_force_on_rail_N: float
+    force_on_rail_N: list             # track axes (x forward, y left, z up)
+
+
+@dataclass(frozen=True, kw_only=True)
 class WheelContact:
-    """One wheel's forces on its rail and its patches (the wheel's own frame)."""
+    """One wheel's forces on its rail and its patches (the wheel's own frame). The totals are those of the
+    pair's model: with `exact`, Kalker's exact rolling forces of its patches (`creep_forces`), the forces
+    of the creep laws on the same patches in `laws`."""
     side: str
+    creep_forces: str                 # what the totals' creep forces are: the creep law, or "exact rolling"
     Q_N: float
     P_N: float
     Q_over_P: float
@@ -90,6 +104,7 @@ class WheelContact:
     min_gap_m: float
     patch_count: int
     patches: list[ContactPatch]
+    laws: dict | None = field(default=None, metadata=WRITTEN_IF_SET)    # creep law -> WheelForces (exact)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -153,8 +168,9 @@ class ContactCase:
             f"{pose.effective_rolling_radius_m * 1e3:.3f} mm",
         ]
         for w in self.wheels:
-            lines.append(f"  {w.side} wheel: Q {w.Q_N / 1e3:.2f} kN, P {w.P_N / 1e3:.2f} kN, Q/P "
-                         f"{w.Q_over_P:.3f}, {w.patch_count} patch(es)")
+            lines.append(f"  {w.side} wheel: {_wheel_text(w)}, {w.patch_count} patch(es), creep forces "
+                         f"{w.creep_forces}")
+            lines += [f"    with {name:8s} {_wheel_text(law)}" for name, law in (w.laws or {}).items()]
             for k, p in enumerate(w.patches):
                 cr, cf = p.creepage, p.creep_force
                 lines.append(
@@ -179,6 +195,11 @@ class ContactCase:
         return "\n".join(lines)
 
 
+def _wheel_text(w):
+    return (f"Q {w.Q_N / 1e3:.2f} kN, P {w.P_N / 1e3:.2f} kN, Q/P {w.Q_over_P:.3f}, longitudinal "
+            f"{w.longitudinal_force_on_rail_N / 1e3:+.3f} kN")
+
+
 def _rolling_lines(q):
     """The exact rolling solution of a patch and the creep laws beside it (kN, N m)."""
     def forces(f):
@@ -197,6 +218,24 @@ def _separate_patches(q):
         return ""
     return f"; {len(parts)} separate patches: " + ", ".join(
         f"{r.normal_force_N / 1e3:.1f} kN at {r.centroid_offset_m * 1e3:+.1f} mm" for r in parts)
+
+
+def _wheel_forces(patches, creep, side, cp):
+    """The wheel's `WheelForces` and its force and moment on the wheelset (track axes) from its patches'
+    normal forces and the creep forces `creep` (a `CreepForce` per patch), as `wheelset.wheel_forces` sums
+    them."""
+    load = np.zeros(6)
+    for p, c in zip(patches, creep):
+        sd, cd = math.sin(p.contact_angle_rad), math.cos(p.contact_angle_rad)
+        load += ws.patch_load(-sd, cd, *p.lever_arm_m, p.normal_force_N, c.longitudinal_N, c.lateral_N,
+                              c.spin_moment_Nm)
+    fx, fy, fz, mx, my, mz = load
+    mirror = 1.0 if side == 0 else -1.0
+    f, m = np.array([fx, mirror * fy, fz]), np.array([mirror * mx, my, mirror * mz])
+    loaded = fz > cp[ContactConstants.qp_min_load]
+    own = WheelForces(Q_N=-fy, P_N=fz, Q_over_P=-fy / fz if loaded else 0.0, longitudinal_force_on_rail_N=-fx,
+                      force_on_rail_N=(-f).tolist())
+    return own, f, m
 
 
 def _mirror(pose, side):
@@ -388,16 +427,23 @@ def contact_case(pair: WheelRailPair, *, lateral_mm=0.0, yaw_mrad=0.0, roll_mrad
     total_f, total_m = np.zeros(3), np.zeros(3)
     for side in (0, 1):
         f, m, rec = steady_wheel_forces(cg, cp, side, pose, speed, spin_rate)
-        total_f += f
-        total_m += m
         patches = wheel_patch_details(pair, _mirror(pose, side), speed, spin_rate, grid)
         r = Wheel.split(rec)
-        wheels.append(WheelContact(side=SIDES[side], Q_N=r["lateral_force"], P_N=r["vertical_force"],
-                                   Q_over_P=r["derailment_coefficient"],
-                                   longitudinal_force_on_rail_N=r["longitudinal_force"],
-                                   force_on_rail_N=(-f).tolist(), wheel_lift_m=r["wheel_lift"],
-                                   min_gap_m=r["min_gap"], patch_count=len(patches),
-                                   patches=patches))
+        own = WheelForces(Q_N=r["lateral_force"], P_N=r["vertical_force"], Q_over_P=r["derailment_coefficient"],
+                          longitudinal_force_on_rail_N=r["longitudinal_force"], force_on_rail_N=(-f).tolist())
+        laws = None
+        if pair.exact_rolling:
+            # the exact rolling forces of the patches replace the law's in the totals; the normal forces
+            # stay those of the load sharing (docs/contact-report.md)
+            laws = {name: _wheel_forces(patches, [p.exact_rolling.laws[name] for p in patches], side, cp)[0]
+                    for name in patches[0].exact_rolling.laws} if patches else {}
+            own, f, m = _wheel_forces(patches, [p.exact_rolling.creep_force for p in patches], side, cp)
+        total_f += f
+        total_m += m
+        wheels.append(WheelContact(side=SIDES[side],
+                                   creep_forces="exact rolling" if pair.exact_rolling else pair.contact.creep_model,
+                                   **vars(own), wheel_lift_m=r["wheel_lift"], min_gap_m=r["min_gap"],
+                                   patch_count=len(patches), patches=patches, laws=laws))
     pose_out = WheelsetPose(lateral_m=y, yaw_rad=psi, roll_rad=phi, roll_source=roll_source, vertical_m=z,
                             touch_vertical_m=z_touch, rigid_vertical_m=z_rigid, rigid_roll_rad=phi_rigid,
                             lateral_range_m=y_lim, spin_rad_s=spin_rate, spin_mode=SPIN_MODES[spin_mode],

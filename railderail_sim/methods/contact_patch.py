@@ -143,6 +143,7 @@ class ContactPatch:
     creepage: Creepage
     creep_force: CreepForce
     force_on_wheel_N: list
+    lever_arm_m: list                 # the contact point from the wheelset centre (x, y, z)
     discrete: DiscretePatch | None = field(default=None, metadata=WRITTEN_IF_SET)
     halfspace: HalfSpacePatch | None = field(default=None, metadata=WRITTEN_IF_SET)
     exact_rolling: ExactRollingPatch | None = field(default=None, metadata=WRITTEN_IF_SET)
@@ -169,6 +170,8 @@ def wheel_patch_details(pair: WheelRailPair, pose, speed, spin, grid=64) -> list
     `grid` x `grid` window when its model has one (halfspace, exact) and the exact rolling solution on it
     with the exact model."""
     cg = pair.cg
+    y, z = pose[0], pose[1]
+    r0 = cg[GeometryHeader.nominal_radius]
     E, nu = pair.contact.youngs_modulus, pair.contact.poisson_ratio
     mu = pair.contact.friction_coefficient
     out = []
@@ -203,6 +206,7 @@ def wheel_patch_details(pair: WheelRailPair, pose, speed, spin, grid=64) -> list
             width_m=width,
             creepage=Creepage(*creepage), creep_force=CreepForce(fx, ft, p["spin_moment"]),
             force_on_wheel_N=[fx, normal * -sd + ft * cd, normal * cd + ft * sd],
+            lever_arm_m=[p["x"], p["y"] - y, p["z"] - (r0 + z)],
             discrete=discrete, halfspace=halfspace, exact_rolling=rolling))
     return out
 

@@ -347,6 +347,32 @@ def suspension(x, dx, model, kin):
 
 
 @core
+def wheel_on_rail(x, o, height, rails_, support, side, sw, dfl, rate, track_motion):
+    """The `pose` and `motion` of `contact.wheelset.wheel_forces` for wheel `side` of the wheelset whose
+    states start at x[o] (at station sw, its centre `height` above the rail tops), relative to its rail:
+    the track frame moved by the rail's irregularity (track.rails: offsets ly, lz, slopes a, c) and by its
+    elastic deflection `dfl` at `rate` (track.elastic: the roll centre moved by yr, zr and rolled by pr
+    about it), the velocities resolved in the rail's axes. `track_motion` = (vtx, vty, vtz, wx, wy, wz,
+    spin, v): the wheelset's velocity and angular velocity without spin in track axes, its spin and the
+    forward speed. Also returns what turns the force back (a, c, pr) and the wheelset centre from the
+    roll centre (ry, rz)."""
+    vtx, vty, vtz, wx, wy, wz, spin, v = track_motion
+    ly, lz, a, c = rails.rail_deviation(rails_, side, sw)
+    yr, zr, pr = dfl[RailDof.lateral], dfl[RailDof.vertical], dfl[RailDof.roll]
+    # the wheelset centre from the rail's roll centre
+    ry = x[o + Dof.lateral] - ly - yr - (1.0 - 2.0 * side) * support[ElasticTrack.roll_centre_lateral]
+    rz = height + x[o + Dof.vertical] - lz - zr + support[ElasticTrack.roll_centre_depth]
+    pose = (x[o + Dof.lateral] - ly - yr + pr * rz, x[o + Dof.vertical] - lz - zr - pr * ry,
+            x[o + Dof.roll] - pr, x[o + Dof.yaw] - a)
+    uy = vty - rate[RailDof.lateral] + rate[RailDof.roll] * rz
+    uz = vtz - rate[RailDof.vertical] - rate[RailDof.roll] * ry
+    qx = wx - rate[RailDof.roll]
+    motion = (vtx + a * uy + c * uz, uy - a * vtx + pr * uz, uz - c * vtx - pr * uy,
+              qx + a * wy + c * wz, wy - a * qx + pr * wz, wz - c * qx - pr * wy, spin, v)
+    return pose, motion, a, c, pr, ry, rz
+
+
+@core
 def rhs(x, dx, model, sp, buffers, tracked):
     """dx = f(x) for the ModelArrays `model` and the speed table sp; the wheel records of the 8 wheels are
     left in buffers.recs (8 x W_SIZE).
@@ -394,25 +420,12 @@ def rhs(x, dx, model, sp, buffers, tracked):
             sw = s + bodies[b, BodyTable.station]
             for side in range(2):
                 k = 2 * (b - WHEELSETS[0]) + side
-                # each wheel on its own rail: the rail frame is the track frame moved by the rail's irregularity
-                # (track.rails: offsets ly, lz, slopes a, c) and by its elastic deflection (track.elastic:
-                # roll centre moved by yr, zr and rolled by pr about it). The pose and the velocities are taken
-                # relative to that frame and resolved in its axes; the force and moment are turned back.
-                ly, lz, a, c = rails.rail_deviation(model.rails, side, sw)
+                # each wheel on its own rail (wheel_on_rail); the force and moment are turned back
                 dfl = x[State.rail_deflections + k * N_RAIL_DOF:State.rail_deflections + (k + 1) * N_RAIL_DOF]
                 rate = x[State.rail_rates + k * N_RAIL_DOF:State.rail_rates + (k + 1) * N_RAIL_DOF]
-                yr, zr, pr = dfl[RailDof.lateral], dfl[RailDof.vertical], dfl[RailDof.roll]
-                # the wheelset centre from the rail's roll centre
-                ry = x[o + Dof.lateral] - ly - yr - (1.0 - 2.0 * side) * support[ElasticTrack.roll_centre_lateral]
-                rz = bodies[b, BodyTable.height] + x[o + Dof.vertical] - lz - zr \
-                    + support[ElasticTrack.roll_centre_depth]
-                pose = (x[o + Dof.lateral] - ly - yr + pr * rz, x[o + Dof.vertical] - lz - zr - pr * ry,
-                        x[o + Dof.roll] - pr, x[o + Dof.yaw] - a)
-                uy = vty - rate[RailDof.lateral] + rate[RailDof.roll] * rz
-                uz = vtz - rate[RailDof.vertical] - rate[RailDof.roll] * ry
-                qx = wx - rate[RailDof.roll]
-                motion = (vtx + a * uy + c * uz, uy - a * vtx + pr * uz, uz - c * vtx - pr * uy,
-                          qx + a * wy + c * wz, wy - a * qx + pr * wz, wz - c * qx - pr * wy, spin, v)
+                pose, motion, a, c, pr, ry, rz = wheel_on_rail(x, o, bodies[b, BodyTable.height], model.rails,
+                                                               support, side, sw, dfl, rate,
+                                                               (vtx, vty, vtz, wx, wy, wz, spin, v))
                 f0, f1, f2, m0, m1, m2 = ws.wheel_forces(model.cg, model.cp, side, pose, motion, buffers.contact,
                                                          cands[k], tracked, recs[k])
                 gy = f1 + a * f0 - pr * f2

@@ -1,0 +1,382 @@
+"""`railderail bench --profile`: where one right-hand side of the vehicle core spends its time, and why a run
+takes the steps it takes (docs/performance.md).
+
+No Python profiler sees inside compiled numba code, so each part of `dynamics.rhs` is timed in isolation: a
+numba loop calls that part's own core function n times at one state (n chosen for about TARGET_S per
+run; the minimum of REPEATS runs). The state is the run's own after WINDOW_S of simulated time, with the
+contact candidates its last full search left. Parts:
+
+    rhs_full_us, rhs_tracked_us    the whole right-hand side, with the full contact search (the step's last
+                                   stage) and with the tracked one (its five inner stages)
+    kinematics_us                  `dynamics.kinematics`: each body's track frame and rotation matrices
+    track_frame_us                 of which the track lookups (`alignment.frame`, curvature, cant per body)
+    suspension_us                  `dynamics.suspension`, all elements; bushings_us, dampers_us,
+                                   bump_stops_us, anti_roll_bars_us: the same with one kind of element only
+    wheel_on_rail_us               the eight wheels' poses on their rails (`dynamics.wheel_on_rail`, with the
+                                   irregularity lookup `rails.rail_deviation`)
+    contact_tracked_us, contact_full_us   the eight `wheelset.wheel_forces` (with their poses) as the inner
+                                   stages and the last stage call them
+    contact_table_us               of which the contact search: the table lookup (`table.table_patches`) or
+                                   the online search where the pose leaves the table
+    creep_law_us                   of which the creep law (`creep.creep_forces`) on the loaded patches
+    elastic_track_us               the eight rails' accelerations (`track.elastic.rail_accelerations`; 0 on
+                                   rigid track, where they are not called)
+    aerodynamics_us                `loads.aerodynamics.aerodynamic_load` (returns at once in still air)
+    step_us                        wall time per integration step of the window's run (accepted + rejected)
+    integrator_us                  step_us less the five tracked and one full right-hand sides of a step:
+                                   the stage sums, the error norm, the output rows and the checks
+
+Steps: accepted and rejected per simulated second over the window; the floor that the largest step
+(`simulate.MAX_STEP`) and the output instants (each output period is cut into whole steps) set; the
+steps per second with the tolerances ten times looser and ten times tighter (an error-controlled run
+takes 10^(1/5) = 1.58 times fewer steps for ten times looser tolerances, a stability-limited one about as
+many); and the stability limit of Dormand-Prince 5(4) at the state: the largest h with |R(h lambda)| <= 1
+for every eigenvalue lambda of the Jacobian (central differences of the right-hand side with the full
+contact search), with the mode that sets it.
+"""
+from __future__ import annotations
+
+from dataclasses import replace
+import math
+import time
+
+import numba
+import numpy as np
+
+from .. import jit
+from ..contact import creep
+from ..contact import geometry as geo
+from ..contact import table as tab
+from ..contact import wheelset as ws
+from ..contact.layout import ContactConstants, Patch, Wheel
+from ..loads.aerodynamics import aerodynamic_load
+from ..parameters import TrackParameters
+from ..track import alignment as trk
+from ..track import elastic as track_elastic
+from ..track.irregularity import resolve
+from ..track.layout import N_RAIL_DOF, ElasticTrack
+from ..vehicle import dynamics as dyn
+from ..vehicle import integrator as itg
+from ..vehicle.dynamics import Kinematics
+from ..vehicle.layout import BodyTable, Dof, N_BODY, N_DOF, N_STATE, State, Vector, WHEELSETS
+from ..vehicle.simulate import MAX_STEP, Simulation, scenario, state_name
+
+REPEATS = 3
+TARGET_S = 0.1
+WINDOW_S = 4.0                # simulated seconds before the profiled state (the default run derails at 5.2 s)
+TOLERANCE_FACTOR = 10.0
+
+
+def cases():
+    """The profiled runs: {name: Scenario} (those of `railderail bench --only vehicle`)."""
+    irregular = replace(scenario(radius=1000.0, speed_kmh=250.0),
+                        irregularity=resolve("erri-high", 1, TrackParameters().line_length))
+    return {"rigid_smooth": scenario(radius=1000.0, speed_kmh=300.0),
+            "rigid_irregular": irregular,
+            "elastic_irregular": replace(irregular, track_model="elastic"),
+            "discrete": scenario(radius=1000.0, speed_kmh=300.0, contact_model="discrete")}
+
+
+# ---------------------------------------------------------------------------------------- timing kernels
+_njit = numba.njit(cache=False, **jit.OPTIONS)
+
+
+@_njit
+def _rhs_loop(n, x, dx, model, sp, buffers, tracked):
+    acc = 0.0
+    for _ in range(n):
+        acc += dyn.rhs(x, dx, model, sp, buffers, tracked)
+    return acc
+
+
+@_njit
+def _kinematics_loop(n, x, bodies, track, sp, kin):
+    acc = 0.0
+    for _ in range(n):
+        acc += dyn.kinematics(x, bodies, track, sp, kin)[0]
+    return acc
+
+
+@_njit
+def _track_frame_loop(n, x, bodies, track):
+    acc = 0.0
+    for _ in range(n):
+        for b in range(N_BODY):
+            sb = x[State.s] + bodies[b, BodyTable.station]
+            X, Y, heading, roll = trk.frame(track, sb)
+            kap, _ = trk.curvature(track, sb)
+            _, droll = trk.cant(track, sb)
+            acc += X + Y + heading + roll + kap + droll
+    return acc
+
+
+@_njit
+def _suspension_loop(n, x, dx, model, kin):
+    for _ in range(n):
+        dyn.suspension(x, dx, model, kin)
+    return kin[0, Kinematics.force]
+
+
+@_njit
+def _wheel_motion(x, kin, bodies, b, v):
+    """The wheelset's track_motion for `dynamics.wheel_on_rail`, as `dynamics.rhs` forms it."""
+    ov = State.velocities + N_DOF * b
+    return (kin[b, Kinematics.track_velocity + Vector.x], kin[b, Kinematics.track_velocity + Vector.y],
+            kin[b, Kinematics.track_velocity + Vector.z], x[ov + Dof.roll],
+            kin[b, Kinematics.track_angular_velocity + Vector.y], x[ov + Dof.yaw], x[ov + Dof.pitch], v)
+
+
+@_njit
+def _wheels_loop(n, x, model, kin, v, buffers, tracked, forces, search_only):
+    """The eight wheels: poses (always), and the contact forces (`forces`) or the contact search alone
+    (`search_only`), as in `dynamics.rhs`."""
+    acc = 0.0
+    bodies = model.bodies
+    for _ in range(n):
+        for b in WHEELSETS:
+            o = State.positions + N_DOF * b
+            sw = x[State.s] + bodies[b, BodyTable.station]
+            for side in range(2):
+                k = 2 * (b - WHEELSETS[0]) + side
+                dfl = x[State.rail_deflections + k * N_RAIL_DOF:State.rail_deflections + (k + 1) * N_RAIL_DOF]
+                rate = x[State.rail_rates + k * N_RAIL_DOF:State.rail_rates + (k + 1) * N_RAIL_DOF]
+                pose, motion, a, c, pr, ry, rz = dyn.wheel_on_rail(x, o, bodies[b, BodyTable.height], model.rails,
+                                                                   model.support, side, sw, dfl, rate,
+                                                                   _wheel_motion(x, kin, bodies, b, v))
+                acc += pose[0] + motion[0] + a + c + pr + ry + rz
+                if forces:
+                    acc += ws.wheel_forces(model.cg, model.cp, side, pose, motion, buffers.contact,
+                                           buffers.cands[k], tracked, buffers.recs[k])[2]
+                elif search_only:
+                    m = 1.0 if side == 0 else -1.0
+                    y, z, phi, psi = pose[0] * m, pose[1], pose[2] * m, pose[3] * m
+                    scratch = buffers.contact
+                    count, _ = tab.table_patches(model.cg, y, z, phi, psi, scratch.patches, buffers.cands[k])
+                    if count < 0:                   # outside the table, or no table: the online search
+                        count = geo.track_patches(model.cg, y, z, phi, psi, scratch.gap, scratch.ys,
+                                                  scratch.patches, buffers.cands[k])
+                    acc += count
+    return acc
+
+
+@_njit
+def _creep_loop(n, rows, model_id, mu, shear, nu):
+    acc = 0.0
+    for _ in range(n):
+        for r in range(rows.shape[0]):
+            fx, fy, mz = creep.creep_forces(model_id, rows[r, 0], rows[r, 1], rows[r, 2], rows[r, 3], rows[r, 4],
+                                            rows[r, 5], mu, shear, nu)
+            acc += fx + fy + mz
+    return acc
+
+
+@_njit
+def _elastic_loop(n, x, support):
+    acc = 0.0
+    for _ in range(n):
+        for k in range(8):
+            dfl = x[State.rail_deflections + k * N_RAIL_DOF:State.rail_deflections + (k + 1) * N_RAIL_DOF]
+            rate = x[State.rail_rates + k * N_RAIL_DOF:State.rail_rates + (k + 1) * N_RAIL_DOF]
+            ay, az, ar = track_elastic.rail_accelerations(support, dfl, rate, 1.0e4, 5.0e4, 1.0e3)
+            acc += ay + az + ar
+    return acc
+
+
+@_njit
+def _aero_loop(n, aero, s, v):
+    acc = 0.0
+    for _ in range(n):
+        acc += aerodynamic_load(aero, s, v)[2]
+    return acc
+
+
+def min_us(fn):
+    """Minimum over REPEATS of fn(n) / n in microseconds, n chosen for about TARGET_S per run."""
+    fn(1)
+    t0 = time.perf_counter()
+    fn(10)
+    dt = max(time.perf_counter() - t0, 1e-7) / 10
+    n = max(10, int(math.ceil(TARGET_S / dt)))
+    times = []
+    for _ in range(REPEATS):
+        t0 = time.perf_counter()
+        fn(n)
+        times.append((time.perf_counter() - t0) / n)
+    return min(times) * 1e6
+
+
+# ---------------------------------------------------------------------------------------- the profile
+def _window(sc, window_s):
+    """A Simulation run for window_s (or to its end): (simulation, wall s, simulated s)."""
+    sim = Simulation(sc)
+    sim.advance(0.01)                                       # compile or load the cache outside the timing
+    t_start = sim.t
+    steps0 = sim.steps
+    t0 = time.perf_counter()
+    while sim.status == itg.RUNNING and sim.t < window_s - 1e-9:
+        sim.advance(min(1.0, window_s - sim.t))
+    wall = time.perf_counter() - t0
+    accepted, rejected = (a - b for a, b in zip(sim.steps, steps0))
+    return sim, wall, sim.t - t_start, accepted, rejected
+
+
+def _steps_per_s(sc, window_s):
+    _, _, simulated, accepted, rejected = _window(sc, window_s)
+    return (accepted + rejected) / simulated
+
+
+def dopri_stability(z):
+    """|R(z)| of Dormand-Prince 5(4) (the 5th-order solution): R = sum z^k / k!, k <= 5, + z^6 / 600."""
+    return np.abs(1 + z + z ** 2 / 2 + z ** 3 / 6 + z ** 4 / 24 + z ** 5 / 120 + z ** 6 / 600)
+
+
+def stability_limit(eigenvalues):
+    """The largest h (s) with |R(h lambda)| <= 1 for all eigenvalues with a negative real part, and the index
+    of the eigenvalue that sets it."""
+    best, which = math.inf, -1
+    for i, lam in enumerate(eigenvalues):
+        if lam.real >= 0.0 or abs(lam) == 0.0:
+            continue
+        hi = 10.0 / abs(lam)              # |R| > 1 there for any lambda of the left half-plane (|z| = 10)
+        lo = 0.0
+        for _ in range(60):               # the first exit from the stable region, on a fine scan then bisection
+            mid = 0.5 * (lo + hi)
+            if np.all(dopri_stability(np.linspace(0.0, mid, 64)[1:] * lam) <= 1.0 + 1e-12):
+                lo = mid
+            else:
+                hi = mid
+        if lo < best:
+            best, which = lo, i
+    return best, which
+
+
+def jacobian(sim):
+    """Central-difference Jacobian of the right-hand side (full contact search) at the simulation's state,
+    over the states the error control counts, and their indices."""
+    active = np.flatnonzero(np.isfinite(sim.control.atol))
+    active = active[active != State.s]
+    sp, arrays = sim.speed_table, sim.model.arrays
+    buffers = itg.workspace(sim.model.cg).rhs
+    x0 = sim.x.copy()
+    J = np.zeros((len(active), len(active)))
+    dp, dm = np.zeros(N_STATE), np.zeros(N_STATE)
+    for j, i in enumerate(active):
+        step = 1e-7 * max(1.0, abs(x0[i])) if i >= State.velocities and i < State.dampers else 1e-8
+        xp, xm = x0.copy(), x0.copy()
+        xp[i] += step
+        xm[i] -= step
+        dyn.rhs(xp, dp, arrays, sp, buffers, False)
+        dyn.rhs(xm, dm, arrays, sp, buffers, False)
+        J[:, j] = (dp[active] - dm[active]) / (2.0 * step)
+    return J, active
+
+
+def _creep_rows(sim):
+    """The loaded patches of the eight wheels at the state: (xi_x, xi_y, phi, a, b, N) per patch."""
+    rows = []
+    arrays, x = sim.model.arrays, sim.x
+    buffers = itg.workspace(sim.model.cg).rhs
+    dx = np.zeros(N_STATE)
+    v = dyn.rhs(x, dx, arrays, sim.speed_table, buffers, False)
+    scratch = ws.contact_scratch(sim.model.cg)
+    for b in WHEELSETS:
+        o = State.positions + N_DOF * b
+        sw = x[State.s] + arrays.bodies[b, BodyTable.station]
+        for side in range(2):
+            k = 2 * (b - WHEELSETS[0]) + side
+            dfl = x[State.rail_deflections + k * N_RAIL_DOF:State.rail_deflections + (k + 1) * N_RAIL_DOF]
+            rate = x[State.rail_rates + k * N_RAIL_DOF:State.rail_rates + (k + 1) * N_RAIL_DOF]
+            pose, motion, *_ = dyn.wheel_on_rail(x, o, arrays.bodies[b, BodyTable.height], arrays.rails,
+                                                 arrays.support, side, sw, dfl, rate,
+                                                 _wheel_motion(x, buffers.kin, arrays.bodies, b, v))
+            rec = np.zeros(buffers.recs.shape[1])
+            ws.wheel_forces(arrays.cg, arrays.cp, side, pose, motion, scratch, ws.candidates()[0], False, rec)
+            for q in range(int(rec[Wheel.contact_count])):
+                p = Patch.split(scratch.patches[q])
+                if p["normal_force"] > 0.0:
+                    rows.append([p["creepage_x"], p["creepage_y"], p["spin_creepage"], p["creep_a"],
+                                 p["creep_b"], p["normal_force"]])
+    return np.array(rows).reshape(-1, 6)
+
+
+def profile_case(sc, window_s=WINDOW_S):
+    """The profile of one run (module docstring): {key: value}."""
+    sim, wall, simulated, accepted, rejected = _window(sc, window_s)
+    out = {"simulated_s": simulated, "wall_s": wall, "real_time_factor": simulated / wall,
+           "accepted_per_s": accepted / simulated, "rejected_per_s": rejected / simulated,
+           "step_floor_per_s": sim.scenario.output_rate * math.ceil(sim.output_dt / MAX_STEP - 1e-9),
+           "mean_step_ms": 1e3 * simulated / accepted}
+    model, arrays, x, sp = sim.model, sim.model.arrays, sim.x.copy(), sim.speed_table
+    buffers = sim.work.rhs
+    dx = np.zeros(N_STATE)
+    v = dyn.rhs(x, dx, arrays, sp, buffers, False)                    # the candidates of a full search
+    t = {}
+    t["rhs_full_us"] = min_us(lambda n: _rhs_loop(n, x, dx, arrays, sp, buffers, False))
+    dyn.rhs(x, dx, arrays, sp, buffers, False)
+    t["rhs_tracked_us"] = min_us(lambda n: _rhs_loop(n, x, dx, arrays, sp, buffers, True))
+    kin = buffers.kin
+    t["kinematics_us"] = min_us(lambda n: _kinematics_loop(n, x, arrays.bodies, arrays.track, sp, kin))
+    t["track_frame_us"] = min_us(lambda n: _track_frame_loop(n, x, arrays.bodies, arrays.track))
+    t["suspension_us"] = min_us(lambda n: _suspension_loop(n, x, dx, arrays, kin))
+    kinds = ("bush", "damp", "bump", "arb")
+    for kind, key in zip(kinds, ("bushings_us", "dampers_us", "bump_stops_us", "anti_roll_bars_us")):
+        only = arrays._replace(**{k: getattr(arrays, k)[:0] for k in kinds if k != kind})
+        t[key] = min_us(lambda n, only=only: _suspension_loop(n, x, dx, only, kin))
+    dyn.kinematics(x, arrays.bodies, arrays.track, sp, kin)
+    t["wheel_on_rail_us"] = min_us(lambda n: _wheels_loop(n, x, arrays, kin, v, buffers, True, False, False))
+    dyn.rhs(x, dx, arrays, sp, buffers, False)
+    t["contact_tracked_us"] = min_us(lambda n: _wheels_loop(n, x, arrays, kin, v, buffers, True, True, False))
+    t["contact_full_us"] = min_us(lambda n: _wheels_loop(n, x, arrays, kin, v, buffers, False, True, False))
+    t["contact_table_us"] = min_us(lambda n: _wheels_loop(n, x, arrays, kin, v, buffers, True, False, True)) \
+        - t["wheel_on_rail_us"]
+    rows = _creep_rows(sim)
+    cp = arrays.cp
+    law = (int(cp[ContactConstants.creep_model]), cp[ContactConstants.friction], cp[ContactConstants.shear_modulus],
+           cp[ContactConstants.poisson_ratio])
+    t["creep_law_us"] = min_us(lambda n: _creep_loop(n, rows, *law))
+    out["loaded_patches"] = len(rows)
+    elastic = arrays.support[ElasticTrack.elastic] > 0.5            # rigid track: not called
+    t["elastic_track_us"] = min_us(lambda n: _elastic_loop(n, x, arrays.support)) if elastic else 0.0
+    t["aerodynamics_us"] = min_us(lambda n: _aero_loop(n, arrays.aero, x[State.s], v))
+    t["step_us"] = 1e6 * wall / (accepted + rejected)
+    t["integrator_us"] = t["step_us"] - 5.0 * t["rhs_tracked_us"] - t["rhs_full_us"]
+    out.update(t)
+    # why this many steps
+    looser = replace(sc, atol=sc.atol * TOLERANCE_FACTOR, rtol=sc.rtol * TOLERANCE_FACTOR)
+    tighter = replace(sc, atol=sc.atol / TOLERANCE_FACTOR, rtol=sc.rtol / TOLERANCE_FACTOR)
+    out["steps_per_s"] = (accepted + rejected) / simulated
+    out["steps_per_s_tolerance_x10"] = _steps_per_s(looser, window_s)
+    out["steps_per_s_tolerance_div10"] = _steps_per_s(tighter, window_s)
+    J, active = jacobian(sim)
+    lam, vec = np.linalg.eig(J)
+    h_stab, i = stability_limit(lam)
+    out["stability_limit_ms"] = 1e3 * h_stab
+    out["stiffest_mode_hz"] = abs(lam[i].imag) / (2.0 * math.pi) if i >= 0 else math.nan
+    out["stiffest_mode_damping"] = -lam[i].real / abs(lam[i]) if i >= 0 else math.nan
+    out["stiffest_mode_state"] = state_name(int(active[np.argmax(np.abs(vec[:, i]))])) if i >= 0 else ""
+    out["fastest_eigenvalue_1_s"] = float(np.max(np.abs(lam)))
+    return out
+
+
+def profile(names=None, window_s=WINDOW_S):
+    """{case: profile_case(...)} for the named cases (default: all of `cases()`)."""
+    all_cases = cases()
+    names = names or list(all_cases)
+    unknown = [n for n in names if n not in all_cases]
+    if unknown:
+        raise ValueError(f"unknown profile case(s) {', '.join(unknown)}; choose from {', '.join(all_cases)}")
+    return {name: profile_case(all_cases[name], window_s) for name in names}
+
+
+def text(result):
+    """The profile as a table: one column per case."""
+    names = list(result)
+    keys = list(result[names[0]])
+    lines = [f"{'':30s}" + "".join(f"{n:>20s}" for n in names)]
+    for key in keys:
+        cells = []
+        for n in names:
+            value = result[n][key]
+            cells.append(f"{value:>20s}" if isinstance(value, str) else f"{value:>20.4g}")
+        lines.append(f"{key:30s}" + "".join(cells))
+    return "\n".join(lines)
