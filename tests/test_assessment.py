@@ -200,3 +200,42 @@ def test_bad_input_is_one_line(tmp_path, steady):
         signals.from_npz(tmp_path / "foreign.npz")
     with pytest.raises(ValueError, match="no such file"):
         signals.from_npz(tmp_path / "missing.npz")
+
+
+def test_a_recording_gives_the_runs_force_quantities(tmp_path, steady):
+    from railderail_monitor.assess import run_signals
+    from railderail_monitor.recording import record_run
+
+    result, path = steady
+    mcap = tmp_path / "steady.mcap"
+    record_run(mcap, result)
+    from_run = assess.assess(signals.from_npz(path))
+    from_recording = assess.assess(run_signals(mcap))
+    forces = ("sum_Y_2m", "Y_Q_2m", "Q_max", "Q_qst", "Y_qst", "sum_Y_rms")
+    key = lambda r: (r.quantity, r.section, r.wheelset, r.side)           # noqa: E731
+    run_rows = {key(r): r.value for r in from_run.rows if r.quantity in forces and r.quantity != "sum_Y_rms"}
+    rec_rows = {key(r): r.value for r in from_recording.rows}
+    assert {q for q, *_ in rec_rows} == set(forces)
+    for k, value in run_rows.items():
+        assert rec_rows[k] == pytest.approx(value, rel=1e-9, abs=1e-6)
+    assert "carries no accelerations" in from_recording.notes[0]
+
+
+def test_assess_command(tmp_path, steady, capsys):
+    import json
+    from railderail_sim.cli import main
+
+    _, path = steady
+    assert main(["assess", str(path), "--json", "--plot", str(tmp_path / "a.png")]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert set(d) == {"static_wheel_load_kN", "standard", "quantities"}
+    assert (tmp_path / "a.png").stat().st_size > 10_000
+    assert main(["assess", str(path)]) == 0
+    assert capsys.readouterr().out.startswith(f"Assessment of {path}")
+    for argv, message in ((["assess", str(tmp_path / "none.npz")], "no such file"),
+                          (["assess", str(tmp_path / "a.png")], "assess reads a run (.npz"),
+                          (["assess"], "no file given"),
+                          (["assess", str(path), "--plot", str(tmp_path / "a.txt")], "must end in")):
+        assert main(argv) == 2
+        err = capsys.readouterr().err
+        assert message in err and len(err.strip().splitlines()) == 1
