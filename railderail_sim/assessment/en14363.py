@@ -123,8 +123,9 @@ class Section:
     def zone(self):
         return test_zone(self.kind, self.radius)
 
-    def holds(self, s):
-        return (s >= self.start) & (s < self.end)
+    def samples(self, s):
+        """The slice of the samples whose track position s (increasing) lies on the section."""
+        return slice(int(np.searchsorted(s, self.start, "left")), int(np.searchsorted(s, self.end, "left")))
 
 
 def sections(sig):
@@ -156,7 +157,7 @@ def sliding(s, values, window, step, start, end, power=1):
     window inside [start, end) and inside the samples' span (trapezoidal integral over s); (centres, means)."""
     lo = max(start, s[0]) + 0.5 * window
     hi = min(end, s[-1]) - 0.5 * window
-    if hi < lo:
+    if len(s) < 2 or hi < lo:
         return np.zeros(0), np.zeros((0,) + values.shape[1:])
     centres = lo + step * np.arange(int(math.floor((hi - lo) / step + 1e-9)) + 1)
     v = values ** power
@@ -233,17 +234,17 @@ def assess_forces(sig, sec, filtered_y, filtered_q, stable_y=None):
     q_lim = q_max_limit(sec.max_speed)
     quasi = {"Q": [], "Y": []}
     for i, station in enumerate(sig.wheelset_stations):
-        s = sig.position + station
-        inside = sec.holds(s)
-        if np.count_nonzero(inside) < 3:
+        inside = sec.samples(sig.position + station)
+        if inside.stop - inside.start < 3:
             continue
-        sum_y = filtered_y[:, 2 * i] + filtered_y[:, 2 * i + 1]
+        s = sig.position[inside] + station
+        sum_y = filtered_y[inside, 2 * i] + filtered_y[inside, 2 * i + 1]
         _, means = sliding(s, sum_y, WINDOW_2M, STEP_2M, sec.start, sec.end)
         if len(means):
             rows.append(Row("sum_Y_2m", sec.name, i, None, float(extreme(means)), y_lim, "N", f"wheelset {i}"))
         # Y/Q with Y toward each wheel's rail's field side (the push of a flanging wheel): the left wheel's + left
-        flange_ward = filtered_y[:, 2 * i:2 * i + 2] * np.array([1.0, -1.0])
-        q = filtered_q[:, 2 * i:2 * i + 2]
+        flange_ward = filtered_y[inside, 2 * i:2 * i + 2] * np.array([1.0, -1.0])
+        q = filtered_q[inside, 2 * i:2 * i + 2]
         ratio = np.where(q >= 0.1 * q0, flange_ward / np.maximum(q, 1e-9), 0.0)
         _, yq = sliding(s, ratio, WINDOW_2M, STEP_2M, sec.start, sec.end)
         for k in range(2):
@@ -251,13 +252,13 @@ def assess_forces(sig, sec, filtered_y, filtered_q, stable_y=None):
             if len(yq):
                 rows.append(Row("Y_Q_2m", sec.name, i, SIDES[k], float(np.percentile(yq[:, k], PERCENTILES[1])),
                                 yq_limit, "-", f"wheelset {i} {SIDES[k]}"))
-            rows.append(Row("Q_max", sec.name, i, SIDES[k], float(np.percentile(q[inside, k], PERCENTILES[1])),
+            rows.append(Row("Q_max", sec.name, i, SIDES[k], float(np.percentile(q[:, k], PERCENTILES[1])),
                             q_lim, "N", f"wheelset {i} {SIDES[k]}"))
             if sec.kind == "curve":
-                quasi["Q"].append((w, float(np.median(q[inside, k]))))
+                quasi["Q"].append((w, float(np.median(q[:, k]))))
                 quasi["Y"].append((w, float(np.median(filtered_y[inside, w]))))
         if stable_y is not None:
-            _, rms = sliding(s, stable_y[:, i], RMS_WINDOW_M, RMS_STEP_M, sec.start, sec.end, power=2)
+            _, rms = sliding(s, stable_y[inside, i], RMS_WINDOW_M, RMS_STEP_M, sec.start, sec.end, power=2)
             if len(rms):
                 rows.append(Row("sum_Y_rms", sec.name, i, None, float(np.sqrt(rms.max())), 0.5 * y_lim, "N",
                                 f"wheelset {i}"))
@@ -275,8 +276,8 @@ def assess_accelerations(sig, sec, band_floor, low_floor, stable_frame):
     ends = ("front", "rear")
     peaks_y, peaks_z, qst = [], [], []
     for place, station in zip(ends, sig.bogie_stations):
-        inside = sec.holds(sig.position + station)
-        if np.count_nonzero(inside) < 3:
+        inside = sec.samples(sig.position + station)
+        if inside.stop - inside.start < 3:
             continue
         peaks_y.append((place, float(extreme(band_floor[place][inside, 1]))))
         peaks_z.append((place, float(extreme(band_floor[place][inside, 2]))))
@@ -289,8 +290,9 @@ def assess_accelerations(sig, sec, band_floor, low_floor, stable_frame):
                                    LIMITS[name].value, "m/s^2"))
     limit = bogie_rms_limit(sig.bogie_mass)
     for i, station in enumerate(sig.wheelset_stations):
-        _, rms = sliding(sig.position + station, stable_frame[:, i], RMS_WINDOW_M, RMS_STEP_M, sec.start, sec.end,
-                         power=2)
+        inside = sec.samples(sig.position + station)
+        _, rms = sliding(sig.position[inside] + station, stable_frame[inside, i], RMS_WINDOW_M, RMS_STEP_M,
+                         sec.start, sec.end, power=2)
         if len(rms):
             rows.append(Row("ydd_bogie_rms", sec.name, i, None, float(np.sqrt(rms.max())), limit, "m/s^2",
                             f"bogie frame over wheelset {i}"))
