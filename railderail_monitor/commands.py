@@ -13,6 +13,8 @@ COMMANDS = (
      "railderail_monitor.viewer:command"),
     ("monitor-params", "the monitor's parameter file (thresholds) of a wheel, rail, friction and vehicle set",
      "railderail_monitor.monitor_params:command"),
+    ("assess", "running behaviour as EN 14363 and EN 12299 define it (safety, track loading, ride, comfort) of a "
+     "run (.npz) or a recording (.mcap); --json, --plot, --study DIR", "railderail_monitor.assess:command"),
     ("warnings", "warning quality: lead time and false alarms of each criterion over the six radii, or over a "
      "scenario catalogue with thresholds swept (--catalogue)",
      "railderail_monitor.warning_quality:command"),

@@ -450,6 +450,30 @@ def run_figure(result, path):
                         f"{event['mechanism'].replace('_', ' ')}" if event else ""))
 
 
+def assessment_figure(assessment, path):
+    """An assessment (`assessment.assess.Assessment`): each quantity's governing value as a share of its
+    limit, one bar per quantity and section (a colour per section), the limit at 100 %, failures marked."""
+    rows = [r for r in assessment.governing() if r.limit is not None]
+    sections = list(dict.fromkeys(r.section for r in rows))
+    colours = {name: f"C{k % 10}" for k, name in enumerate(sections)}
+    with figure(path, (8.0, 1.2 + 0.22 * max(len(rows), 1))) as fig:
+        ax = fig.subplots()
+        y = np.arange(len(rows))[::-1]
+        share = [100.0 * r.utilisation for r in rows]
+        bars = ax.barh(y, share, color=[colours[r.section] for r in rows], height=0.7)
+        for bar, r in zip(bars, rows):
+            if not r.passes:
+                bar.set_hatch("///")
+                bar.set_edgecolor(REFERENCE_COLOUR)
+        ax.axvline(100.0, color=REFERENCE_COLOUR, lw=1.0)
+        ax.set_yticks(y, [f"{r.quantity} ({r.place})" for r in rows], fontsize=7)
+        ax.set_xlabel("governing value / limit (%)")
+        from matplotlib.patches import Patch
+        handles = [Patch(color=colours[name], label=name) for name in sections]
+        ax.legend(handles=handles, fontsize="small", loc="lower right")
+        ax.set_title(f"{assessment.source}: EN 14363 and comfort, hatched: beyond the limit")
+
+
 # ------------------------------------------------------------------------------------------------
 # track
 # ------------------------------------------------------------------------------------------------

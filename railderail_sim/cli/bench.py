@@ -17,6 +17,7 @@ GROUPS = {
     "contact": "railderail_sim.bench.contact:run",
     "vehicle": "railderail_sim.bench.vehicle:run",
     "methods": "railderail_sim.bench.methods:run",
+    "assessment": "railderail_sim.bench.assessment:run",
 }
 ENTRY_POINTS = "railderail.bench"    # groups of the packages built on this one (railderail_monitor: "ros")
 

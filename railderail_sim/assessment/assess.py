@@ -1,0 +1,122 @@
+"""The assessment of one run: EN 14363's quantities per section (`en14363`) and the ride comfort of the
+run (`comfort`), as rows with their limits; `as_dict` is the JSON of `railderail assess --json`,
+`markdown` its table (the governing place of each quantity and section, with its margin).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from . import comfort, en14363
+from .en14363 import Row
+
+QUANTITIES = ("sum_Y_2m", "Y_Q_2m", "Q_max", "Q_qst", "Y_qst", "ydd_car_body", "zdd_car_body", "ydd_qst",
+              "sum_Y_rms", "ydd_bogie_rms", "N_MV", "Wz_lateral", "Wz_vertical")
+DISPLAY = {"N": ("kN", 1e-3)}                 # SI inside, kN in the JSON and the table
+STANDARD = {
+    "edition": "EN 14363:2005 / UIC 518 (EN 14363:2016's Y/Q limit below R 250 m); EN 12299:2009; "
+               "Sperling W_z as GB 5599",
+    "method": "simulation of the normal measuring method's quantities (Y, Q of every wheel); one-dimensional "
+              "method per track section (straight, transition, circular curve by radius); comfort N_MV "
+              "simplified method at the car-body floor",
+    "sources": "docs/assessment.md: every filter, window, percentile and limit with its source and how sure "
+               "(B processing rules, C recalled limits)",
+}
+
+
+@dataclass
+class Assessment:
+    """Every assessed row, the sections, the instability frequency f0 used and what was not assessed."""
+    rows: list
+    sections: list
+    static_wheel_load: float             # N
+    instability_frequency: float         # Hz
+    source: str = ""
+    notes: list = field(default_factory=list)
+
+    def as_dict(self):
+        """The JSON of `railderail assess --json` (forces in kN)."""
+        return dict(static_wheel_load_kN=self.static_wheel_load / 1e3,
+                    standard=dict(STANDARD, instability_frequency_Hz=self.instability_frequency,
+                                  not_assessed=self.notes),
+                    quantities=[_row_dict(r) for r in self.rows])
+
+    def governing(self):
+        """The row of the largest |value| / limit (or |value|) per quantity and section, in QUANTITIES order."""
+        best = {}
+        for r in self.rows:
+            key = (r.section, r.quantity)
+            u = r.utilisation if r.limit is not None else abs(r.value)
+            if key not in best or u > best[key][0]:
+                best[key] = (u, r)
+        order = {q: k for k, q in enumerate(QUANTITIES)}
+        names = [s.name for s in self.sections]
+        return [r for _, r in sorted(best.values(), key=lambda item: (
+            names.index(item[1].section) if item[1].section in names else len(names), order[item[1].quantity]))]
+
+    def limiting(self):
+        """The row closest to (or furthest beyond) its limit."""
+        limited = [r for r in self.rows if r.limit is not None]
+        return max(limited, key=lambda r: r.utilisation) if limited else None
+
+    def markdown(self):
+        lines = [f"Assessment of {self.source}: {STANDARD['edition']}.",
+                 f"Static wheel load Q0 = {self.static_wheel_load / 1e3:.2f} kN, Prud'homme's limit "
+                 f"{en14363.prudhomme_limit(self.static_wheel_load) / 1e3:.2f} kN, instability frequency "
+                 f"f0 = {self.instability_frequency:.2f} Hz. The governing place of each quantity and section; "
+                 "forces in track axes (y left).", "",
+                 "| section | quantity | place | value | limit | unit | margin | result |",
+                 "| --- | --- | --- | ---: | ---: | --- | ---: | --- |"]
+        for r in self.governing():
+            unit, scale = DISPLAY.get(r.unit, (r.unit, 1.0))
+            value = f"{r.value * scale:.3g}"
+            if r.limit is None:
+                limit = margin = "-"
+                result = comfort.comfort_class(r.value) if r.quantity == "N_MV" else "-"
+            else:
+                limit = f"{r.limit * scale:.3g}"
+                margin = f"{(r.limit - abs(r.value)) * scale:.3g}"
+                result = "passes" if r.passes else "**fails**"
+            lines.append(f"| {r.section} | {r.quantity} | {r.place} | {value} | {limit} | {unit} | {margin} | {result} |")
+        first = self.limiting()
+        if first is not None:
+            unit, scale = DISPLAY.get(first.unit, (first.unit, 1.0))
+            lines += ["", f"Closest to its limit: {first.quantity} at {first.place}, {first.section}: "
+                          f"{first.value * scale:.3g} {unit} against {first.limit * scale:.3g} {unit} "
+                          f"({100.0 * first.utilisation:.0f} % of it)."]
+        lines += [f"Not assessed: {n}" for n in self.notes]
+        return "\n".join(lines)
+
+
+def _row_dict(r: Row):
+    unit, scale = DISPLAY.get(r.unit, (r.unit, 1.0))
+    return dict(quantity=r.quantity, section=r.section, wheelset=r.wheelset, side=r.side, value=r.value * scale,
+                limit=None if r.limit is None else r.limit * scale, unit=unit, passes=r.passes)
+
+
+def comfort_rows(sig):
+    """N_MV per 5 min block and W_z lateral and vertical of the run, at the governing floor place."""
+    rows = []
+    places = list(sig.floor)
+    blocks = {p: comfort.n_mv(sig.floor[p], sig.rate) for p in places}
+    window = comfort.WINDOW_S
+    for k, (first, last, _) in enumerate(blocks[places[0]]):
+        name = "run" if len(blocks[places[0]]) == 1 else f"comfort block {k + 1}, {first * window:.0f}-{last * window:.0f} s"
+        values = [blocks[p][k][2] for p in places]
+        j = max(range(len(places)), key=lambda i: values[i])
+        rows.append(Row("N_MV", name, None, None, values[j], None, "-", f"car-body floor, {places[j]}"))
+    for quantity, axis, direction in (("Wz_lateral", 1, "lateral"), ("Wz_vertical", 2, "vertical")):
+        values = [float(comfort.sperling(sig.floor[p][:, axis], sig.rate, direction).max()) for p in places]
+        j = max(range(len(places)), key=lambda i: values[i])
+        rows.append(Row(quantity, "run", None, None, values[j], comfort.WZ_LIMIT, "-", f"car-body floor, {places[j]}"))
+    return rows
+
+
+def assess(sig):
+    """The Assessment of a run's signals (`signals.RunSignals`)."""
+    rows, secs, f0 = en14363.assess(sig)
+    notes = list(sig.notes)
+    if sig.floor is not None:
+        rows += comfort_rows(sig)
+    return Assessment(rows=rows, sections=secs, static_wheel_load=sig.static_wheel_load,
+                      instability_frequency=f0, source=sig.source, notes=notes)
+
