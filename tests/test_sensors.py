@@ -208,8 +208,8 @@ def test_the_shipped_sensor_file_is_the_default_set_written_out():
      "sample_rate_hz: 100}}",
      "instrument adxl355 noise_density -0.0001 m/s^2/sqrt(Hz) is outside the accepted range [0, 1e+09]"),
     ("mounts: {car_body_front: {accelerometer: adxl355, sample_rate_hz: 400}}",
-     "mount car_body_front sample_rate_hz 400 Hz (the simulator's output rate is the top) is outside the "
-     "accepted range (0, 200]"),
+     "mount car_body_front sample_rate_hz 400 Hz is outside the accepted range (0, 200] Hz (the top is the "
+     "simulator's output rate)"),
     ("mounts: {car_body_front: {accelerometer: adxl355, sample_rate_hz: 150}}",
      "sample_rate_hz 150 Hz does not divide the simulator's output rate 200 Hz"),
     ("mounts: {car_body_front: {accelerometer: adis16470, sample_rate_hz: 100}}",
@@ -222,3 +222,28 @@ def test_a_bad_sensor_file_is_refused_with_one_line_naming_the_value(tmp_path, t
     with pytest.raises(ValueError) as error:
         config.load(path, output_rate=200.0)
     assert message in str(error.value) and "\n" not in str(error.value)
+
+
+def test_simulate_stores_each_mounts_signals_in_the_output_file(tmp_path):
+    import json
+    from railderail_sim.cli import main
+    sensors = tmp_path / "two.yaml"
+    sensors.write_text("seed: 5\nmounts:\n  car_body_front: {accelerometer: adxl355, gyro: adis16470, "
+                       "sample_rate_hz: 100}\n  axle_box_3_right: {accelerometer: iepe_axle_box, gyro: none, "
+                       "sample_rate_hz: 200, latency_s: 0.0}\nodometer: {sample_rate_hz: 20}\n")
+    out = tmp_path / "run.npz"
+    assert main(["simulate", "--sensors", str(sensors), "--sensor-seed", "9", "--out", str(out)]) in (0, None)
+    d = np.load(out)
+    meta = json.loads(str(d["metadata"]))["sensors"]
+    assert meta["seed"] == 9 and meta["mounts"] == ["car_body_front", "axle_box_3_right"] and meta["odometer"]
+    n = len(d["time"])
+    front = d["sensor_car_body_front_time"]
+    assert len(front) == (n + 1) // 2 and np.allclose(np.diff(front), 0.01)
+    assert front[0] == pytest.approx(0.002)
+    assert d["sensor_car_body_front_acceleration"].shape == (len(front), 3)
+    assert d["sensor_car_body_front_angular_rate"].shape == (len(front), 3)
+    # at the start, on straight level track, the car body reads +g up (its bias within 4 sigma)
+    assert d["sensor_car_body_front_acceleration"][0, 2] == pytest.approx(G, abs=4 * INSTRUMENTS["adxl355"].bias)
+    assert "sensor_axle_box_3_right_angular_rate" not in d.files
+    assert np.array_equal(d["sensor_axle_box_3_right_time"], d["time"])
+    assert d["sensor_odometer_speed"].mean() == pytest.approx(300.0 / 3.6, rel=0.02)

@@ -60,8 +60,10 @@ class Sampling:
     dropout: float = 0.0            # A: none by default; a bus under load loses 1e-4 to 1e-2
 
     def validated(self, where, output_rate):
-        check_range(f"{where} sample_rate_hz", self.sample_rate_hz, 0.0, output_rate, "Hz (the simulator's output "
-                    "rate is the top)", lo_open=True)
+        try:
+            check_range(f"{where} sample_rate_hz", self.sample_rate_hz, 0.0, output_rate, "Hz", lo_open=True)
+        except ValueError as error:
+            raise ValueError(f"{error} (the top is the simulator's output rate)") from None
         ratio = output_rate / self.sample_rate_hz
         if abs(ratio - round(ratio)) > 1e-9 * ratio:
             raise ValueError(f"{where} sample_rate_hz {self.sample_rate_hz:g} Hz does not divide the simulator's "
@@ -248,6 +250,14 @@ def default_set():
                      air_springs=AirSpringSensors(deflection=INSTRUMENTS["air_spring_height"],
                                                   pressure=INSTRUMENTS["air_spring_pressure"], sampling=Sampling(50.0)),
                      odometer=Odometer(sampling=Sampling(10.0)))
+
+
+def metadata(sensors: SensorSet, source):
+    """What an output file's metadata says of its sensor set (docs/output-format.md)."""
+    return dict(file=str(source), seed=sensors.seed, mounts=[m.name for m in sensors.mounts],
+                gyros=[m.name for m in sensors.mounts if m.gyro is not None],
+                air_springs=list(AIR_SPRINGS) if sensors.air_springs is not None else [],
+                odometer=sensors.odometer is not None)
 
 
 def _value(v):
