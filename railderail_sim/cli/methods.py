@@ -105,6 +105,9 @@ def _plot_path(args):
     return plotting.checked_path(args.plot) if args.plot is not None else None
 
 
+SHIPPED_SENSORS = "shipped"     # --sensors without a file
+
+
 def simulate_command(parser):
     _common(parser)
     parser.add_argument("--radius", type=float, default=1000.0, help="curve radius (m)")
@@ -114,19 +117,36 @@ def simulate_command(parser):
     parser.add_argument("--rate", type=float, default=200.0, help="output rate (Hz)")
     parser.add_argument("--plot", metavar="FILE.png",
                         help="the run against position: rails, front wheelset, Q/P, lift (.png, .pdf or .svg)")
+    parser.add_argument("--sensors", nargs="?", const=SHIPPED_SENSORS, metavar="FILE.yaml",
+                        help="also record what the on-board sensors measure (docs/onboard.md): the sensor set of "
+                             "FILE.yaml, without a file the shipped one (railderail_sim/config/sensors.yaml); "
+                             "stored in --out as sensor_<mount>_time, _acceleration, _angular_rate, ...")
+    parser.add_argument("--sensor-seed", type=int, default=None,
+                        help="seed of the sensors' noise, biases and lost samples (default: the sensor file's)")
     _track_args(parser, "along the line")
     _wind_args(parser)
 
     def run(args):
+        from ..sensors import config as sensor_config
+        from ..sensors.measure import SensorLog
         from ..vehicle.simulate import simulate
         plot = _plot_path(args)
         sc = base_scenario(args, radius=args.radius, direction=-1 if args.right else 1)
         sc = replace(sc, speed_table=constant_speed(args.speed_kmh), output_rate=args.rate).validated()
         if args.out and not args.out.endswith(".npz"):
             raise ValueError(f"output file {args.out!r} must end in .npz")
-        r = simulate(sc)
+        log = None
+        if args.sensors is not None:
+            sensors = sensor_config.load(None if args.sensors == SHIPPED_SENSORS else args.sensors)
+            if args.sensor_seed is not None:
+                sensors = replace(sensors, seed=args.sensor_seed)
+            log = SensorLog(sensors.validated(sc.output_rate))
+        elif args.sensor_seed is not None:
+            raise ValueError("--sensor-seed needs --sensors")
+        r = simulate(sc, observe=None if log is None else log.observe)
         if args.out:
-            r.save(args.out)
+            r.save(args.out, **({} if log is None else dict(extra=log.arrays(), extra_metadata=dict(
+                sensors=sensor_config.metadata(log.sensors, args.sensors)))))
         if plot:
             plotting.run_figure(r, plot)
         s = r.summary()

@@ -129,7 +129,7 @@ def body_table(vp: VehicleParameters):
     return np.array(rows)
 
 
-def _local(bodies, b, q):
+def local_point(bodies, b, q):
     """Vehicle-coordinate point q in body b's coordinates (relative to its reference point)."""
     return (q[0] - bodies[b, BodyTable.station], q[1], q[2] - bodies[b, BodyTable.height])
 
@@ -159,6 +159,34 @@ def linear_law(clearance, stiffness):
     return (clearance + LINEAR_LAW_SPAN,), (stiffness * LINEAR_LAW_SPAN,)
 
 
+@dataclass(frozen=True)
+class AirSpring:
+    """One air spring: between bogie frame `bogie` (a layout.Body index) and the car body, at `point`
+    (vehicle coordinates, the middle of the spring); its vertical stiffness and preload (both zero when
+    deflated by a fault) give the bellows' force preload - stiffness * (the car body's point's rise over the
+    frame's, in the frame's axes)."""
+    name: str                   # air_spring_<front|rear>_<left|right>
+    bogie: int
+    point: tuple
+    vertical_stiffness: float   # N/m
+    preload: float              # N
+
+
+def air_springs(vp: VehicleParameters, faults=()):
+    """The four air springs, front left, front right, rear left, rear right, less what the faults take out."""
+    failed = failed_elements(faults)
+    springs = []
+    for i, bogie in enumerate(BOGIES):
+        xb = vp.bogie_semi_distance if i == 0 else -vp.bogie_semi_distance
+        for side in (1.0, -1.0):
+            deflated = ("air-spring-deflated", i, SIDES[side]) in failed
+            springs.append(AirSpring(name=f"air_spring_{('front', 'rear')[i]}_{SIDES[side]}", bogie=bogie,
+                                     point=(xb, side * vp.air_spring_semi_spacing, vp.secondary_height),
+                                     vertical_stiffness=0.0 if deflated else vp.secondary_vertical_stiffness,
+                                     preload=0.0 if deflated else vp.car_body_mass * GRAVITY / 4.0))
+    return springs
+
+
 def element_tables(vp: VehicleParameters, bodies, faults=()):
     """Bushings, two-point dampers, bump stops and anti-roll bars with their nominal preloads, less what the
     faults (FAULT_NAMES) take out:
@@ -183,16 +211,16 @@ def element_tables(vp: VehicleParameters, bodies, faults=()):
     w = vp.wheelbase_semi
     bush, damp, bump, arb = [], [], [], []
     box_preload = (0.5 * vp.car_body_mass + vp.bogie_frame_mass) * g / 4.0
-    air_preload = vp.car_body_mass * g / 4.0
+    springs = iter(air_springs(vp, faults))
 
     def add_bush(ba, bb, q, k, c, f0):
-        bush.append(Bushing.pack(body_a=ba, body_b=bb, point_a=_local(bodies, ba, q), point_b=_local(bodies, bb, q),
+        bush.append(Bushing.pack(body_a=ba, body_b=bb, point_a=local_point(bodies, ba, q), point_b=local_point(bodies, bb, q),
                                  stiffness=k, damping=c, preload=f0))
 
     def add_damper(ba, bb, qa, qb, knee, c1, c2, ks, state, fault):
         if fault in failed:
             c1 = c2 = 0.0
-        damp.append(Damper.pack(body_a=ba, body_b=bb, point_a=_local(bodies, ba, qa), point_b=_local(bodies, bb, qb),
+        damp.append(Damper.pack(body_a=ba, body_b=bb, point_a=local_point(bodies, ba, qa), point_b=local_point(bodies, bb, qb),
                                 knee_velocity=knee, damping=c1, damping_after_knee=c2, series_stiffness=ks,
                                 length=math.dist(qa, qb), state=State.dampers + state))
 
@@ -205,7 +233,7 @@ def element_tables(vp: VehicleParameters, bodies, faults=()):
         points = np.zeros((2, BUMP_POINTS))
         points[0, :n] = travel
         points[1, :n] = force
-        bump.append(BumpStop.pack(body_a=ba, body_b=bb, point_a=_local(bodies, ba, q), point_b=_local(bodies, bb, q),
+        bump.append(BumpStop.pack(body_a=ba, body_b=bb, point_a=local_point(bodies, ba, q), point_b=local_point(bodies, bb, q),
                                   axis=axis, clearance_negative=clearance_negative,
                                   clearance_positive=clearance_positive, points=n, travel=points[0],
                                   force=points[1]))
@@ -228,12 +256,11 @@ def element_tables(vp: VehicleParameters, bodies, faults=()):
                 add_stop(bogie, WHEELSETS[wheelset], q, VERTICAL, math.inf, vp.primary_stop_clearance,
                          linear_law(vp.primary_stop_clearance, vp.primary_stop_stiffness))
         for side in (1.0, -1.0):
-            q = (xb, side * vp.air_spring_semi_spacing, vp.secondary_height)
-            deflated = ("air-spring-deflated", i, SIDES[side]) in failed
+            spring = next(springs)
+            q = spring.point
             add_bush(bogie, CAR_BODY, q,
-                     (vp.secondary_longitudinal_stiffness, vp.secondary_lateral_stiffness,
-                      0.0 if deflated else vp.secondary_vertical_stiffness), (0.0, 0.0, 0.0),
-                     (0.0, 0.0, 0.0 if deflated else air_preload))
+                     (vp.secondary_longitudinal_stiffness, vp.secondary_lateral_stiffness, spring.vertical_stiffness),
+                     (0.0, 0.0, 0.0), (0.0, 0.0, spring.preload))
             # the car body comes down onto the emergency spring, or up against the height restraint
             add_stop(bogie, CAR_BODY, q, VERTICAL, vp.air_spring_emergency_clearance, math.inf,
                      linear_law(vp.air_spring_emergency_clearance, vp.air_spring_emergency_stiffness))

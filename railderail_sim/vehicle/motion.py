@@ -18,12 +18,25 @@ from .layout import Body, BodyMotion, Dof
 
 
 def relative_rotation(angles):
-    """(n, 3, 3) rotations track <- body from (n, 5) body states (roll, pitch, yaw of `layout.Dof`)."""
-    roll, pitch, yaw = (np.asarray(angles[:, d], dtype=float) for d in (Dof.roll, Dof.pitch, Dof.yaw))
+    """(..., 3, 3) rotations track <- body from (..., 5) body states (roll, pitch, yaw of `layout.Dof`)."""
+    roll, pitch, yaw = (np.asarray(angles[..., d], dtype=float) for d in (Dof.roll, Dof.pitch, Dof.yaw))
     cr, sr, cp, sp, cy, sy = np.cos(roll), np.sin(roll), np.cos(pitch), np.sin(pitch), np.cos(yaw), np.sin(yaw)
     return np.stack([np.stack([cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr], -1),
                      np.stack([sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr], -1),
                      np.stack([-sp, cp * sr, cp * cr], -1)], -2)
+
+
+def points_motion(arrays, bodies, points):
+    """(specific force (n, m, 3) m/s^2, angular rate (n, m, 3) rad/s), both in each body's axes, of m points:
+    `points` (m, 3) (m, body axes from the body's reference point: x forward, y left, z up) of `bodies` (m
+    `layout.Body` indices)."""
+    b = np.asarray(bodies, dtype=int)
+    motion = BodyMotion.split(np.asarray(arrays["body_motion"])[:, b])
+    rotation = relative_rotation(np.asarray(arrays["body_states"])[:, b])
+    r = np.einsum("nmij,mj->nmi", rotation, np.asarray(points, dtype=float))
+    omega, alpha = motion["angular_velocity"], motion["angular_acceleration"]
+    force = motion["specific_force"] + np.cross(alpha, r) + np.cross(omega, np.cross(omega, r))
+    return np.einsum("nmji,nmj->nmi", rotation, force), np.einsum("nmji,nmj->nmi", rotation, omega)
 
 
 def point_motion(arrays, body, point):
@@ -31,10 +44,5 @@ def point_motion(arrays, body, point):
     `point` (m, body axes from the body's reference point: x forward, y left, z up) of `body` (a
     `layout.Body` or its name)."""
     b = Body[body] if isinstance(body, str) else Body(body)
-    motion = BodyMotion.split(np.asarray(arrays["body_motion"])[:, b])
-    rotation = relative_rotation(np.asarray(arrays["body_states"])[:, b])
-    r = rotation @ np.asarray(point, dtype=float)
-    omega, alpha = motion["angular_velocity"], motion["angular_acceleration"]
-    force = motion["specific_force"] + np.cross(alpha, r) + np.cross(omega, np.cross(omega, r))
-    to_body = np.swapaxes(rotation, -1, -2)
-    return np.einsum("nij,nj->ni", to_body, force), np.einsum("nij,nj->ni", to_body, omega)
+    force, rate = points_motion(arrays, [b], [point])
+    return force[:, 0], rate[:, 0]

@@ -301,12 +301,15 @@ def state_name(i):
     return "track position"
 
 
-def simulate(sc: Scenario, progress=None, chunk=1.0):
-    """Run a scenario to the end of the line (or derailment); returns a Result."""
+def simulate(sc: Scenario, progress=None, chunk=1.0, observe=None):
+    """Run a scenario to the end of the line (or derailment); returns a Result. `observe(sim, rows)`, if
+    given, sees each chunk's new output rows (the sensors' log, sensors.measure.SensorLog)."""
     sim = Simulation(sc)
     parts = []
     while sim.status == itg.RUNNING:
         parts.append(sim.advance(chunk))
+        if observe is not None:
+            observe(sim, parts[-1])
         if progress is not None:
             progress(sim)
     rows = np.concatenate(parts) if parts else np.zeros((0, N_OUT))
@@ -402,8 +405,9 @@ class Result:
                  track_model=self.scenario.track_model, derailment=self.derailment)
         return s
 
-    def save(self, path):
-        """Write the documented .npz format (docs/output-format.md) atomically."""
+    def save(self, path, extra=None, extra_metadata=None):
+        """Write the documented .npz format (docs/output-format.md) atomically, with the arrays `extra`
+        (the sensors' signals) and `extra_metadata` in the metadata."""
         meta = dict(status=self.status, derailment=self.derailment, flange_height_m=self.flange_height,
                     radius_m=self.scenario.track.radius, vehicle_set=self.scenario.vehicle.name,
                     contact_model=self.scenario.contact.normal_model,
@@ -415,6 +419,6 @@ class Result:
                         speed_m_s=self.scenario.wind.speed, direction_deg=self.scenario.wind.direction_deg,
                         gust=self.scenario.wind.gust),
                     faults=list(self.scenario.faults), speed_table=self.scenario.speed_table.tolist(),
-                    rtol=self.scenario.rtol, atol=self.scenario.atol)
+                    rtol=self.scenario.rtol, atol=self.scenario.atol, **(extra_metadata or {}))
         with atomic_write(path, "wb") as handle:
-            np.savez_compressed(handle, metadata=jsonout.dumps(meta), **self.arrays())
+            np.savez_compressed(handle, metadata=jsonout.dumps(meta), **self.arrays(), **(extra or {}))

@@ -1,0 +1,255 @@
+"""The sensors' signals from a run's output rows, chunk by chunk (`SensorStream`) or whole (`SensorLog`).
+
+The ideal signals come from the output rows: each mount's specific force and angular rate in its body's
+axes (`vehicle.motion.points_motion`), each air spring's deflection and elastic force from the bodies'
+positions (the core's own kinematics, `vehicle.dynamics.kinematics`), the odometer's pulses from the
+distance run. Each instrument's model (instruments.py) is applied at the output rate, then the samples are
+taken at the mount's rate (every k-th row, k = output rate / sample rate, counted from the run's first row),
+clipped and quantised, stamped with the physical instant plus the latency, and some dropped.
+
+Determinism: every mount (and the air springs, the odometer) draws from its own PCG64 generators seeded by
+`SeedSequence(seed, spawn_key=(crc32 of its name,))`, spawned into the white noise with the bias's random
+walk, the constant bias and the lost samples; the draws, the filters (scipy.signal.sosfilt with its state
+carried) and the walk's running sum are the same whatever the chunks, so a run gives the same signals bit
+for bit from the same seed, processed at once or row by row (the simulator node).
+"""
+import zlib
+
+import numpy as np
+from scipy import signal
+
+from ..vehicle.assemble import air_springs, local_point
+from ..vehicle.dynamics import K_COLS, Kinematics, kinematics
+from ..vehicle.layout import CAR_BODY, N_BODY, N_STATE, State
+from ..vehicle.motion import points_motion
+from ..vehicle.simulate import output_arrays
+from .config import ODOMETER, SensorSet, mount_point
+
+AXES = 3
+
+
+def generators(seed, name):
+    """The (white noise and random walk, constant bias, lost samples) generators of a named sensor unit."""
+    children = np.random.SeedSequence(seed, spawn_key=(zlib.crc32(name.encode()),)).spawn(3)
+    return tuple(np.random.Generator(np.random.PCG64(child)) for child in children)
+
+
+def filter_sections(inst, sampling, output_rate):
+    """The second-order sections (scipy.signal) of an instrument's AC coupling and anti-alias low-pass at the
+    output rate."""
+    sos = [signal.butter(inst.anti_alias_order, inst.anti_alias_ratio * sampling.sample_rate_hz, fs=output_rate,
+                         output="sos")]
+    if inst.high_pass_hz > 0.0:
+        sos.insert(0, signal.butter(1, inst.high_pass_hz, btype="highpass", fs=output_rate, output="sos"))
+    return np.vstack(sos)
+
+
+def noise_bandwidth(sos, output_rate, points=1 << 16):
+    """Equivalent noise bandwidth (Hz) of a filter at the output rate: the integral of |H|^2 over 0..fs/2."""
+    _, h = signal.sosfreqz(sos, worN=points, fs=output_rate)
+    return float(np.mean(np.abs(h) ** 2) * output_rate / 2.0)
+
+
+def noise_variance(inst, sampling, output_rate):
+    """Variance of a reading about the truth (unit^2), as a sensor_msgs covariance states it: the white noise
+    through the filters, the constant bias and the quantisation (the bias's random walk, growing with time,
+    left out)."""
+    white = inst.noise_density ** 2 * noise_bandwidth(filter_sections(inst, sampling, output_rate), output_rate)
+    return white + inst.bias ** 2 + inst.resolution ** 2 / 12.0
+
+
+class _Unit:
+    """A sensor unit's channels: its columns of the channel matrix, sampling and generators."""
+
+    def __init__(self, name, columns, sampling, seed, output_rate):
+        self.name, self.columns, self.sampling = name, columns, sampling
+        self.every = sampling.decimation(output_rate)
+        self.noise, self.bias, self.lost = generators(seed, name)
+
+
+class SensorStream:
+    """The sensor set's measurements of a run, fed with its output arrays chunk by chunk (`process`).
+
+    `scenario` is the run's (its vehicle, faults and output rate); `model` and `speed_table` (the
+    Simulation's) are needed for the air springs only."""
+
+    def __init__(self, sensors: SensorSet, scenario, model=None, speed_table=None):
+        self.fs = float(scenario.output_rate)
+        self.sensors = sensors.validated(self.fs)
+        vp = scenario.vehicle
+        self.units, insts = [], []
+        places = [mount_point(m.name, vp) for m in sensors.mounts]
+        self.mount_bodies = np.array([int(b) for b, _ in places], dtype=int)
+        self.mount_points = np.array([np.add(p, m.offset) for (_, p), m in zip(places, sensors.mounts)]).reshape(-1, 3)
+        column = 0
+        for m in sensors.mounts:
+            parts = [m.accelerometer] + ([m.gyro] if m.gyro is not None else [])
+            self.units.append(_Unit(m.name, np.arange(column, column + AXES * len(parts)), m.sampling, sensors.seed,
+                                    self.fs))
+            insts += [inst for inst in parts for _ in range(AXES)]
+            column += AXES * len(parts)
+        self.springs = None
+        if sensors.air_springs is not None:
+            if model is None or speed_table is None:
+                raise ValueError("the air springs' sensors need the run's model and speed table")
+            a = sensors.air_springs
+            self.springs = air_springs(vp, scenario.faults)
+            self.model, self.speed_table = model, np.ascontiguousarray(speed_table, dtype=np.float64)
+            self.spring_local = np.array([[local_point(model.bodies, s.bogie, s.point) for s in self.springs],
+                                          [local_point(model.bodies, CAR_BODY, s.point) for s in self.springs]])
+            n = len(self.springs)
+            self.units.append(_Unit("air_springs", np.arange(column, column + 2 * n), a.sampling, sensors.seed, self.fs))
+            insts += [a.deflection] * n + [a.pressure] * n
+            column += 2 * n
+        self.instruments = insts
+        cols = np.arange(column)
+        self.white = np.array([i.noise_density * np.sqrt(self.fs / 2.0) for i in insts])
+        self.walk_step = np.array([i.bias_random_walk / np.sqrt(self.fs) for i in insts])
+        self.low = np.array([i.range_low for i in insts])
+        self.high = np.array([i.range_high for i in insts])
+        self.lsb = np.array([i.resolution for i in insts])
+        self.codes = np.array([2.0 ** i.bits - 1.0 for i in insts])
+        self.constant_bias = np.zeros(column)
+        for u in self.units:
+            self.constant_bias[u.columns] = u.bias.standard_normal(len(u.columns)) * [insts[c].bias for c in u.columns]
+        self.walk = np.zeros(column)
+        # the filters, one sosfilt call per distinct design; their states start settled on the first row
+        sampling = {c: u.sampling for u in self.units for c in u.columns}
+        designs, groups = {}, {}
+        for c in cols:
+            key = (insts[c], sampling[c].sample_rate_hz)
+            if key not in designs:
+                designs[key] = filter_sections(insts[c], sampling[c], self.fs)
+            groups.setdefault(designs[key].tobytes(), (designs[key], []))[1].append(c)
+        self.filters = [(sos, np.array(c), None) for sos, c in groups.values()]
+        self.odometer = sensors.odometer
+        if self.odometer is not None:
+            o = self.odometer
+            self.odometer_unit = _Unit(ODOMETER, np.arange(0), o.sampling, sensors.seed, self.fs)
+            circumference = 2.0 * np.pi * vp.rolling_radius / o.pulses_per_revolution
+            scale = 1.0 + o.radius_error * self.odometer_unit.bias.standard_normal()
+            self.pulse_nominal, self.pulse_true = circumference, circumference * scale
+            self.last_count = None
+        self.row = 0
+
+    # --- the ideal signals ----------------------------------------------------------------------
+
+    def ideal(self, a):
+        """(n, channels) ideal readings of the output arrays `a` (vehicle.simulate.output_arrays)."""
+        n = len(a["time"])
+        parts = []
+        if len(self.sensors.mounts):
+            force, rate = points_motion(a, self.mount_bodies, self.mount_points)
+            for k, m in enumerate(self.sensors.mounts):
+                parts += [force[:, k]] + ([rate[:, k]] if m.gyro is not None else [])
+        if self.springs is not None:
+            deflection, force = self.spring_states(a)
+            parts += [deflection, force / self.sensors.air_springs.effective_area_m2]
+        return np.concatenate(parts, axis=1) if parts else np.zeros((n, 0))
+
+    def spring_states(self, a):
+        """(deflection (n, 4) m, compression +, elastic force (n, 4) N) of the air springs: the car body's
+        point of each spring against its frame's, in the frame's axes, from the core's kinematics."""
+        n = len(a["time"])
+        x = np.zeros(N_STATE)
+        kin = np.zeros((N_BODY, K_COLS))
+        rows = np.zeros((n, N_BODY, K_COLS))
+        for i in range(n):
+            x[State.positions.columns] = a["body_states"][i].ravel()
+            x[State.s] = a["position"][i]
+            kinematics(x, self.model.bodies, self.model.track, self.speed_table, kin)
+            rows[i] = kin
+        position = rows[:, :, Kinematics.position.columns]
+        rotation = rows[:, :, Kinematics.rotation.columns].reshape(n, N_BODY, 3, 3)
+        bogies = np.array([s.bogie for s in self.springs])
+        at_frame = position[:, bogies] + np.einsum("nsij,sj->nsi", rotation[:, bogies], self.spring_local[0])
+        at_body = position[:, [CAR_BODY]] + np.einsum("nij,sj->nsi", rotation[:, CAR_BODY], self.spring_local[1])
+        rise = np.einsum("nsji,nsj->nsi", rotation[:, bogies], at_body - at_frame)[..., 2]
+        stiffness = np.array([s.vertical_stiffness for s in self.springs])
+        preload = np.array([s.preload for s in self.springs])
+        return -rise, preload - stiffness * rise
+
+    # --- the sensor models ----------------------------------------------------------------------
+
+    def process(self, a):
+        """The new samples of the output arrays `a` of the next rows: {unit name: {signal: array}}, the
+        mounts' `time` (s), `acceleration` (m, 3) m/s^2 and `angular_rate` (m, 3) rad/s; the air springs'
+        `time`, `deflection` (m, 4) m and `pressure` (m, 4) Pa; the odometer's `time` and `speed` (m/s)."""
+        n = len(a["time"])
+        out = {}
+        if n == 0:
+            return out
+        y = self.ideal(a) + self.constant_bias
+        for u in self.units:
+            c = len(u.columns)
+            draws = u.noise.standard_normal((n, 2 * c))
+            y[:, u.columns] += draws[:, :c] * self.white[u.columns]
+            steps = draws[:, c:] * self.walk_step[u.columns]
+            walk = np.cumsum(np.concatenate([self.walk[u.columns][None], steps]), axis=0)[1:]
+            self.walk[u.columns] = walk[-1]
+            y[:, u.columns] += walk
+        for k, (sos, cols, state) in enumerate(self.filters):
+            if state is None:
+                state = signal.sosfilt_zi(sos)[..., None] * y[0, cols]
+            y[:, cols], state = signal.sosfilt(sos, y[:, cols], axis=0, zi=state)
+            self.filters[k] = (sos, cols, state)
+        rows = self.row + np.arange(n)
+        for u in self.units:
+            take = np.flatnonzero(rows % u.every == 0)
+            samples = self.quantised(y[np.ix_(take, u.columns)], u.columns)
+            kept = u.lost.random(len(take)) >= u.sampling.dropout
+            time = a["time"][take][kept] + u.sampling.latency_s
+            samples = samples[kept]
+            if u.name == "air_springs":
+                half = len(u.columns) // 2
+                out[u.name] = dict(time=time, deflection=samples[:, :half], pressure=samples[:, half:])
+            else:
+                out[u.name] = dict(time=time, acceleration=samples[:, :AXES])
+                if len(u.columns) > AXES:
+                    out[u.name]["angular_rate"] = samples[:, AXES:]
+        if self.odometer is not None:
+            out[ODOMETER] = self.odometer_samples(a, rows)
+        self.row += n
+        return out
+
+    def quantised(self, x, cols):
+        """Readings clipped to each channel's range and rounded to its resolution."""
+        low, lsb = self.low[cols], self.lsb[cols]
+        clipped = np.clip(x, low, self.high[cols])
+        coded = lsb > 0.0
+        step = np.where(coded, lsb, 1.0)
+        codes = np.clip(np.round((clipped - low) / step), 0.0, self.codes[cols])
+        return np.where(coded, low + codes * step, clipped)
+
+    def odometer_samples(self, a, rows):
+        """The odometer's speed: the pulses counted since its last sample times the nominal pulse length,
+        over the sample period (its first sample one period after the run's start)."""
+        u, o = self.odometer_unit, self.odometer
+        counts = np.floor(a["position"] / self.pulse_true)
+        if self.last_count is None:
+            self.last_count = counts[0]
+        take = np.flatnonzero((rows % u.every == 0) & (rows > 0))
+        previous = np.concatenate([[self.last_count], counts[take][:-1]])
+        speed = (counts[take] - previous) * self.pulse_nominal * o.sampling.sample_rate_hz
+        if len(take):
+            self.last_count = counts[take][-1]
+        kept = u.lost.random(len(take)) >= o.sampling.dropout
+        return dict(time=a["time"][take][kept] + o.sampling.latency_s, speed=speed[kept])
+
+
+class SensorLog:
+    """A whole run's sensor signals: `observe(sim, rows)` after each chunk of `vehicle.simulate.simulate`,
+    then `arrays()`: `sensor_<unit>_<signal>` arrays for the output file (docs/output-format.md)."""
+
+    def __init__(self, sensors: SensorSet):
+        self.sensors, self.stream, self.parts = sensors, None, {}
+
+    def observe(self, sim, rows):
+        if self.stream is None:
+            self.stream = SensorStream(self.sensors, sim.scenario, sim.model, sim.speed_table)
+        for unit, signals in self.stream.process(output_arrays(rows)).items():
+            for name, values in signals.items():
+                self.parts.setdefault(f"sensor_{unit}_{name}", []).append(values)
+
+    def arrays(self):
+        return {name: np.concatenate(parts) for name, parts in self.parts.items()}
