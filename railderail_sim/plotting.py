@@ -474,6 +474,29 @@ def assessment_figure(assessment, path):
         ax.set_title(f"{assessment.source}: EN 14363 and comfort, hatched: beyond the limit")
 
 
+def assessment_study_figure(summaries, quantities, path):
+    """The assessment study (`assessment.study`): each case's largest share of each quantity's limit as a
+    grid (cases across, quantities down), the share written in each cell, 100 % the limit."""
+    grid = np.full((len(quantities), len(summaries)), np.nan)
+    for j, s in enumerate(summaries):
+        for i, q in enumerate(quantities):
+            shares = [r["utilisation"] for r in s["governing"] if r["quantity"] == q and r["utilisation"] is not None]
+            if shares:
+                grid[i, j] = 100.0 * max(shares)
+    with figure(path, (1.6 + 0.55 * len(summaries), 1.8 + 0.35 * len(quantities))) as fig:
+        ax = fig.subplots()
+        image = ax.imshow(grid, cmap="RdYlGn_r", vmin=0.0, vmax=150.0, aspect="auto")
+        for (i, j), value in np.ndenumerate(grid):
+            if np.isfinite(value):
+                ax.text(j, i, f"{value:.0f}", ha="center", va="center", fontsize=6,
+                        fontweight="bold" if value > 100.0 else "normal")
+        ax.set_xticks(range(len(summaries)), [s["label"].replace(", ", "\n", 3) for s in summaries], fontsize=5.5)
+        ax.set_yticks(range(len(quantities)), quantities)
+        ax.grid(False)
+        fig.colorbar(image, ax=ax, label="largest value / limit (%)", shrink=0.8)
+        ax.set_title("EN 14363 quantities and Sperling's index at the permitted speed (100 % = the limit)")
+
+
 # ------------------------------------------------------------------------------------------------
 # track
 # ------------------------------------------------------------------------------------------------

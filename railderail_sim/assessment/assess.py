@@ -38,7 +38,7 @@ class Assessment:
         return dict(static_wheel_load_kN=self.static_wheel_load / 1e3,
                     standard=dict(STANDARD, instability_frequency_Hz=self.instability_frequency,
                                   not_assessed=self.notes),
-                    quantities=[_row_dict(r) for r in self.rows])
+                    quantities=[row_dict(r) for r in self.rows])
 
     def governing(self):
         """The row of the largest |value| / limit (or |value|) per quantity and section, in QUANTITIES order."""
@@ -87,7 +87,7 @@ class Assessment:
         return "\n".join(lines)
 
 
-def _row_dict(r: Row):
+def row_dict(r: Row):
     unit, scale = DISPLAY.get(r.unit, (r.unit, 1.0))
     return dict(quantity=r.quantity, section=r.section, wheelset=r.wheelset, side=r.side, value=r.value * scale,
                 limit=None if r.limit is None else r.limit * scale, unit=unit, passes=r.passes)
