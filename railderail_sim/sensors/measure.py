@@ -59,7 +59,7 @@ def noise_variance(inst, sampling, output_rate):
 
 
 class _Unit:
-    """A sensor unit's channels: its columns of the channel matrix, sampling and generators."""
+    """A sensor unit's channels: its columns of the channel matrix (a slice), sampling and generators."""
 
     def __init__(self, name, columns, sampling, seed, output_rate):
         self.name, self.columns, self.sampling = name, columns, sampling
@@ -84,7 +84,7 @@ class SensorStream:
         column = 0
         for m in sensors.mounts:
             parts = [m.accelerometer] + ([m.gyro] if m.gyro is not None else [])
-            self.units.append(_Unit(m.name, np.arange(column, column + AXES * len(parts)), m.sampling, sensors.seed,
+            self.units.append(_Unit(m.name, slice(column, column + AXES * len(parts)), m.sampling, sensors.seed,
                                     self.fs))
             insts += [inst for inst in parts for _ in range(AXES)]
             column += AXES * len(parts)
@@ -98,7 +98,7 @@ class SensorStream:
             self.spring_local = np.array([[local_point(model.bodies, s.bogie, s.point) for s in self.springs],
                                           [local_point(model.bodies, CAR_BODY, s.point) for s in self.springs]])
             n = len(self.springs)
-            self.units.append(_Unit("air_springs", np.arange(column, column + 2 * n), a.sampling, sensors.seed, self.fs))
+            self.units.append(_Unit("air_springs", slice(column, column + 2 * n), a.sampling, sensors.seed, self.fs))
             insts += [a.deflection] * n + [a.pressure] * n
             column += 2 * n
         self.instruments = insts
@@ -111,10 +111,11 @@ class SensorStream:
         self.codes = np.array([2.0 ** i.bits - 1.0 for i in insts])
         self.constant_bias = np.zeros(column)
         for u in self.units:
-            self.constant_bias[u.columns] = u.bias.standard_normal(len(u.columns)) * [insts[c].bias for c in u.columns]
+            width = u.columns.stop - u.columns.start
+            self.constant_bias[u.columns] = u.bias.standard_normal(width) * [i.bias for i in insts[u.columns]]
         self.walk = np.zeros(column)
         # the filters, one sosfilt call per distinct design; their states start settled on the first row
-        sampling = {c: u.sampling for u in self.units for c in u.columns}
+        sampling = {c: u.sampling for u in self.units for c in range(u.columns.start, u.columns.stop)}
         designs, groups = {}, {}
         for c in cols:
             key = (insts[c], sampling[c].sample_rate_hz)
@@ -125,7 +126,7 @@ class SensorStream:
         self.odometer = sensors.odometer
         if self.odometer is not None:
             o = self.odometer
-            self.odometer_unit = _Unit(ODOMETER, np.arange(0), o.sampling, sensors.seed, self.fs)
+            self.odometer_unit = _Unit(ODOMETER, slice(0, 0), o.sampling, sensors.seed, self.fs)
             circumference = 2.0 * np.pi * vp.rolling_radius / o.pulses_per_revolution
             scale = 1.0 + o.radius_error * self.odometer_unit.bias.standard_normal()
             self.pulse_nominal, self.pulse_true = circumference, circumference * scale
@@ -181,11 +182,11 @@ class SensorStream:
             return out
         y = self.ideal(a) + self.constant_bias
         for u in self.units:
-            c = len(u.columns)
+            c = u.columns.stop - u.columns.start
             draws = u.noise.standard_normal((n, 2 * c))
             y[:, u.columns] += draws[:, :c] * self.white[u.columns]
             steps = draws[:, c:] * self.walk_step[u.columns]
-            walk = np.cumsum(np.concatenate([self.walk[u.columns][None], steps]), axis=0)[1:]
+            walk = np.cumsum(np.concatenate([self.walk[None, u.columns], steps]), axis=0)[1:]
             self.walk[u.columns] = walk[-1]
             y[:, u.columns] += walk
         for k, (sos, cols, state) in enumerate(self.filters):
@@ -196,16 +197,16 @@ class SensorStream:
         rows = self.row + np.arange(n)
         for u in self.units:
             take = np.flatnonzero(rows % u.every == 0)
-            samples = self.quantised(y[np.ix_(take, u.columns)], u.columns)
+            samples = self.quantised(y[take, u.columns], u.columns)
             kept = u.lost.random(len(take)) >= u.sampling.dropout
             time = a["time"][take][kept] + u.sampling.latency_s
             samples = samples[kept]
             if u.name == "air_springs":
-                half = len(u.columns) // 2
+                half = (u.columns.stop - u.columns.start) // 2
                 out[u.name] = dict(time=time, deflection=samples[:, :half], pressure=samples[:, half:])
             else:
                 out[u.name] = dict(time=time, acceleration=samples[:, :AXES])
-                if len(u.columns) > AXES:
+                if u.columns.stop - u.columns.start > AXES:
                     out[u.name]["angular_rate"] = samples[:, AXES:]
         if self.odometer is not None:
             out[ODOMETER] = self.odometer_samples(a, rows)
@@ -215,11 +216,12 @@ class SensorStream:
     def quantised(self, x, cols):
         """Readings clipped to each channel's range and rounded to its resolution."""
         low, lsb = self.low[cols], self.lsb[cols]
-        clipped = np.clip(x, low, self.high[cols])
-        coded = lsb > 0.0
-        step = np.where(coded, lsb, 1.0)
-        codes = np.clip(np.round((clipped - low) / step), 0.0, self.codes[cols])
-        return np.where(coded, low + codes * step, clipped)
+        clipped = np.minimum(np.maximum(x, low), self.high[cols])      # (np.clip is slower on small arrays)
+        if not np.any(lsb):
+            return clipped
+        step = np.where(lsb > 0.0, lsb, 1.0)
+        codes = np.minimum(np.maximum(np.round((clipped - low) / step), 0.0), self.codes[cols])
+        return np.where(lsb > 0.0, low + codes * step, clipped)
 
     def odometer_samples(self, a, rows):
         """The odometer's speed: the pulses counted since its last sample times the nominal pulse length,
