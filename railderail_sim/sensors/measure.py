@@ -19,11 +19,12 @@ import numpy as np
 from scipy import signal
 
 from ..vehicle.assemble import air_springs, local_point
-from ..vehicle.dynamics import K_COLS, Kinematics, kinematics
-from ..vehicle.layout import CAR_BODY, N_BODY, N_STATE, State
+from ..vehicle.dynamics import K_COLS
+from ..vehicle.layout import CAR_BODY, N_BODY, N_STATE
 from ..vehicle.motion import points_motion
 from ..vehicle.simulate import output_arrays
 from .config import ODOMETER, SensorSet, mount_point
+from .springs import spring_rise
 
 AXES = 3
 
@@ -97,6 +98,9 @@ class SensorStream:
             self.model, self.speed_table = model, np.ascontiguousarray(speed_table, dtype=np.float64)
             self.spring_local = np.array([[local_point(model.bodies, s.bogie, s.point) for s in self.springs],
                                           [local_point(model.bodies, CAR_BODY, s.point) for s in self.springs]])
+            self.spring_bogies = np.array([s.bogie for s in self.springs], dtype=np.int64)
+            self.spring_stiffness = np.array([s.vertical_stiffness for s in self.springs])
+            self.spring_preload = np.array([s.preload for s in self.springs])
             n = len(self.springs)
             self.units.append(_Unit("air_springs", slice(column, column + 2 * n), a.sampling, sensors.seed, self.fs))
             insts += [a.deflection] * n + [a.pressure] * n
@@ -152,23 +156,11 @@ class SensorStream:
         """(deflection (n, 4) m, compression +, elastic force (n, 4) N) of the air springs: the car body's
         point of each spring against its frame's, in the frame's axes, from the core's kinematics."""
         n = len(a["time"])
-        x = np.zeros(N_STATE)
-        kin = np.zeros((N_BODY, K_COLS))
-        rows = np.zeros((n, N_BODY, K_COLS))
-        for i in range(n):
-            x[State.positions.columns] = a["body_states"][i].ravel()
-            x[State.s] = a["position"][i]
-            kinematics(x, self.model.bodies, self.model.track, self.speed_table, kin)
-            rows[i] = kin
-        position = rows[:, :, Kinematics.position.columns]
-        rotation = rows[:, :, Kinematics.rotation.columns].reshape(n, N_BODY, 3, 3)
-        bogies = np.array([s.bogie for s in self.springs])
-        at_frame = position[:, bogies] + np.einsum("nsij,sj->nsi", rotation[:, bogies], self.spring_local[0])
-        at_body = position[:, [CAR_BODY]] + np.einsum("nij,sj->nsi", rotation[:, CAR_BODY], self.spring_local[1])
-        rise = np.einsum("nsji,nsj->nsi", rotation[:, bogies], at_body - at_frame)[..., 2]
-        stiffness = np.array([s.vertical_stiffness for s in self.springs])
-        preload = np.array([s.preload for s in self.springs])
-        return -rise, preload - stiffness * rise
+        rise = np.zeros((n, len(self.springs)))
+        spring_rise(np.ascontiguousarray(np.reshape(a["body_states"], (n, -1))), np.ascontiguousarray(a["position"]),
+                    self.model.bodies, self.model.track, self.speed_table, self.spring_bogies, self.spring_local,
+                    np.zeros(N_STATE), np.zeros((N_BODY, K_COLS)), rise)
+        return -rise, self.spring_preload - self.spring_stiffness * rise
 
     # --- the sensor models ----------------------------------------------------------------------
 
