@@ -43,6 +43,7 @@ from rclpy.utilities import remove_ros_args
 from rosidl_adapter.parser import parse_message_string
 
 from railderail_sim import ros_interface as m
+from railderail_sim.sensors.config import load as load_sensors
 
 from .bag import bag_file, write_bag_metadata
 
@@ -317,7 +318,10 @@ class RecorderNode(Node):
                              f"as it is: recover it with `{recover_hint(path)}`, or remove it, then record again")
         self.recording = McapRecording(path, metadata=metadata, flush_period_s=flush_period_s)
         self.subscriptions_by_topic = {}
-        for topic, (type_name, _, pub_qos, sub_qos) in {**m.TOPICS, m.CLOCK: m.CLOCK_TOPIC}.items():
+        # the shipped sensor set's topics from the start too (another set's are discovered within a second)
+        shipped_sensors = m.sensor_topics(load_sensors())
+        for topic, (type_name, _, pub_qos, sub_qos) in {**m.TOPICS, **shipped_sensors,
+                                                        m.CLOCK: m.CLOCK_TOPIC}.items():
             self.subscribe(topic, type_name, sub_qos, pub_qos)
         self.create_timer(1.0, self.discover)
         self.create_timer(flush_period_s, self.recording.flush)

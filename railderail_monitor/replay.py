@@ -246,7 +246,9 @@ class Publisher:
             except (ImportError, AttributeError, ValueError):
                 log(f"replay: cannot publish {topic}: type {type_name} is not installed")
                 continue
-            self.publishers[topic] = self.node.create_publisher(cls, topic, qos.get(topic, QoSProfile(depth=100)))
+            sensor = topic.startswith(m.SENSORS_NS + "/")
+            self.publishers[topic] = self.node.create_publisher(cls, topic, qos.get(topic, m.SENSOR if sensor else
+                                                                                    QoSProfile(depth=100)))
         self.rate = rate
         self.t0_log = recording.messages[0][2] if recording.messages else 0
         self.t0_wall = None

@@ -26,6 +26,7 @@ from railderail_sim import ros_interface as m
 from railderail_sim.loads.wind import DIRECTION_RANGE_DEG, GUSTS, WIND_SPEED_RANGE, Wind
 from railderail_sim.parameters import CANT_RANGE_MM, FRICTION_RANGE, TRACK_MODELS
 from railderail_sim.ros_interface import REAL_TIME_FACTOR_RANGE, ParameterSpec as P
+from railderail_sim.sensors.config import SEED_RANGE, load as load_sensors
 from railderail_sim.track.irregularity import SEEDS, SPECTRA, resolve
 from railderail_sim.vehicle.assemble import FAULT_NAMES, NORMAL_MODELS
 from railderail_sim.vehicle.simulate import (RADIUS_RANGE, SPEED_RANGE_KMH, Simulation, SimulationDiverged,
@@ -75,12 +76,26 @@ PARAMETERS = (
     P("linger_s", 1.0, "time the node stays up after the run stops, so that late subscribers get the final "
       "status and derailment event (transient local)", "s", (0.0, 60.0)),
     P("frame_id", "track", "header.frame_id of the published messages"),
+    P("sensors", "none", "on-board sensors published under /railderail/sensors/ (docs/onboard.md): none, shipped "
+      "(railderail_sim/config/sensors.yaml) or the path of a sensor file", read_only=True),
+    P("sensor_seed", -1, "seed of the sensors' noise, biases and lost samples; -1: the sensor file's", "",
+      (-1, SEED_RANGE[1]), read_only=True),
 )
 
 
 def check_rates(p):
     if p["status_rate"] > p["publish_rate"]:
         raise ValueError(f"status_rate {p['status_rate']:g} Hz is above publish_rate {p['publish_rate']:g} Hz")
+
+
+def sensor_set(p):
+    """The sensor set of the node's parameters (None: no sensors), checked against the publish rate."""
+    if p["sensors"] == "none":
+        return None
+    sensors = load_sensors(None if p["sensors"] == "shipped" else p["sensors"])
+    if p["sensor_seed"] >= 0:
+        sensors = replace(sensors, seed=p["sensor_seed"])
+    return sensors.validated(p["publish_rate"])
 
 
 def build_scenario(p):
@@ -107,6 +122,7 @@ class SimulatorNode(Node):
         super().__init__("railderail_simulator")
         self.p = m.declare_parameters(self, PARAMETERS, check=check_rates, apply=self.on_parameters)
         self.scenario = build_scenario(self.p)
+        self.sensors = sensor_set(self.p)
         self.get_logger().info(f"railderail simulator: building the model (R = {self.p['radius']:g} m, "
                                f"{self.p['speed_mode']} speed from {self.p['speed_kmh']:g} km/h, "
                                f"{self.p['contact_model']} contact"
@@ -120,6 +136,15 @@ class SimulatorNode(Node):
         self.convert = m.RowConverter(self.p["frame_id"])
         self.pubs = {topic: self.create_publisher(cls, topic, qos)
                      for topic, (_, cls, qos, _) in m.TOPICS.items() if topic != m.ALERTS}
+        self.sensor_stream = self.sensor_messages = None
+        if self.sensors is not None:
+            from railderail_sim.sensors.measure import SensorStream
+            self.sensor_stream = SensorStream(self.sensors, self.scenario, self.sim.model, self.sim.speed_table)
+            self.sensor_messages = m.SensorConverter(self.sensors, self.p["publish_rate"],
+                                                     self.scenario.vehicle.rolling_radius)
+            self.pubs.update({topic: self.create_publisher(cls, topic, qos)
+                              for topic, (_, cls, qos, _) in m.sensor_topics(self.sensors).items()})
+            self.sensor_queue = []      # (stamp, topic, message) not yet due: a sample's latency after its instant
         self.clock_pub = None
         self.sample = 0
         self.done = Future()
@@ -206,6 +231,9 @@ class SimulatorNode(Node):
             return False
         if len(rows):
             a = output_arrays(rows)
+            if self.sensor_stream is not None:
+                self.sensor_queue += self.sensor_messages.messages(self.sensor_stream.process(a))
+                self.sensor_queue.sort(key=lambda item: item[0])   # the mounts' latencies differ
             for i in range(len(rows)):
                 self.publish_sample(a, i)
             self.last_arrays, self.last_index = a, len(rows) - 1
@@ -219,6 +247,8 @@ class SimulatorNode(Node):
             clock = self.Clock()
             m.set_time(clock.clock, a["time"][i])
             self.clock_pub.publish(clock)
+        if self.sensor_stream is not None:
+            self.publish_sensors(a["time"][i])
         self.pubs[m.STATES].publish(self.convert.states(a, i, self.sample))
         self.pubs[m.FORCES].publish(self.convert.forces(a, i, self.sample))
         if self.sample % self.status_every == 0:
@@ -227,6 +257,15 @@ class SimulatorNode(Node):
         if self.sample % int(10 * self.p["publish_rate"]) == 0:
             self.get_logger().info(f"t = {a['time'][i]:.1f} s, s = {a['position'][i]:.0f} m, "
                                    f"v = {a['speed'][i] * 3.6:.1f} km/h ({self.achieved_rate():.0f} samples/s)")
+
+    def publish_sensors(self, now):
+        """Publish the sensors' messages stamped up to the simulated time `now` (s; the rest wait: latency)."""
+        due = 0
+        while due < len(self.sensor_queue) and self.sensor_queue[due][0] <= now + 1e-9:
+            _, topic, message = self.sensor_queue[due]
+            self.pubs[topic].publish(message)
+            due += 1
+        del self.sensor_queue[:due]
 
     def achieved_rate(self):
         wall = time.monotonic() - self.run_start if self.run_start else 0.0

@@ -17,6 +17,21 @@ railderail_sim never imports railderail_monitor. Topics (all under /railderail/ 
 | /clock                           | rosgraph_msgs/Clock              | clock QoS (best effort, depth 1); only |
 |                                  |                                  | when not running at real time          |
 
+With the simulator's `sensors` on, the on-board sensors (railderail_sim/sensors, docs/onboard.md), sensor-data
+QoS, each at its own rate, stamped with the physical instant plus its latency, header.frame_id the mount's or
+the air spring's name (`sensor_topics`):
+
+| topic                                          | type                                      |
+| ---------------------------------------------- | ----------------------------------------- |
+| /railderail/sensors/<mount>/imu                | sensor_msgs/Imu (no orientation: its      |
+|                                                | covariance[0] = -1; a mount without gyro  |
+|                                                | the same for the angular velocity)        |
+| /railderail/sensors/<air_spring>/pressure      | sensor_msgs/FluidPressure (Pa, the proxy) |
+| /railderail/sensors/<air_spring>/height        | sensor_msgs/Range (m, height sensor: the  |
+|                                                | spring's height less its deflection)      |
+| /railderail/sensors/odometer                   | geometry_msgs/TwistWithCovarianceStamped  |
+|                                                | (linear.x the forward speed, m/s)         |
+
 Subscribers of the sensor-data topics use best effort with a deeper queue (SENSOR_SUBSCRIBER) so
 that a burst does not overwrite samples before the callback runs.
 """
@@ -39,7 +54,9 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from rosgraph_msgs.msg import Clock
 
 import railderail_msgs.msg as msgs
+from geometry_msgs.msg import TwistWithCovarianceStamped
 from railderail_msgs.msg import Alert, ContactForces, DerailmentEvent, VehicleStatus, WheelsetStates
+from sensor_msgs.msg import FluidPressure, Imu, Range
 
 from railderail_sim.vehicle.layout import BOGIES, WHEELSETS, Body, Dof
 
@@ -75,6 +92,96 @@ TOPICS = {
     ALERTS: ("railderail_msgs/msg/Alert", Alert, ALERT_QOS, ALERT_QOS),
 }
 CLOCK_TOPIC = ("rosgraph_msgs/msg/Clock", Clock, CLOCK_QOS, CLOCK_QOS)
+
+
+SENSORS_NS = f"{NS}/sensors"
+
+
+def sensor_topics(sensors):
+    """{topic: (ROS type name, message class, publisher QoS, subscriber QoS)} of a sensor set
+    (`sensors.config.SensorSet`)."""
+    from railderail_sim.sensors.config import AIR_SPRINGS, ODOMETER
+    topics = {f"{SENSORS_NS}/{mount.name}/imu": ("sensor_msgs/msg/Imu", Imu) for mount in sensors.mounts}
+    if sensors.air_springs is not None:
+        for spring in AIR_SPRINGS:
+            topics[f"{SENSORS_NS}/{spring}/pressure"] = ("sensor_msgs/msg/FluidPressure", FluidPressure)
+            topics[f"{SENSORS_NS}/{spring}/height"] = ("sensor_msgs/msg/Range", Range)
+    if sensors.odometer is not None:
+        topics[f"{SENSORS_NS}/{ODOMETER}"] = ("geometry_msgs/msg/TwistWithCovarianceStamped", TwistWithCovarianceStamped)
+    return {topic: (type_name, cls, SENSOR, SENSOR_SUBSCRIBER) for topic, (type_name, cls) in topics.items()}
+
+
+class SensorConverter:
+    """Messages of the sensors' samples (`sensors.measure.SensorStream.process`), with covariances from the
+    noise model (`sensors.measure.noise_variance`: the filtered white noise, the bias and the quantisation)."""
+
+    def __init__(self, sensors, output_rate, rolling_radius):
+        from railderail_sim.sensors.config import AIR_SPRINGS, ODOMETER
+        from railderail_sim.sensors.measure import noise_variance
+        self.sensors, self.springs, self.odometer = sensors, AIR_SPRINGS, ODOMETER
+        self.imu_covariance = {}
+        for mount in sensors.mounts:
+            acc = noise_variance(mount.accelerometer, mount.sampling, output_rate)
+            gyro = -1.0 if mount.gyro is None else noise_variance(mount.gyro, mount.sampling, output_rate)
+            self.imu_covariance[mount.name] = (np.diag([acc] * 3).ravel(),
+                                               np.diag([gyro] * 3).ravel() if gyro >= 0 else
+                                               np.array([-1.0] + [0.0] * 8))
+        if sensors.air_springs is not None:
+            a = sensors.air_springs
+            self.pressure_variance = noise_variance(a.pressure, a.sampling, output_rate)
+            self.height_range = (a.height_m - a.deflection.range_high, a.height_m - a.deflection.range_low)
+        if sensors.odometer is not None:
+            o = sensors.odometer
+            # the count's rounding, uniform over one pulse in the period: (its speed)^2 / 12
+            step = 2.0 * math.pi * rolling_radius / o.pulses_per_revolution * o.sampling.sample_rate_hz
+            self.speed_variance = step * step / 12.0
+
+    def messages(self, samples):
+        """(stamp s, topic, message) of every sample of one `process` output."""
+        out = []
+        for mount in self.sensors.mounts:
+            s = samples.get(mount.name)
+            if s is None:
+                continue
+            acc_cov, gyro_cov = self.imu_covariance[mount.name]
+            topic = f"{SENSORS_NS}/{mount.name}/imu"
+            for k, t in enumerate(s["time"]):
+                m = stamp(Imu(), t)
+                m.header.frame_id = mount.name
+                m.orientation_covariance[0] = -1.0
+                a = s["acceleration"][k]
+                m.linear_acceleration.x, m.linear_acceleration.y, m.linear_acceleration.z = (float(v) for v in a)
+                m.linear_acceleration_covariance = acc_cov
+                if "angular_rate" in s:
+                    w = s["angular_rate"][k]
+                    m.angular_velocity.x, m.angular_velocity.y, m.angular_velocity.z = (float(v) for v in w)
+                m.angular_velocity_covariance = gyro_cov
+                out.append((t, topic, m))
+        springs = samples.get("air_springs")
+        if springs is not None:
+            a = self.sensors.air_springs
+            for k, t in enumerate(springs["time"]):
+                for j, name in enumerate(self.springs):
+                    p = stamp(FluidPressure(), t)
+                    p.header.frame_id = name
+                    p.fluid_pressure = float(springs["pressure"][k, j])
+                    p.variance = self.pressure_variance
+                    h = stamp(Range(), t)
+                    h.header.frame_id = name
+                    h.radiation_type = Range.ULTRASOUND
+                    h.min_range, h.max_range = self.height_range
+                    h.range = float(a.height_m - springs["deflection"][k, j])
+                    out += [(t, f"{SENSORS_NS}/{name}/pressure", p), (t, f"{SENSORS_NS}/{name}/height", h)]
+        odometer = samples.get(self.odometer)
+        if odometer is not None:
+            for k, t in enumerate(odometer["time"]):
+                m = stamp(TwistWithCovarianceStamped(), t)
+                m.header.frame_id = self.odometer
+                m.twist.twist.linear.x = float(odometer["speed"][k])
+                m.twist.covariance[0] = self.speed_variance
+                out.append((t, f"{SENSORS_NS}/{self.odometer}", m))
+        out.sort(key=lambda item: item[0])
+        return out
 
 
 def count_as_subscriber(node):

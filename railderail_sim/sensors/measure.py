@@ -19,11 +19,12 @@ import numpy as np
 from scipy import signal
 
 from ..vehicle.assemble import air_springs, local_point
-from ..vehicle.dynamics import K_COLS, Kinematics, kinematics
-from ..vehicle.layout import CAR_BODY, N_BODY, N_STATE, State
+from ..vehicle.dynamics import K_COLS
+from ..vehicle.layout import CAR_BODY, N_BODY, N_STATE
 from ..vehicle.motion import points_motion
 from ..vehicle.simulate import output_arrays
 from .config import ODOMETER, SensorSet, mount_point
+from .springs import spring_rise
 
 AXES = 3
 
@@ -59,7 +60,7 @@ def noise_variance(inst, sampling, output_rate):
 
 
 class _Unit:
-    """A sensor unit's channels: its columns of the channel matrix, sampling and generators."""
+    """A sensor unit's channels: its columns of the channel matrix (a slice), sampling and generators."""
 
     def __init__(self, name, columns, sampling, seed, output_rate):
         self.name, self.columns, self.sampling = name, columns, sampling
@@ -84,7 +85,7 @@ class SensorStream:
         column = 0
         for m in sensors.mounts:
             parts = [m.accelerometer] + ([m.gyro] if m.gyro is not None else [])
-            self.units.append(_Unit(m.name, np.arange(column, column + AXES * len(parts)), m.sampling, sensors.seed,
+            self.units.append(_Unit(m.name, slice(column, column + AXES * len(parts)), m.sampling, sensors.seed,
                                     self.fs))
             insts += [inst for inst in parts for _ in range(AXES)]
             column += AXES * len(parts)
@@ -97,8 +98,11 @@ class SensorStream:
             self.model, self.speed_table = model, np.ascontiguousarray(speed_table, dtype=np.float64)
             self.spring_local = np.array([[local_point(model.bodies, s.bogie, s.point) for s in self.springs],
                                           [local_point(model.bodies, CAR_BODY, s.point) for s in self.springs]])
+            self.spring_bogies = np.array([s.bogie for s in self.springs], dtype=np.int64)
+            self.spring_stiffness = np.array([s.vertical_stiffness for s in self.springs])
+            self.spring_preload = np.array([s.preload for s in self.springs])
             n = len(self.springs)
-            self.units.append(_Unit("air_springs", np.arange(column, column + 2 * n), a.sampling, sensors.seed, self.fs))
+            self.units.append(_Unit("air_springs", slice(column, column + 2 * n), a.sampling, sensors.seed, self.fs))
             insts += [a.deflection] * n + [a.pressure] * n
             column += 2 * n
         self.instruments = insts
@@ -111,10 +115,11 @@ class SensorStream:
         self.codes = np.array([2.0 ** i.bits - 1.0 for i in insts])
         self.constant_bias = np.zeros(column)
         for u in self.units:
-            self.constant_bias[u.columns] = u.bias.standard_normal(len(u.columns)) * [insts[c].bias for c in u.columns]
+            width = u.columns.stop - u.columns.start
+            self.constant_bias[u.columns] = u.bias.standard_normal(width) * [i.bias for i in insts[u.columns]]
         self.walk = np.zeros(column)
         # the filters, one sosfilt call per distinct design; their states start settled on the first row
-        sampling = {c: u.sampling for u in self.units for c in u.columns}
+        sampling = {c: u.sampling for u in self.units for c in range(u.columns.start, u.columns.stop)}
         designs, groups = {}, {}
         for c in cols:
             key = (insts[c], sampling[c].sample_rate_hz)
@@ -125,7 +130,7 @@ class SensorStream:
         self.odometer = sensors.odometer
         if self.odometer is not None:
             o = self.odometer
-            self.odometer_unit = _Unit(ODOMETER, np.arange(0), o.sampling, sensors.seed, self.fs)
+            self.odometer_unit = _Unit(ODOMETER, slice(0, 0), o.sampling, sensors.seed, self.fs)
             circumference = 2.0 * np.pi * vp.rolling_radius / o.pulses_per_revolution
             scale = 1.0 + o.radius_error * self.odometer_unit.bias.standard_normal()
             self.pulse_nominal, self.pulse_true = circumference, circumference * scale
@@ -151,23 +156,11 @@ class SensorStream:
         """(deflection (n, 4) m, compression +, elastic force (n, 4) N) of the air springs: the car body's
         point of each spring against its frame's, in the frame's axes, from the core's kinematics."""
         n = len(a["time"])
-        x = np.zeros(N_STATE)
-        kin = np.zeros((N_BODY, K_COLS))
-        rows = np.zeros((n, N_BODY, K_COLS))
-        for i in range(n):
-            x[State.positions.columns] = a["body_states"][i].ravel()
-            x[State.s] = a["position"][i]
-            kinematics(x, self.model.bodies, self.model.track, self.speed_table, kin)
-            rows[i] = kin
-        position = rows[:, :, Kinematics.position.columns]
-        rotation = rows[:, :, Kinematics.rotation.columns].reshape(n, N_BODY, 3, 3)
-        bogies = np.array([s.bogie for s in self.springs])
-        at_frame = position[:, bogies] + np.einsum("nsij,sj->nsi", rotation[:, bogies], self.spring_local[0])
-        at_body = position[:, [CAR_BODY]] + np.einsum("nij,sj->nsi", rotation[:, CAR_BODY], self.spring_local[1])
-        rise = np.einsum("nsji,nsj->nsi", rotation[:, bogies], at_body - at_frame)[..., 2]
-        stiffness = np.array([s.vertical_stiffness for s in self.springs])
-        preload = np.array([s.preload for s in self.springs])
-        return -rise, preload - stiffness * rise
+        rise = np.zeros((n, len(self.springs)))
+        spring_rise(np.ascontiguousarray(np.reshape(a["body_states"], (n, -1))), np.ascontiguousarray(a["position"]),
+                    self.model.bodies, self.model.track, self.speed_table, self.spring_bogies, self.spring_local,
+                    np.zeros(N_STATE), np.zeros((N_BODY, K_COLS)), rise)
+        return -rise, self.spring_preload - self.spring_stiffness * rise
 
     # --- the sensor models ----------------------------------------------------------------------
 
@@ -181,11 +174,11 @@ class SensorStream:
             return out
         y = self.ideal(a) + self.constant_bias
         for u in self.units:
-            c = len(u.columns)
+            c = u.columns.stop - u.columns.start
             draws = u.noise.standard_normal((n, 2 * c))
             y[:, u.columns] += draws[:, :c] * self.white[u.columns]
             steps = draws[:, c:] * self.walk_step[u.columns]
-            walk = np.cumsum(np.concatenate([self.walk[u.columns][None], steps]), axis=0)[1:]
+            walk = np.cumsum(np.concatenate([self.walk[None, u.columns], steps]), axis=0)[1:]
             self.walk[u.columns] = walk[-1]
             y[:, u.columns] += walk
         for k, (sos, cols, state) in enumerate(self.filters):
@@ -196,16 +189,16 @@ class SensorStream:
         rows = self.row + np.arange(n)
         for u in self.units:
             take = np.flatnonzero(rows % u.every == 0)
-            samples = self.quantised(y[np.ix_(take, u.columns)], u.columns)
+            samples = self.quantised(y[take, u.columns], u.columns)
             kept = u.lost.random(len(take)) >= u.sampling.dropout
             time = a["time"][take][kept] + u.sampling.latency_s
             samples = samples[kept]
             if u.name == "air_springs":
-                half = len(u.columns) // 2
+                half = (u.columns.stop - u.columns.start) // 2
                 out[u.name] = dict(time=time, deflection=samples[:, :half], pressure=samples[:, half:])
             else:
                 out[u.name] = dict(time=time, acceleration=samples[:, :AXES])
-                if len(u.columns) > AXES:
+                if u.columns.stop - u.columns.start > AXES:
                     out[u.name]["angular_rate"] = samples[:, AXES:]
         if self.odometer is not None:
             out[ODOMETER] = self.odometer_samples(a, rows)
@@ -215,11 +208,12 @@ class SensorStream:
     def quantised(self, x, cols):
         """Readings clipped to each channel's range and rounded to its resolution."""
         low, lsb = self.low[cols], self.lsb[cols]
-        clipped = np.clip(x, low, self.high[cols])
-        coded = lsb > 0.0
-        step = np.where(coded, lsb, 1.0)
-        codes = np.clip(np.round((clipped - low) / step), 0.0, self.codes[cols])
-        return np.where(coded, low + codes * step, clipped)
+        clipped = np.minimum(np.maximum(x, low), self.high[cols])      # (np.clip is slower on small arrays)
+        if not np.any(lsb):
+            return clipped
+        step = np.where(lsb > 0.0, lsb, 1.0)
+        codes = np.minimum(np.maximum(np.round((clipped - low) / step), 0.0), self.codes[cols])
+        return np.where(lsb > 0.0, low + codes * step, clipped)
 
     def odometer_samples(self, a, rows):
         """The odometer's speed: the pulses counted since its last sample times the nominal pulse length,

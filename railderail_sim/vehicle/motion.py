@@ -33,10 +33,10 @@ def points_motion(arrays, bodies, points):
     b = np.asarray(bodies, dtype=int)
     motion = BodyMotion.split(np.asarray(arrays["body_motion"])[:, b])
     rotation = relative_rotation(np.asarray(arrays["body_states"])[:, b])
-    r = np.einsum("nmij,mj->nmi", rotation, np.asarray(points, dtype=float))
+    r = np.sum(rotation * np.asarray(points, dtype=float)[:, None, :], axis=-1)
     omega, alpha = motion["angular_velocity"], motion["angular_acceleration"]
     force = motion["specific_force"] + np.cross(alpha, r) + np.cross(omega, np.cross(omega, r))
-    return np.einsum("nmji,nmj->nmi", rotation, force), np.einsum("nmji,nmj->nmi", rotation, omega)
+    return np.sum(rotation * force[..., None], axis=-2), np.sum(rotation * omega[..., None], axis=-2)
 
 
 def point_motion(arrays, body, point):
