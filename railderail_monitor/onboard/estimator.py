@@ -1,0 +1,120 @@
+"""Each running gear's load per side, its unloading ratio and its lateral force from the on-board sensors
+only: a quasi-static roll balance of each bogie (frame and wheelsets) under the car body.
+
+Why a balance and not a Kalman filter: every term is measured or a design value (masses, heights,
+spacings, the anti-roll bar's stiffness), the balance has no state to diverge and no tuning, and its error
+is bounded term by term (docs/onboard-criteria.md). Methods of the literature it follows: the indirect
+measurement of wheel-rail forces as suspension forces plus inertial forces (review, Adv. Mech. Eng. 2023,
+doi:10.1177/16878132231158991, A for the abstract); the inverse wagon models of Xia, Cole and Wolfs (body
+accelerations to contact forces, A for the abstract).
+
+Per bogie j (front 0, rear 1), track axes, y left, z up, moments about the track centre line at rail level,
+body rotational inertia neglected (quasi-static):
+  car body, over the bogie:  F_j = m_c/2 (f_front + f_rear)/2 +- I_z (f_front - f_rear) / (4 l^2)
+                             (the floor accelerometers over the bogies, rotated into the track plane by the
+                             car body's roll to its bogie from the air-spring heights)
+  lateral:                   Y_j = m_f f_frame + 2 m_w f_wheelset + F_j            (rails on the wheels)
+  vertical:                  P_L + P_R = F_sL + F_sR + (m_f + 2 m_w) f_z,frame
+  roll:                      b0 (P_L - P_R) = b_s (F_sL - F_sR) - h_s F_j - k_bar phi
+                                              - h_f m_f f_frame - 2 r0 m_w f_wheelset
+F_s: an air spring's force, its pressure times its effective area, plus its emergency spring's force from
+the deflection beyond the clearance (the pressure does not carry it); phi: the car body's roll to the bogie,
+(d_R - d_L) / 2 b_s; f_wheelset: the frame's lateral reading below the axle-box sensors' AC-coupling corner
+plus the axle boxes' mean reading above it (complementary first-order filters at that corner).
+Assumptions: the bogie frame does not roll on its primary springs (a few mrad); the secondary lateral force
+acts at the air springs' height (the lateral bump stop, 0.3 m lower, carries part of it once touched); no
+aerodynamic load; the two wheelsets of a bogie share its side's load equally (frame warp not observable).
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy import signal as sps
+
+from railderail_sim.sensors.instruments import INSTRUMENTS
+from railderail_sim.vehicle.layout import RUNNING_GEARS
+
+# m: half the distance of the rolling circles, the wheel loads' lever arm (TB449: 1493 mm, parameters.SOURCES)
+CONTACT_SEMI_DISTANCE = 0.7465
+BOGIES = ("front", "rear")
+
+
+def hold(source_time, values, time):
+    """The last sample of a stream at or before each time (a zero-order hold: causal), its first before."""
+    k = np.clip(np.searchsorted(source_time, time, "right") - 1, 0, len(source_time) - 1)
+    return np.asarray(values)[k]
+
+
+def _track_lateral(reading, roll):
+    """A reading's lateral component in the track plane: y cos(phi) - z sin(phi) (body axes rolled by phi)."""
+    return reading[:, 1] * np.cos(roll) - reading[:, 2] * np.sin(roll)
+
+
+def estimate(a, vehicle, effective_area, axle_box_corner_hz=INSTRUMENTS["iepe_axle_box"].high_pass_hz):
+    """{time (n,), side_load (n, 4) N [front left, front right, rear left, rear right], unloading (n, 4) the
+    mean dP/P0 of a running gear's two wheels on one side, lateral_force (n, 2) N of the rails on each bogie's
+    wheels (+ left), derailment_coefficient (n, 4): the gear's lateral force toward a side's field side over
+    that side's load} from the `sensor_*` arrays of a run (docs/output-format.md)."""
+    vp = vehicle
+    t = np.asarray(a["sensor_car_body_centre_time"], dtype=float)
+    rate = 1.0 / float(np.median(np.diff(t)))
+    springs_t = a["sensor_air_springs_time"]
+    d = hold(springs_t, a["sensor_air_springs_deflection"], t)
+    force = hold(springs_t, a["sensor_air_springs_pressure"], t) * effective_area
+    force = force + vp.air_spring_emergency_stiffness * np.maximum(d - vp.air_spring_emergency_clearance, 0.0)
+    b_s, l = vp.air_spring_semi_spacing, vp.bogie_semi_distance
+    roll = np.stack([(d[:, 1] - d[:, 0]), (d[:, 3] - d[:, 2])], axis=1) / (2.0 * b_s)
+    floor = [_track_lateral(hold(a[f"sensor_car_body_{g}_time"], a[f"sensor_car_body_{g}_acceleration"], t),
+                            roll[:, j]) for j, g in enumerate(BOGIES)]
+    mean, turn = 0.5 * (floor[0] + floor[1]), vp.car_body_yaw_inertia * (floor[0] - floor[1]) / (4.0 * l * l)
+    body = [0.5 * vp.car_body_mass * mean + turn, 0.5 * vp.car_body_mass * mean - turn]
+    low = sps.butter(1, axle_box_corner_hz, fs=rate, output="sos")
+    m_f, m_w, p0 = vp.bogie_frame_mass, vp.wheelset_mass, vp.static_wheel_load
+    side_load, lateral = [], []
+    for j, g in enumerate(BOGIES):
+        frame = hold(a[f"sensor_bogie_{g}_frame_time"], a[f"sensor_bogie_{g}_frame_acceleration"], t)
+        boxes = [hold(a[f"sensor_axle_box_{w}_{s}_time"], a[f"sensor_axle_box_{w}_{s}_acceleration"], t)[:, 1]
+                 for w in RUNNING_GEARS[j] for s in ("left", "right")]
+        fy = frame[:, 1]
+        wheelset = sps.sosfilt(low, fy, zi=sps.sosfilt_zi(low) * fy[0])[0] + np.mean(boxes, axis=0)
+        y = m_f * fy + 2.0 * m_w * wheelset + body[j]
+        total = force[:, 2 * j] + force[:, 2 * j + 1] + (m_f + 2.0 * m_w) * frame[:, 2]
+        moment = (b_s * (force[:, 2 * j] - force[:, 2 * j + 1]) - vp.secondary_height * body[j]
+                  - vp.anti_roll_stiffness * roll[:, j] - vp.bogie_frame_cog_height * m_f * fy
+                  - 2.0 * vp.rolling_radius * m_w * wheelset)
+        diff = moment / CONTACT_SEMI_DISTANCE
+        side_load += [0.5 * (total + diff), 0.5 * (total - diff)]
+        lateral.append(y)
+    side_load, lateral = np.stack(side_load, axis=1), np.stack(lateral, axis=1)
+    return dict(time=t, side_load=side_load, unloading=1.0 - side_load / (2.0 * p0), lateral_force=lateral,
+                derailment_coefficient=side_ratios(lateral, side_load))
+
+
+def side_ratios(lateral, side_load):
+    """(n, 4) each side's ratio: the gear's lateral force pushing that rail outward over the side's load."""
+    y = np.repeat(lateral, 2, axis=1) * np.tile([-1.0, 1.0], lateral.shape[1])
+    return y / np.maximum(side_load, 1.0)
+
+
+def truth(a, vehicle):
+    """The same quantities from the simulator's wheel forces (P vertical_force, Q lateral_force + toward each
+    rail's field side), on its own clock."""
+    p, q = np.asarray(a["vertical_force"]), np.asarray(a["lateral_force"])
+    side = np.stack([p[:, 2 * w0 + s] + p[:, 2 * w1 + s] for w0, w1 in RUNNING_GEARS for s in (0, 1)], axis=1)
+    lateral = np.stack([sum(q[:, 2 * w + 1] - q[:, 2 * w] for w in gear) for gear in RUNNING_GEARS], axis=1)
+    return dict(time=np.asarray(a["time"]), side_load=side, unloading=1.0 - side / (2.0 * vehicle.static_wheel_load),
+                lateral_force=lateral, derailment_coefficient=side_ratios(lateral, side))
+
+
+def estimator_error(a, vehicle, effective_area, settle_s=1.0):
+    """{quantity: {bias, rms, p95}} of the estimate against the truth (at the estimate's stamps, so the
+    sensors' latency counts as error), over all places, after settle_s of the run (its start-up); p95 is the
+    95th percentile of the absolute error."""
+    est, tru = estimate(a, vehicle, effective_area), truth(a, vehicle)
+    keep = est["time"] >= tru["time"][0] + settle_s
+    out = {}
+    for name in ("unloading", "lateral_force", "derailment_coefficient"):
+        ref = np.stack([np.interp(est["time"], tru["time"], c) for c in tru[name].T], axis=1)
+        e = (est[name] - ref)[keep]
+        out[name] = dict(bias=float(np.mean(e)), rms=float(np.sqrt(np.mean(e * e))),
+                         p95=float(np.percentile(np.abs(e), 95.0)))
+    return out
