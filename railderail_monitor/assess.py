@@ -79,6 +79,8 @@ def command(parser: argparse.ArgumentParser):
     parser.add_argument("--vehicle-set", default=None, choices=VEHICLE_SETS,
                         help="the vehicle's parameter set (static wheel load, bogie mass); default: the run's own "
                              "(a recording: hs19)")
+    parser.add_argument("--from-m", type=float, default=None, metavar="S",
+                        help="assess from this car-body position on (m; leaves out a run's start-up)")
     parser.add_argument("--allow-truncated", action="store_true",
                         help="assess the readable part of a truncated recording instead of refusing it")
     parser.add_argument("--study", metavar="DIR",
@@ -98,7 +100,8 @@ def command(parser: argparse.ArgumentParser):
             return 0
         if args.file is None:
             raise ValueError("no file given: assess RUN.npz or RECORDING.mcap (or --study DIR)")
-        result = assess.assess(run_signals(args.file, args.vehicle_set, args.allow_truncated))
+        sig = run_signals(args.file, args.vehicle_set, args.allow_truncated)
+        result = assess.assess(sig if args.from_m is None else sig.after(args.from_m))
         if plot is not None:
             plotting.assessment_figure(result, plot)
         if args.json:

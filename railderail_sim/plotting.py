@@ -490,7 +490,9 @@ def assessment_study_figure(summaries, quantities, path):
             if np.isfinite(value):
                 ax.text(j, i, f"{value:.0f}", ha="center", va="center", fontsize=6,
                         fontweight="bold" if value > 100.0 else "normal")
-        ax.set_xticks(range(len(summaries)), [s["label"].replace(", ", "\n", 3) for s in summaries], fontsize=5.5)
+        ax.set_xticks(range(len(summaries)), [f"R {s['case']['radius']:.0f}\n{s['case']['irregularity']}\n"
+                                              f"{s['case']['model']}\n{s['speed_kmh']:.0f} km/h" for s in summaries],
+                      fontsize=6)
         ax.set_yticks(range(len(quantities)), quantities)
         ax.grid(False)
         fig.colorbar(image, ax=ax, label="largest value / limit (%)", shrink=0.8)

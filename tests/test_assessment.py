@@ -239,3 +239,15 @@ def test_assess_command(tmp_path, steady, capsys):
         assert main(argv) == 2
         err = capsys.readouterr().err
         assert message in err and len(err.strip().splitlines()) == 1
+
+
+def test_a_runs_start_up_can_be_left_out(steady):
+    result, path = steady
+    sig = signals.from_npz(path)
+    later = sig.after(100.0)
+    assert later.position[0] >= 100.0 and later.position[1] - later.position[0] == pytest.approx(
+        sig.position[1] - sig.position[0])
+    assert len(later.time) == len(later.vertical_force) == len(later.floor["front"]) < len(sig.time)
+    assert min(sec.start for sec in assess.assess(later).sections) >= 100.0
+    with pytest.raises(ValueError, match="before the assessment's start at 900 m"):
+        sig.after(900.0)

@@ -104,7 +104,8 @@ def test_zone(kind, radius):
 
 @dataclass(frozen=True)
 class Section:
-    """A track section: kind, its extent in track coordinates [start, end) (m; the first and last open),
+    """A track section: kind, its extent in track coordinates [start, end) (m; a run's first and last end
+    at its first and last car-body position),
     the length the run covers, the circular curve's radius (inf otherwise) and the highest speed on it."""
     kind: str
     start: float
@@ -115,8 +116,7 @@ class Section:
 
     @property
     def name(self):
-        where = f"{max(self.start, 0.0):.0f}-{self.end:.0f} m" if math.isfinite(self.end) else \
-            f"from {max(self.start, 0.0):.0f} m"
+        where = f"{self.start:.0f}-{self.end:.0f} m"
         return f"{self.kind} R {self.radius:.0f} m, {where}" if self.kind == "curve" else f"{self.kind}, {where}"
 
     @property
@@ -137,8 +137,9 @@ def sections(sig):
     stops = np.concatenate([change, [len(flag)]])
     found, short = [], []
     for k, (i, j) in enumerate(zip(starts, stops)):
-        a = -math.inf if k == 0 else 0.5 * (sig.position[i - 1] + sig.position[i])
-        b = math.inf if j == len(flag) else 0.5 * (sig.position[j - 1] + sig.position[j])
+        # the ends of the run: what lies beyond the car body's first and last sample is not known
+        a = sig.position[0] if k == 0 else 0.5 * (sig.position[i - 1] + sig.position[i])
+        b = np.nextafter(sig.position[-1], math.inf) if j == len(flag) else 0.5 * (sig.position[j - 1] + sig.position[j])
         covered = sig.position[j - 1] - sig.position[i]
         kind = SECTION_KINDS.get(int(flag[i]), "transition")
         curv = np.abs(sig.curvature[i:j])

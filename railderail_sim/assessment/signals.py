@@ -49,6 +49,18 @@ class RunSignals:
         """Sampling rate (Hz)."""
         return (len(self.time) - 1) / (self.time[-1] - self.time[0])
 
+    def after(self, position_m):
+        """These signals from the first sample whose car-body position reaches position_m (m): a run's
+        start-up left out."""
+        k = int(np.searchsorted(self.position, position_m, "left"))
+        if len(self.position) - k < 3:
+            raise ValueError(f"{self.source or 'the run'} ends at {self.position[-1]:.1f} m, before the assessment's "
+                             f"start at {position_m:g} m")
+        cut = {name: (value[k:] if isinstance(value, np.ndarray) and value.shape[:1] == self.time.shape else value)
+               for name, value in vars(self).items()}
+        cut["floor"] = None if self.floor is None else {p: a[k:] for p, a in self.floor.items()}
+        return RunSignals(**cut)
+
     def validated(self):
         """self, or ValueError naming what cannot be assessed (too few samples, uneven sampling, the car
         standing or running backwards)."""
