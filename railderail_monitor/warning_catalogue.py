@@ -316,12 +316,14 @@ SENSITIVITY_REDUCTIONS = (0.05, 0.10, 0.20, 1.0)
 def sensitivity(runs, limits, rules):
     """At each criterion's shipped WARNING level over `runs`: derailments usefully warned for every window W
     and for every share of the speed to brake off (1: to a stop)."""
+    tables = {(w, reduction): summarize(runs, w, rules, reduction)      # every criterion's rows at once
+              for w in rules.windows_s for reduction in SENSITIVITY_REDUCTIONS}
     out = []
     for criterion in THRESHOLDS:
         level = getattr(limits, criterion)
         for w in rules.windows_s:
             for reduction in SENSITIVITY_REDUCTIONS:
-                row = next(r for r in summarize(runs, w, rules, reduction) if r["criterion"] == criterion
+                row = next(r for r in tables[w, reduction] if r["criterion"] == criterion
                            and r["threshold"] == level)
                 out.append(dict(criterion=criterion, threshold=level, window_s=w, safe_speed_reduction=reduction,
                                 derailments=row["derailments"], warned=row["warned"],
