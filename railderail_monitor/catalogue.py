@@ -38,6 +38,8 @@ KEYS = ("name", "family", "radius_m", "speed_kmh", "speed", "cant_mm", "irregula
         "friction", "track", "line_length_m", "approach_m", "wind_speed_m_s", "gust", "faults")
 FAMILIES = ("ordinary", "overspeed", "defect", "gust", "fault")
 PARTS = ("train", "test")
+# simulated over wall time of one run by kind of track (railderail bench, 2026-12-03): only to order the runs
+REAL_TIME_FACTOR = {"rigid smooth": 30.0, "rigid irregular": 8.0, "elastic irregular": 6.0}
 DEFECTS = {"kink": ("amplitude_mm", "length_m", "at_m"), "twist": ("amplitude_mm", "length_m", "at_m", "hold_m")}
 
 
@@ -116,6 +118,16 @@ class Entry:
         rails = superpose(resolve(irregularity, seed, base.track.line_length), self.defect_rails(base.track))
         return replace(base, irregularity=rails, track_model=self.track,
                        wind=wind if wind.blows else None, faults=tuple(self.faults)).validated()
+
+    def expected_cost(self, seed):
+        """A run's expected CPU time (s, roughly): its simulated time (the whole line at the speed table's
+        speeds, `Scenario.simulated_duration`) over the real-time factor of its kind of track (the README's
+        bench figures, 2-core machine), to start the dearest runs first (`methods.parallel.run_all`)."""
+        smooth = self.irregularity == "none" and not self.defect
+        factor = (REAL_TIME_FACTOR["rigid smooth"] if smooth else REAL_TIME_FACTOR["rigid irregular"]) \
+            if self.track == "rigid" else REAL_TIME_FACTOR["elastic irregular"]
+        # the same line and speeds without the rails' deviations, which take longer to make than to time
+        return replace(self, irregularity="none", defect=()).scenario(seed).simulated_duration() / factor
 
     def defect_rails(self, track):
         """The defect's Irregularity on this track (None without one): a kink moves both rails toward the

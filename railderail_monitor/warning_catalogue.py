@@ -285,7 +285,7 @@ def evaluate(entries, cache=None, workers=None, scheduler=None, progress=True, b
     items = [run for e in entries for run in e.runs()]
     started = time.perf_counter()
     runs = run_all(functools.partial(run_one, cache=cache), items, workers=workers, scheduler=scheduler,
-                   progress=progress, desc="warnings", unit="run")
+                   progress=progress, desc="warnings", unit="run", cost=[e.expected_cost(seed) for e, seed in items])
     wall = time.perf_counter() - started
     limits, rules = default_limits(), HazardRules()
     w = rules.window_s

@@ -151,3 +151,27 @@ def test_real_track_refuses_bad_lists(capsys):
     assert "need at least one value each" in capsys.readouterr().err
     assert main(["real-track", "--spectra", "erri-medium"]) == 2
     assert "--spectra: 'erri-medium' is not one of" in capsys.readouterr().err
+
+
+def _started(item):
+    import time
+    return time.monotonic_ns()
+
+
+def test_run_all_starts_the_dearest_inputs_first_and_returns_them_in_order():
+    from railderail_sim.methods.parallel import run_all
+    cost = [1.0, 5.0, 3.0, 4.0, 2.0]
+    started = run_all(_started, range(5), workers=1, progress=False, cost=cost)
+    assert sorted(range(5), key=lambda i: started[i]) == [1, 3, 2, 4, 0]    # one worker: one after another
+    with pytest.raises(ValueError, match="4 costs given for 5 inputs"):
+        run_all(_started, range(5), workers=1, progress=False, cost=cost[:4])
+
+
+def test_simulated_duration_is_the_line_at_the_table_speeds():
+    sc = Scenario(speed_table=constant_speed(288.0))
+    assert sc.simulated_duration() == pytest.approx(sc.track.line_length / 80.0, rel=1e-12)
+    # 40 m/s over the first 1000 m, 80 m/s from 2000 m, a linear ramp between: dt = ds / v, so the ramp
+    # takes 1000 m ln 2 / 40 m/s
+    ramp = Scenario(speed_table=np.array([[0.0, 40.0], [1000.0, 40.0], [2000.0, 80.0], [3000.0, 80.0]]),
+                    end_position=3000.0)
+    assert ramp.simulated_duration() == pytest.approx(25.0 + 25.0 * math.log(2.0) + 12.5, rel=1e-12)

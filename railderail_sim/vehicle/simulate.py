@@ -113,6 +113,20 @@ class Scenario:
         check_range("speed", vmax / KMH, *SPEED_RANGE_KMH, "km/h")
         return self
 
+    def simulated_duration(self):
+        """Simulated time (s) from the start to the end position at the speed table's speeds, if nothing
+        stops the run earlier: the integral of ds / v(s), v linear in s between the table's points (exact:
+        ds ln(v1 / v0) / (v1 - v0) on each piece)."""
+        end = self.end_position if not math.isnan(self.end_position) else self.track.line_length
+        table = self.speed_table
+        s = np.unique(np.concatenate([[self.start_position, end],
+                                      table[(table[:, 0] > self.start_position) & (table[:, 0] < end), 0]]))
+        v = np.interp(s, table[:, 0], table[:, 1])
+        v0, v1, ds = v[:-1], v[1:], np.diff(s)
+        ramp = np.abs(v1 - v0) > 1e-9 * v0
+        piece = np.where(ramp, ds * np.log(v1 / v0) / np.where(ramp, v1 - v0, 1.0), ds / v0)
+        return float(np.sum(piece))
+
 
 def scenario(radius=1000.0, speed_kmh=300.0, vehicle_set="hs19", contact_model="hertz", creep_model="she",
              wheel_profile="lm", friction=0.3, direction=1, **kwargs):
