@@ -15,9 +15,9 @@ figures are as quoted in ../shared/reference/ and docs/warning-evaluation.md):
 
 | margin | quantity, evaluation | level | source |
 |---|---|---|---|
-| `wheel_unloading` | dQ/Q0 of a wheel, mean over 1.524 m (5 ft) | 0.90 | 49 CFR 213.333 (vertical wheel load >= 10 % of static over 5 ft); EN 14067-6's 0.90 of a running gear |
-| `flange_climb` | Q/P of a wheel, mean over 1.524 m | Nadal's limit at the run's friction | 49 CFR 213.333 single-wheel L/V (Nadal, 5 ft) with the friction the simulator knows |
-| `track_shift` | \\|sum Y\\| of a wheelset, mean over 2 m | Prud'homme alpha (10 + P0/3) kN, alpha 1 | EN 14363 / UIC 518 (sum Y)2m,lim, P0 the static axle load in kN |
+| `wheel_unloading` | dQ/Q0 of a wheel (20 Hz), mean over 1.524 m (5 ft) | 0.90 | 49 CFR 213.333 (vertical wheel load >= 10 % of static over 5 ft); EN 14067-6's 0.90 of a running gear |
+| `flange_climb` | Q/P of a wheel (20 Hz), mean over 1.524 m | Nadal's limit at the run's friction | 49 CFR 213.333 single-wheel L/V (Nadal, 5 ft) with the friction the simulator knows |
+| `track_shift` | \\|sum Y\\| of a wheelset (20 Hz), mean over 2 m | Prud'homme alpha (10 + P0/3) kN, alpha 1 | EN 14363 / UIC 518 (sum Y)2m,lim, P0 the static axle load in kN |
 | `wheel_lift` | lift of a wheel | half the flange height | no standard value: half way up the flange, a modelling choice (sensitivity in the report) |
 
 Useful lead: a warning is of use when it comes early enough for the train to react and brake to a safe
@@ -31,6 +31,7 @@ import math
 
 import numpy as np
 
+from railderail_sim.parameters import ContactParameters
 from railderail_sim.vehicle.layout import RUNNING_GEARS
 
 from .criteria import sliding_mean, unloading_ratio
@@ -67,6 +68,10 @@ class HazardRules:
                                         "EN 14363: (sum Y)2m, the 2 m sliding mean", "B")
     lift_share: float = _rule(0.5, "-", "near miss: a wheel's lift at or above this share of the flange height",
                               "no standard value: half way up the flange (a modelling choice)", "-")
+    low_pass_forces: bool = _rule(True, "-", "the wheel forces low-passed 20 Hz before their margins are judged",
+                                 "EN 14363 / UIC 518: Y and Q through a 20 Hz low-pass (49 CFR 213.333: a cut-off "
+                                 "of at least 25 Hz); unfiltered, the rigid track's wheel-force spikes of a few ms "
+                                 "read as margins falling in ordinary running", "B")
     merge_m: float = _rule(50.0, "m", "near misses of one margin at one place closer than this are one",
                            "the monitor's re-arm distance (criteria.Limits.rearm_m)", "-")
     reaction_s: float = _rule(1.0, "s", "from the warning to the emergency brake command",
@@ -150,15 +155,33 @@ class Car:
         return rules.track_shift_alpha * (10.0 + 2.0 * self.static_wheel_load / 1000.0 / 3.0) * 1000.0
 
 
+def filtered_forces(arrays, rules):
+    """(P, Q) of every wheel (n, 8), N: the vertical and the lateral force on the rail through the standards'
+    force low-pass (`assessment.filters.force_low_pass`, EN 14363's 20 Hz) at the run's output rate, so that a
+    margin is judged on the forces the standards judge; a record too short to filter is taken as it is."""
+    from railderail_sim.assessment.filters import force_low_pass
+    t = np.asarray(arrays["time"], dtype=float)
+    vertical, lateral = (np.asarray(arrays[k], dtype=float) for k in ("vertical_force", "lateral_force"))
+    if not rules.low_pass_forces or len(t) < 2:
+        return vertical, lateral
+    low, rate = force_low_pass(), 1.0 / float(np.median(np.diff(t)))
+    # the filter (a periodic one: `AnalogFilter.apply`) settled on the first sample: half a second of it in
+    # front, where the record's end wraps round, then cut off
+    pad = int(round(0.5 * rate))
+    return tuple(low.apply(np.concatenate([np.repeat(x[:1], pad, axis=0), x]), rate)[pad:] for x in (vertical, lateral))
+
+
 def margins(arrays, car, rules):
     """{margin: (breached (n, channels) bool, the channels' places [(bogie, sides)])} of a run."""
     s = arrays["position"]
     wheel_places = [(BOGIE_OF_WHEELSET[k // 2], (k % 2,)) for k in range(8)]
     axle_places = [(BOGIE_OF_WHEELSET[w], (0, 1)) for w in range(4)]
-    unloading = sliding_mean(unloading_ratio(arrays["vertical_force"], car.static_wheel_load), s,
-                             rules.margin_window_m)
-    qp = sliding_mean(arrays["derailment_coefficient"], s, rules.margin_window_m)
-    shift = sliding_mean(track_shift_force(arrays["lateral_force"]), s, rules.track_shift_window_m)
+    vertical, lateral = filtered_forces(arrays, rules)
+    unloading = sliding_mean(unloading_ratio(vertical, car.static_wheel_load), s, rules.margin_window_m)
+    # Q/P as the core defines it (`Wheel.derailment_coefficient`): 0 on a wheel carrying too little to mean it
+    loaded = vertical > ContactParameters().derailment_coefficient_min_load * car.static_wheel_load
+    qp = sliding_mean(np.where(loaded, lateral / np.where(loaded, vertical, 1.0), 0.0), s, rules.margin_window_m)
+    shift = sliding_mean(track_shift_force(lateral), s, rules.track_shift_window_m)
     return {"wheel_unloading": (unloading >= rules.unloading_level, wheel_places),
             "flange_climb": (qp >= car.nadal, wheel_places),
             "track_shift": (shift >= car.track_shift_limit(rules), axle_places),

@@ -2,6 +2,7 @@
 places, the windows and labels, Prud'homme's limit, the braking model, attribution (place and window),
 the lead capped at the window, the false-alarm episodes that cannot fall as the threshold falls (where a
 count of onsets does), and the intervals against their closed forms."""
+from dataclasses import replace
 import math
 
 import numpy as np
@@ -36,7 +37,7 @@ def test_prudhommes_limit_and_the_track_shift_force_by_hand():
 def test_a_margin_falls_at_its_place_and_labels_its_window():
     a = quiet_run()
     a["vertical_force"][2000:2100, 3] = 0.05 * P0          # wheelset 1 right unloads to 0.95 for 0.5 s (25 m)
-    found = hazards(a, None, CAR, RULES)
+    found = hazards(a, None, CAR, replace(RULES, low_pass_forces=False))     # the window counted by hand
     (h,) = found
     assert (h["kind"], h["margin"], h["places"]) == ("near_miss", "wheel_unloading", [(0, 1)])
     # the 1.524 m mean holds 7 samples 0.25 m apart: 6 unloaded of 7 give 0.81, all 7 give 0.95
@@ -45,6 +46,28 @@ def test_a_margin_falls_at_its_place_and_labels_its_window():
     inside = (a["time"] >= h["time_s"] - 10.0) & (a["time"] <= h["end_s"])
     assert np.array_equal(place[(0, 1)], inside) and not place[(0, 0)].any() and not place[(1, 1)].any()
     assert np.array_equal(label == 1, inside) and np.all(label[~inside] == 0)
+
+
+def test_margins_are_judged_on_the_forces_low_passed_20_hz():
+    from railderail_monitor.hazards import filtered_forces
+    # a wheel fully unloaded for 35 ms (7 samples, 1.75 m at 50 m/s): a spike of the rigid track's contact, gone
+    # through the 20 Hz low-pass; the same for 0.5 s is a margin fallen either way, later by about the filter's
+    # group delay when filtered (a 4-pole Butterworth: 2.61 / (2 pi 20 Hz) = 21 ms at low frequency)
+    spike, long = quiet_run(), quiet_run()
+    spike["vertical_force"][2000:2007, 3] = 0.0
+    long["vertical_force"][2000:2100, 3] = 0.0
+    raw = replace(RULES, low_pass_forces=False)
+    assert [h["margin"] for h in hazards(spike, None, CAR, raw)] == ["wheel_unloading"]
+    assert hazards(spike, None, CAR, RULES) == []
+    (unfiltered,), (filtered,) = hazards(long, None, CAR, raw), hazards(long, None, CAR, RULES)
+    assert 0.01 < filtered["time_s"] - unfiltered["time_s"] < 0.04
+    # the low-pass passes a steady load unchanged and takes the 20 Hz cut-off's -3 dB (4-pole Butterworth)
+    t = quiet_run()["time"]
+    a = dict(time=t, vertical_force=P0 + 1e3 * np.sin(2 * np.pi * 20.0 * t)[:, None] * np.ones(8),
+             lateral_force=np.zeros((len(t), 8)))
+    vertical, _ = filtered_forces(a, RULES)
+    assert vertical[400:, 0].mean() == pytest.approx(P0, rel=1e-5)
+    assert np.std(vertical[400:, 0] - P0) * math.sqrt(2) == pytest.approx(1e3 / math.sqrt(2), rel=0.02)
 
 
 def test_a_derailment_window_is_the_last_w_before_it_at_the_derailed_wheel():

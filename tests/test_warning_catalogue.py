@@ -120,6 +120,9 @@ def test_a_second_evaluation_reads_every_run_from_the_cache(small, monkeypatch):
     ("scenarios:\n  - {name: a, radius_m: 1000, speed_kmh: 300}", "scenario 1 (a): family None is not one of"),
     ("scenarios:\n  - {name: a, family: ordinary, radius_m: 1000, speed_kmh: 300}",
      "scenario 1 (a): an ordinary run's cant deficiency must be within the permitted 150 mm; at 300 km/h it is 880 mm"),
+    ("scenarios:\n  - {name: a, family: ordinary, radius_m: .inf, speed_kmh: 250, irregularity: fra-6}",
+     "scenario 1 (a): an ordinary run on fra-6 track must be within its class's permitted 177 km/h (49 CFR 213.9 / "
+     "213.307); 250 km/h given"),
     ("scenarios:\n  - {name: a, family: defect, radius_m: 800, speed_kmh: 160, defect: {kind: dent}}",
      "scenario 1 (a): defect must be a mapping with kind one of kink, twist"),
     ("scenarios:\n  - {name: a, family: defect, radius_m: 800, speed_kmh: 160, defect: {kind: kink, amplitude_mm: 40}}",

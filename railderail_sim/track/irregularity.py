@@ -70,6 +70,7 @@ STEP_WARNING_MM = 1.0            # a record that starts or ends further off zero
 SEEDS = (0, 999_999)             # accepted seeds
 TAPER_M = 50.0                   # a generated sample's fade-in and fade-out (`taper`)
 NONE = "none"                    # no irregularity: the ideal rails
+MPH_KMH = 1.609344               # km/h per mph (exact)
 LINE_MARGIN_M = 25.0             # a run's sample reaches this far beyond the end of its line
 UNIFORM_TOLERANCE_M = 1e-9       # steps equal to this are one uniform step (Welch needs one)
 
@@ -83,6 +84,9 @@ SOURCES = {
            "Dukkipati R.V., Dynamics of Railway Vehicle Systems (1984) and in public implementations",
     "TBT3352": "TB/T 3352-2014, PSD of ballastless track irregularities of high-speed railway (China), "
                "the average spectrum, as quoted by three public implementations that agree",
+    "CFR": "49 CFR 213.9(a) (classes 1-5) and 213.307(a) (class 6 and higher), Track Safety Standards, "
+           "the maximum allowable operating speed for passenger trains of each class (the regulation's text, "
+           "public mirrors)",
     "model": "modelling choice of this project (docs/track-irregularity.md)",
 }
 
@@ -121,6 +125,9 @@ FRA = {
                         "break of cross-level and gauge, classes 1..6; unconfirmed: found in no source "
                         "reached"),
     "band": Constant((1.524, 304.8), "m", "FRA", "S", "5 ft .. 1000 ft, the wavelengths of the report's fits"),
+    "passenger_speed": Constant((15.0, 30.0, 60.0, 80.0, 90.0, 110.0), "mph", "CFR", "V",
+                                "the highest speed a passenger train may run on track of each class 1..6: the "
+                                "line speed of a class's geometry"),
 }
 FRA_CROSS_LEVEL_FACTOR = Constant(4.0, "-", "FRA", "A", "cross-level and gauge S = 4 k A_v Omega_c^2 / "
                                   "((Omega^2 + Omega_c^2)(Omega^2 + Omega_s^2)), the gauge with A_v too; "
@@ -170,6 +177,14 @@ def erri_psd(component, omega, level):
         return ERRI["A_a"].value[i] * shape
     amplitude = ERRI["A_v"].value[i] / ERRI["b"].value ** 2 if component == "cross_level" else ERRI["A_g"].value[i]
     return amplitude * shape * w2 / (w2 + ws2)
+
+
+def permitted_speed_kmh(spectrum):
+    """The highest speed (km/h) a passenger train may run on the track a spectrum (a name of SPECTRA)
+    describes, where its source gives one (the FRA classes: FRA["passenger_speed"]); inf for the others."""
+    if spectrum.startswith("fra-") and spectrum[4:].isdigit() and int(spectrum[4:]) in FRA_CLASSES:
+        return FRA["passenger_speed"].value[FRA_CLASSES.index(int(spectrum[4:]))] * MPH_KMH
+    return math.inf
 
 
 def fra_psd(component, omega, track_class):
