@@ -184,6 +184,84 @@ class SensorConverter:
         return out
 
 
+class SensorRecord:
+    """The sensor topics' messages (decoded: rclpy's or a reader's, attribute access) back into the
+    `sensor_<unit>_<signal>` arrays of `railderail simulate --sensors` (docs/output-format.md), the inverse of
+    SensorConverter: `add(topic, message)` for each, then `arrays()` (times in s from the stamps) or
+    `stamps_ns()` (the stamps as the messages carry them, integer ns). An air spring's deflection is its
+    height (`height_m`, the sensor set's) less the Range's reading; an air-spring sample is one whose eight
+    messages (each spring's pressure and height) all came, as the simulator sends them."""
+
+    def __init__(self, height_m=None):
+        from railderail_sim.sensors.config import AIR_SPRING_HEIGHT, AIR_SPRINGS, ODOMETER
+        self.height = AIR_SPRING_HEIGHT if height_m is None else float(height_m)
+        self.spring_names, self.odometer_name = AIR_SPRINGS, ODOMETER
+        self.imu = {}          # mount -> ([stamp ns], [acceleration], [angular rate or None])
+        self.springs = {}      # stamp ns -> {(spring, "pressure" | "height"): value}
+        self.odometer = ([], [])
+        self.messages = 0
+
+    def add(self, topic, message):
+        """Keep a sensor topic's message; False (and nothing kept) for any other topic."""
+        if not topic.startswith(SENSORS_NS + "/"):
+            return False
+        name, _, kind = topic[len(SENSORS_NS) + 1:].partition("/")
+        ns = stamp_ns(message.header.stamp)
+        if kind == "imu":
+            a, w = message.linear_acceleration, message.angular_velocity
+            times, acc, rate = self.imu.setdefault(name, ([], [], []))
+            times.append(ns)
+            acc.append((a.x, a.y, a.z))
+            rate.append(None if message.angular_velocity_covariance[0] == -1.0 else (w.x, w.y, w.z))
+        elif name in self.spring_names and kind in ("pressure", "height"):
+            self.springs.setdefault(ns, {})[(name, kind)] = (message.fluid_pressure if kind == "pressure"
+                                                             else message.range)
+        elif name == self.odometer_name and not kind:
+            self.odometer[0].append(ns)
+            self.odometer[1].append(message.twist.twist.linear.x)
+        else:
+            return False
+        self.messages += 1
+        return True
+
+    def stamps_ns(self):
+        """{unit: (m,) int64 stamps} in stamp order, the units of `arrays`."""
+        out = {mount: np.sort(np.asarray(times, dtype=np.int64)) for mount, (times, _, _) in self.imu.items()}
+        springs = self._spring_stamps()
+        if len(springs):
+            out["air_springs"] = springs
+        if self.odometer[0]:
+            out[self.odometer_name] = np.sort(np.asarray(self.odometer[0], dtype=np.int64))
+        return out
+
+    def _spring_stamps(self):
+        whole = len(self.spring_names) * 2
+        return np.asarray(sorted(ns for ns, values in self.springs.items() if len(values) == whole), dtype=np.int64)
+
+    def arrays(self):
+        """{sensor_<unit>_<signal>: array} of the messages so far, each unit's samples in stamp order."""
+        out = {}
+        for mount, (times, acc, rate) in self.imu.items():
+            order = np.argsort(np.asarray(times, dtype=np.int64), kind="stable")
+            out[f"sensor_{mount}_time"] = np.asarray(times, dtype=np.int64)[order] / 1e9
+            out[f"sensor_{mount}_acceleration"] = np.asarray(acc, dtype=float).reshape(-1, 3)[order]
+            if rate and all(r is not None for r in rate):
+                out[f"sensor_{mount}_angular_rate"] = np.asarray(rate, dtype=float)[order]
+        springs = self._spring_stamps()
+        if len(springs):
+            rows = [self.springs[ns] for ns in springs]
+            out["sensor_air_springs_time"] = springs / 1e9
+            out["sensor_air_springs_deflection"] = np.array([[self.height - r[(s, "height")] for s in self.spring_names]
+                                                             for r in rows])
+            out["sensor_air_springs_pressure"] = np.array([[r[(s, "pressure")] for s in self.spring_names]
+                                                           for r in rows])
+        if self.odometer[0]:
+            order = np.argsort(np.asarray(self.odometer[0], dtype=np.int64), kind="stable")
+            out[f"sensor_{self.odometer_name}_time"] = np.asarray(self.odometer[0], dtype=np.int64)[order] / 1e9
+            out[f"sensor_{self.odometer_name}_speed"] = np.asarray(self.odometer[1], dtype=float)[order]
+        return out
+
+
 def count_as_subscriber(node):
     """Subscribe `node` to the wheelset states and contact forces (raw, ignored), so that a simulator
     started with `wait_for_subscribers` counts it: its latched derailment event and final status reach
@@ -215,6 +293,11 @@ def stamp(message, seconds):
 def seconds(time_msg):
     """builtin_interfaces/Time (or anything with sec and nanosec) -> seconds."""
     return time_msg.sec + 1e-9 * time_msg.nanosec
+
+
+def stamp_ns(time_msg):
+    """builtin_interfaces/Time -> integer nanoseconds (what `set_time` wrote: round(seconds * 1e9))."""
+    return time_msg.sec * 1_000_000_000 + time_msg.nanosec
 
 
 # --- core rows -> messages --------------------------------------------------------------------
