@@ -188,18 +188,26 @@ class SensorRecord:
     """The sensor topics' messages (decoded: rclpy's or a reader's, attribute access) back into the
     `sensor_<unit>_<signal>` arrays of `railderail simulate --sensors` (docs/output-format.md), the inverse of
     SensorConverter: `add(topic, message)` for each, then `arrays()` (times in s from the stamps) or
-    `stamps_ns()` (the stamps as the messages carry them, integer ns). An air spring's deflection is its
-    height (`height_m`, the sensor set's) less the Range's reading; an air-spring sample is one whose eight
-    messages (each spring's pressure and height) all came, as the simulator sends them."""
+    `stamps_ns()` (the stamps as the messages carry them, integer ns), each unit's samples in stamp order.
+    An air spring's deflection is its height (`height_m`, the sensor set's) less the Range's reading; an
+    air-spring sample is one whose eight messages (each spring's pressure and height) all came, as the
+    simulator sends them. Each call of `arrays` converts only what came since the last (a live viewer asks
+    for the whole record every simulated second)."""
 
     def __init__(self, height_m=None):
         from railderail_sim.sensors.config import AIR_SPRING_HEIGHT, AIR_SPRINGS, ODOMETER
         self.height = AIR_SPRING_HEIGHT if height_m is None else float(height_m)
         self.spring_names, self.odometer_name = AIR_SPRINGS, ODOMETER
-        self.imu = {}          # mount -> ([stamp ns], [acceleration], [angular rate or None])
-        self.springs = {}      # stamp ns -> {(spring, "pressure" | "height"): value}
-        self.odometer = ([], [])
+        self.pending = {}      # unit -> {"stamp" | signal: [values since the last conversion]}
+        self.blocks = {}       # unit -> {"stamp" | signal: array, in stamp order}
+        self.springs = {}      # stamp ns -> {(spring, "pressure" | "height"): value} of incomplete samples
         self.messages = 0
+
+    def _sample(self, unit, ns, **signals):
+        pending = self.pending.setdefault(unit, {})
+        pending.setdefault("stamp", []).append(ns)
+        for name, value in signals.items():
+            pending.setdefault(name, []).append(value)
 
     def add(self, topic, message):
         """Keep a sensor topic's message; False (and nothing kept) for any other topic."""
@@ -209,56 +217,52 @@ class SensorRecord:
         ns = stamp_ns(message.header.stamp)
         if kind == "imu":
             a, w = message.linear_acceleration, message.angular_velocity
-            times, acc, rate = self.imu.setdefault(name, ([], [], []))
-            times.append(ns)
-            acc.append((a.x, a.y, a.z))
-            rate.append(None if message.angular_velocity_covariance[0] == -1.0 else (w.x, w.y, w.z))
+            gyro = {} if message.angular_velocity_covariance[0] == -1.0 else dict(angular_rate=(w.x, w.y, w.z))
+            self._sample(name, ns, acceleration=(a.x, a.y, a.z), **gyro)
         elif name in self.spring_names and kind in ("pressure", "height"):
-            self.springs.setdefault(ns, {})[(name, kind)] = (message.fluid_pressure if kind == "pressure"
-                                                             else message.range)
+            sample = self.springs.setdefault(ns, {})
+            sample[(name, kind)] = message.fluid_pressure if kind == "pressure" else message.range
+            if len(sample) == 2 * len(self.spring_names):
+                del self.springs[ns]
+                self._sample("air_springs", ns,
+                             deflection=[self.height - sample[(s, "height")] for s in self.spring_names],
+                             pressure=[sample[(s, "pressure")] for s in self.spring_names])
         elif name == self.odometer_name and not kind:
-            self.odometer[0].append(ns)
-            self.odometer[1].append(message.twist.twist.linear.x)
+            self._sample(name, ns, speed=message.twist.twist.linear.x)
         else:
             return False
         self.messages += 1
         return True
 
-    def stamps_ns(self):
-        """{unit: (m,) int64 stamps} in stamp order, the units of `arrays`."""
-        out = {mount: np.sort(np.asarray(times, dtype=np.int64)) for mount, (times, _, _) in self.imu.items()}
-        springs = self._spring_stamps()
-        if len(springs):
-            out["air_springs"] = springs
-        if self.odometer[0]:
-            out[self.odometer_name] = np.sort(np.asarray(self.odometer[0], dtype=np.int64))
-        return out
+    def _converted(self):
+        """{unit: {"stamp" | signal: array}} of everything so far, in stamp order (a stable sort: samples of
+        one stamp in their order of arrival)."""
+        for unit, pending in self.pending.items():
+            blocks = self.blocks.setdefault(unit, {})
+            stamps = np.concatenate([blocks.get("stamp", np.zeros(0, dtype=np.int64)),
+                                     np.asarray(pending.pop("stamp"), dtype=np.int64)])
+            order = np.argsort(stamps, kind="stable")
+            blocks["stamp"] = stamps[order]
+            for name in set(pending) | set(blocks) - {"stamp"}:
+                # a signal every sample has (a mount without gyro has no angular rate; one that comes and goes
+                # is dropped)
+                new = np.asarray(pending.get(name, ()), dtype=float)
+                old = blocks.get(name, np.zeros((0,) + new.shape[1:]))
+                blocks[name] = None if old is None or len(old) + len(new) != len(order) else (
+                    np.concatenate([old, new.reshape((-1,) + old.shape[1:])])[order])
+        self.pending = {}
+        return {unit: {k: v for k, v in blocks.items() if v is not None} for unit, blocks in self.blocks.items()}
 
-    def _spring_stamps(self):
-        whole = len(self.spring_names) * 2
-        return np.asarray(sorted(ns for ns, values in self.springs.items() if len(values) == whole), dtype=np.int64)
+    def stamps_ns(self):
+        """{unit: (m,) int64 stamps}, the units of `arrays`."""
+        return {unit: signals["stamp"] for unit, signals in self._converted().items()}
 
     def arrays(self):
-        """{sensor_<unit>_<signal>: array} of the messages so far, each unit's samples in stamp order."""
+        """{sensor_<unit>_<signal>: array} of the messages so far."""
         out = {}
-        for mount, (times, acc, rate) in self.imu.items():
-            order = np.argsort(np.asarray(times, dtype=np.int64), kind="stable")
-            out[f"sensor_{mount}_time"] = np.asarray(times, dtype=np.int64)[order] / 1e9
-            out[f"sensor_{mount}_acceleration"] = np.asarray(acc, dtype=float).reshape(-1, 3)[order]
-            if rate and all(r is not None for r in rate):
-                out[f"sensor_{mount}_angular_rate"] = np.asarray(rate, dtype=float)[order]
-        springs = self._spring_stamps()
-        if len(springs):
-            rows = [self.springs[ns] for ns in springs]
-            out["sensor_air_springs_time"] = springs / 1e9
-            out["sensor_air_springs_deflection"] = np.array([[self.height - r[(s, "height")] for s in self.spring_names]
-                                                             for r in rows])
-            out["sensor_air_springs_pressure"] = np.array([[r[(s, "pressure")] for s in self.spring_names]
-                                                           for r in rows])
-        if self.odometer[0]:
-            order = np.argsort(np.asarray(self.odometer[0], dtype=np.int64), kind="stable")
-            out[f"sensor_{self.odometer_name}_time"] = np.asarray(self.odometer[0], dtype=np.int64)[order] / 1e9
-            out[f"sensor_{self.odometer_name}_speed"] = np.asarray(self.odometer[1], dtype=float)[order]
+        for unit, signals in self._converted().items():
+            out[f"sensor_{unit}_time"] = signals["stamp"] / 1e9
+            out.update({f"sensor_{unit}_{name}": v for name, v in signals.items() if name != "stamp"})
         return out
 
 
