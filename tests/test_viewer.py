@@ -203,10 +203,11 @@ def test_rrd_has_the_sensors_views_and_the_estimate_beside_the_truth(run):
     for line in ("car_body/lateral/limit_ydd", "bogie_frame/lateral/limit_bids", "car_body/roll_rate/limit_roll_rate",
                  "estimator/rear/limit_warning"):
         assert rows[f"/sensors/{line}"] >= 2, line
+    est = estimator.estimate(log.arrays(), VehicleParameters(), AIR_SPRING_EFFECTIVE_AREA)
     for bogie in estimator.BOGIES:
-        assert rows[f"/sensors/estimator/{bogie}/estimated"] == len(measured["car_body_centre"]["time"])
+        assert rows[f"/sensors/estimator/{bogie}/estimated"] == len(est["time"]) > 0.9 * samples
         assert rows[f"/sensors/estimator/{bogie}/ground_truth"] == samples
-    assert len(RrdReader(path).blueprints()) >= 1
+    assert len(RrdReader(path).blueprints()) == 2          # the first one's, and with the sensors' tab
 
     # the values drawn are the estimator's on the run's own sensor arrays (the topics decoded: the air springs'
     # height went through a float32 Range)
@@ -215,7 +216,6 @@ def test_rrd_has_the_sensors_views_and_the_estimate_beside_the_truth(run):
     for item in read_recording(path.with_suffix(".mcap")).messages:
         show(*item)
     viewer._estimate(final=True)
-    est = estimator.estimate(log.arrays(), VehicleParameters(), AIR_SPRING_EFFECTIVE_AREA)
     times, values = viewer.buffers["/sensors/estimator/rear/estimated"]
     assert np.array_equal(np.round(np.asarray(times) * 1e9), np.round(est["time"] * 1e9))
     assert np.allclose(values, est["unloading"][:, 2:], rtol=0.0, atol=1e-5)
