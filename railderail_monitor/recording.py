@@ -289,7 +289,7 @@ def record_run(path, result, limits=None, metadata=None, sensor_log=None):
         if sensor_log is not None:
             sc = result.scenario
             sensor_messages = m.SensorConverter(sensor_log.sensors, sc.output_rate, sc.vehicle.rolling_radius
-                                                ).messages(sensor_log.samples())
+                                                ).arrays_messages(sensor_log.arrays())
             for topic, (type_name, _, offered, _) in m.sensor_topics(sensor_log.sensors).items():
                 rec.add_topic(topic, type_name, offered)
         sent = 0

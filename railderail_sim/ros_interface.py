@@ -136,6 +136,13 @@ class SensorConverter:
             step = 2.0 * math.pi * rolling_radius / o.pulses_per_revolution * o.sampling.sample_rate_hz
             self.speed_variance = step * step / 12.0
 
+    def arrays_messages(self, arrays):
+        """`messages` of a run's `sensor_<unit>_<signal>` arrays (`sensors.measure.SensorLog.arrays()`, the
+        output file of `simulate --sensors`)."""
+        units = [mount.name for mount in self.sensors.mounts] + ["air_springs", self.odometer]
+        return self.messages({unit: {name[len(f"sensor_{unit}_"):]: values for name, values in arrays.items()
+                                     if name.startswith(f"sensor_{unit}_")} for unit in units})
+
     def messages(self, samples):
         """(stamp s, topic, message) of every sample of one `process` output."""
         out = []

@@ -255,13 +255,7 @@ class SensorLog:
             self.stream = SensorStream(self.sensors, sim.scenario, sim.model, sim.speed_table)
         for unit, signals in self.stream.process(output_arrays(rows)).items():
             for name, values in signals.items():
-                self.parts.setdefault(unit, {}).setdefault(name, []).append(values)
-
-    def samples(self):
-        """{unit: {signal: array}}: the whole run as one `SensorStream.process` output."""
-        return {unit: {name: np.concatenate(parts) for name, parts in signals.items()}
-                for unit, signals in self.parts.items()}
+                self.parts.setdefault(f"sensor_{unit}_{name}", []).append(values)
 
     def arrays(self):
-        return {f"sensor_{unit}_{name}": values for unit, signals in self.samples().items()
-                for name, values in signals.items()}
+        return {name: np.concatenate(parts) for name, parts in self.parts.items()}
