@@ -130,3 +130,9 @@ def test_the_sensors_tab_plots_every_mount_with_the_rules_levels_of_the_rerun_vi
             assert thresholds(f"Plot!sensors_{group}_{plot}") == expected
     roll = levels[("car_body", "roll_rate")][0][1]
     assert thresholds("Plot!sensors_car_body_roll_rate") == [-roll, roll]
+
+
+def test_the_sensors_tab_is_the_one_railderail_monitor_foxglove_writes():
+    from railderail_monitor.foxglove import with_sensors_tab
+
+    assert with_sensors_tab(LAYOUT) == LAYOUT, "python -m railderail_monitor.foxglove writes the tab anew"
