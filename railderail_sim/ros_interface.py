@@ -32,6 +32,9 @@ the air spring's name (`sensor_topics`):
 | /railderail/sensors/odometer                   | geometry_msgs/TwistWithCovarianceStamped  |
 |                                                | (linear.x the forward speed, m/s)         |
 
+`SensorConverter` makes the messages of the sensors' samples; `SensorRecord` turns received or recorded
+messages back into the `sensor_<unit>_<signal>` arrays of `railderail simulate --sensors`.
+
 Subscribers of the sensor-data topics use best effort with a deeper queue (SENSOR_SUBSCRIBER) so
 that a burst does not overwrite samples before the callback runs.
 """
