@@ -261,10 +261,12 @@ class McapRecording:
         self.close()
 
 
-def record_run(path, result, limits=None, metadata=None):
+def record_run(path, result, limits=None, metadata=None, sensor_log=None):
     """Write a finished core run (`vehicle.simulate.Result`) to MCAP exactly as the nodes would have
     published it — one WheelsetStates, ContactForces and VehicleStatus per sample, the monitor's
-    alerts, the derailment event and the final status — without a ROS graph (tests, examples).
+    alerts, the derailment event and the final status; with `sensor_log` (the run's
+    `sensors.measure.SensorLog`) the sensor topics too, each message before the first sample at or after
+    its stamp, as the simulator node sends them — without a ROS graph (tests, examples).
     Returns the alerts (criteria.AlertRecord)."""
     from rclpy.serialization import serialize_message
 
@@ -283,13 +285,26 @@ def record_run(path, result, limits=None, metadata=None):
     with McapRecording(path, metadata=meta) as rec:
         for topic, (type_name, _, offered, _) in m.TOPICS.items():
             rec.add_topic(topic, type_name, offered)
+        sensor_messages = []
+        if sensor_log is not None:
+            sc = result.scenario
+            sensor_messages = m.SensorConverter(sensor_log.sensors, sc.output_rate, sc.vehicle.rolling_radius
+                                                ).arrays_messages(sensor_log.arrays())
+            for topic, (type_name, _, offered, _) in m.sensor_topics(sensor_log.sensors).items():
+                rec.add_topic(topic, type_name, offered)
+        sent = 0
         n = len(result.time)
         for i in range(n):
+            while sent < len(sensor_messages) and sensor_messages[sent][0] <= a["time"][i] + 1e-9:
+                rec.write(sensor_messages[sent][1], serialize_message(sensor_messages[sent][2]))
+                sent += 1
             rec.write(m.STATES, serialize_message(convert.states(a, i, i)))
             rec.write(m.FORCES, serialize_message(convert.forces(a, i, i)))
             rec.write(m.STATUS, serialize_message(convert.status(a, i, i)))
             for alert in by_sample.get(i, ()):
                 rec.write(m.ALERTS, serialize_message(alert_message(alert)))
+        for _, topic, message in sensor_messages[sent:]:        # stamped after the last sample: its latency
+            rec.write(topic, serialize_message(message))
         S = m.msgs.VehicleStatus
         if result.derailment is not None:
             d = result.derailment

@@ -284,14 +284,18 @@ class Publisher:
 # --- Rerun --------------------------------------------------------------------------------------
 
 def feed_viewer(viewer):
-    """An on_message callback that shows the recorded topics in a viewer.RunViewer."""
+    """An on_message callback that shows the recorded topics (the sensors' included) in a viewer.RunViewer."""
     handlers = {STATES: viewer.on_states, FORCES: viewer.on_forces, STATUS: viewer.on_status,
                 ALERTS: viewer.on_alert, DERAILMENT: viewer.on_derailment, FINAL_STATUS: viewer.on_final_status}
 
     def on_message(topic, type_name, log_time, data, decoded):
+        if decoded is None:
+            return
         handler = handlers.get(topic)
-        if handler is not None and decoded is not None:
+        if handler is not None:
             handler(decoded)
+        elif topic.startswith(m.SENSORS_NS + "/"):
+            viewer.on_sensor(topic, decoded)
     return on_message
 
 

@@ -14,13 +14,25 @@ Entities (timeline `sim_time`, simulation time):
                                    round them (criteria.level_text)
   plots/speed_kmh
   alerts                       text log (WARN = warning level, ERROR = critical, CRITICAL = derailment)
+  sensors/GROUP/lateral/MOUNT, sensors/GROUP/vertical/MOUNT    with the simulator's sensors on (or a
+                               recording of their topics): each mount's measured acceleration (m/s^2, its
+                               body's axes), GROUP car_body, bogie_frame or axle_box; on the lateral plots the
+                               on-board rules' levels +- (onboard/criteria.py: car-body ydd* 2.5 and ydd*_qst
+                               1.5; bogie-frame peak 12 - M_b/5, its r.m.s. half, BIDS 8), each applying to the
+                               rule's filtered signal (docs/onboard-criteria.md)
+  sensors/car_body/roll_rate/MOUNT    the car body's roll rate (gyro x, rad/s) and the roll-rate rule's level
+  sensors/estimator/BOGIE/estimated, .../ground_truth    a running gear's unloading dQ/Q0 per side (left,
+                               right): onboard.estimator's estimate from the recorded sensor topics beside the
+                               simulator's wheel loads, with the monitor's running_gear_unloading levels
+                               (computed over the record so far every `estimate_period` s of simulated time)
   scene/...                    the track frame at the car: rails, a wire-frame car body, bogies, labelled
                                wheelsets (wheels coloured by their lift levels) and the contact patches
                                (coloured by the worst level their wheel reached: Q/P, lift, unloading);
                                displacements and angles drawn `exaggeration` times (10) larger, patches 10 times
 One colour per wheelset in every plot; left and right wheels in side-by-side panels. Every plot shows
 the run so far (from its start to the time cursor). Scene frames are drawn at `scene_rate` (25 Hz of
-simulated time); plots take every sample.
+simulated time); plots take every sample. The sensors' plots are a second tab, "sensors", present once a
+sensor topic's message has come (no sensors, no tab).
 """
 from __future__ import annotations
 
@@ -35,10 +47,13 @@ import rerun.blueprint as rrb
 from rclpy.node import Node
 
 from railderail_sim import ros_interface as m
+from railderail_sim.assessment import en14363
 from railderail_sim.parameters import TrackParameters, VehicleParameters
 from railderail_sim.ros_interface import seconds
+from railderail_sim.sensors.config import AIR_SPRING_EFFECTIVE_AREA, default_set
 
 from .criteria import Limits, default_limits, level_text, SEVERITY_CRITICAL, unloading_ratio
+from .onboard import criteria as onboard, estimator
 
 WHEELSETS = [f"ws{w}" for w in range(4)]
 SIDES = ("left", "right")                  # wheel k is wheelset k // 2, side k % 2
@@ -61,10 +76,51 @@ WHEEL_PLOTS = (("wheel_lift_mm", "wheel_lift", 1e3, "lift (mm)"),
                ("lateral_force_kN", None, 1e-3, "Q (kN)"),
                ("vertical_force_kN", None, 1e-3, "P (kN)"))
 ATTACK = "attack_angle_mrad"
+# the sensors' mount groups (sensors.config.MOUNTS by their prefix) and the colours of their mounts in order
+SENSOR_GROUPS = (("car_body", "car body"), ("bogie_frame", "bogie frame"), ("axle_box", "axle box"))
+MOUNT_COLORS = WHEELSET_COLORS + [(23, 190, 207), (227, 119, 194), (127, 127, 127), (255, 187, 120)]
+ESTIMATE_COLORS = ((31, 119, 180), (148, 103, 189))          # left, right; the ground truth in grey tones
+TRUTH_COLORS = ((90, 90, 90), (170, 170, 170))
+YELLOW = (200, 160, 0)
+
+
+def sensor_group(mount):
+    """The plot group of a mount (car_body, bogie_frame, axle_box), None for another name."""
+    if mount.startswith("bogie_") and mount.endswith("_frame"):
+        return "bogie_frame"
+    return next((group for group, _ in SENSOR_GROUPS if mount.startswith(group + "_")), None)
+
+
+def sensor_levels(vehicle):
+    """{(group, plot): [(entity name, level, colour, label)]} of the on-board rules' levels drawn +- on the
+    sensors' plots (onboard/criteria.py), each rule's filter named in its label."""
+    peak, rms = onboard.bogie_limits(vehicle.bogie_frame_mass + 2.0 * vehicle.wheelset_mass)
+    ydd, qst = en14363.LIMITS["ydd_car_body"].value, en14363.LIMITS["ydd_qst"].value
+    # car_body_roll_rate's level: a roll at its emergency-spring level oscillating at the body's roll frequency
+    roll_rate = 2.0 * math.pi * onboard.car_body_roll_frequency(vehicle) * onboard.roll_level(vehicle)
+    return {("car_body", "lateral"): [("limit_ydd", ydd, RED, f"ydd* {ydd:g} (0.4-10 Hz band)"),
+                                      ("limit_ydd_qst", qst, ORANGE, f"ydd*_qst {qst:g} (100 m mean)")],
+            ("bogie_frame", "lateral"): [("limit_peak", peak, RED, f"peak {peak:.2f} (f0 +- 2 Hz band)"),
+                                         ("limit_bids", onboard.BIDS_LIMIT, ORANGE,
+                                          f"BIDS {onboard.BIDS_LIMIT:g} x {onboard.BIDS_PEAKS} peaks (4-8 Hz band)"),
+                                         ("limit_rms", rms, YELLOW, f"r.m.s. {rms:.2f} (f0 +- 2 Hz, 100 m)")],
+            ("car_body", "roll_rate"): [("limit_roll_rate", roll_rate, RED, f"{roll_rate:.3f} (0.4-10 Hz band)")]}
 
 
 def _arr(x):
     return np.asarray(x, dtype=float)
+
+
+# every plot shows the run so far, from its start to the time cursor: the data it draws and the x range it
+# opens with (else a plot of a long run opens zoomed on a few seconds)
+SO_FAR = dict(start=rrb.TimeRangeBoundary.infinite(), end=rrb.TimeRangeBoundary.cursor_relative())
+
+
+def plot(origin, name, contents="$origin/**", legend=True):
+    return rrb.TimeSeriesView(origin=origin, name=name, contents=contents,
+                              time_ranges=[rrb.VisibleTimeRange(TIMELINE, **SO_FAR)],
+                              axis_x=rrb.TimeAxis(view_range=rrb.TimeRange(**SO_FAR)),
+                              plot_legend=rrb.PlotLegend(corner=rrb.Corner2D.LeftTop, visible=legend))
 
 
 def _quat_xz(roll, yaw):
@@ -79,8 +135,18 @@ class RunViewer:
     on_status/on_alert/on_derailment; choose a sink first (save/spawn/connect); close() at the end."""
 
     def __init__(self, limits: Limits = None, exaggeration=10.0, scene_rate=25.0, flush_every=100,
-                 application="railderail", recording_id=None):
+                 application="railderail", recording_id=None, vehicle=None, effective_area=AIR_SPRING_EFFECTIVE_AREA,
+                 air_spring_height=None, estimate_period=1.0):
         self.limits = limits or default_limits()
+        # the sensors' tab: the vehicle and air springs of the estimator and the rules' levels
+        self.vehicle, self.effective_area, self.estimate_period = vehicle or _CAR, effective_area, estimate_period
+        self.sensors = m.SensorRecord(air_spring_height)
+        self.sensor_levels = sensor_levels(self.vehicle)
+        self.sensor_series = set()       # entities whose series styles have been logged
+        self.wheel_loads = ([], [], [])  # time, vertical and lateral forces of the ground truth's unloading
+        self.estimated_until = self.truth_until = -math.inf
+        self.sensor_time = self.next_estimate = -math.inf
+        self.sink = False
         self.exaggeration = float(exaggeration)
         self.scene_period = 1.0 / scene_rate if scene_rate > 0 else math.inf
         self.flush_every = flush_every
@@ -99,16 +165,19 @@ class RunViewer:
 
     # --- sinks ------------------------------------------------------------------------------
     def blueprint(self):
-        # every plot shows the run so far, from its start to the time cursor: the data it draws and the
-        # x range it opens with (else a plot of a long run opens zoomed on a few seconds)
-        so_far = dict(start=rrb.TimeRangeBoundary.infinite(), end=rrb.TimeRangeBoundary.cursor_relative())
+        """The run's views; with sensor messages seen, in a tab "run" beside the tab "sensors"."""
+        run = self.run_view()
+        if not self.sensors.messages:
+            layout = run
+        else:
+            layout = rrb.Tabs(run, self.sensors_view(), active_tab=0)
+        return rrb.Blueprint(
+            layout,
+            # the time cursor follows the data: at the latest sample live, at the end (the derailment) of a file
+            rrb.TimePanel(timeline=TIMELINE, play_state="following", state="collapsed"),
+            collapse_panels=True)
 
-        def plot(origin, name, contents="$origin/**", legend=True):
-            return rrb.TimeSeriesView(origin=origin, name=name, contents=contents,
-                                      time_ranges=[rrb.VisibleTimeRange(TIMELINE, **so_far)],
-                                      axis_x=rrb.TimeAxis(view_range=rrb.TimeRange(**so_far)),
-                                      plot_legend=rrb.PlotLegend(corner=rrb.Corner2D.LeftTop, visible=legend))
-
+    def run_view(self):
         # the wheel panels carry no legend (it covered a third of each): the wheelsets' colours are the attack
         # angle's legend, the same in every plot, and the level lines (orange warning / red critical) are given
         # in the panel's title, short enough to be read whole
@@ -127,19 +196,32 @@ class RunViewer:
                                 eye_up=[0.0, 0.0, 1.0])
         scene = rrb.Spatial3DView(origin="/scene", name=f"car on the track (displacements x{self.exaggeration:g})",
                                   eye_controls=eye)
-        return rrb.Blueprint(
-            rrb.Vertical(
-                rrb.Horizontal(
-                    rrb.Vertical(scene, plot("/plots/speed_kmh", "speed (km/h)"), attack, row_shares=[4, 1, 2]),
-                    rrb.Vertical(rows["wheel_lift_mm"], rows["derailment_coefficient"], rows["unloading_ratio"]),
-                    rrb.Vertical(rows["lateral_force_kN"], rows["vertical_force_kN"]),
-                    column_shares=[4, 5, 4]),
-                # the whole width, so that an alert's sentence is read whole
-                rrb.TextLogView(origin="/alerts", name="alerts"),
-                row_shares=[4, 1]),
-            # the time cursor follows the data: at the latest sample live, at the end (the derailment) of a file
-            rrb.TimePanel(timeline=TIMELINE, play_state="following", state="collapsed"),
-            collapse_panels=True)
+        return rrb.Vertical(
+            rrb.Horizontal(
+                rrb.Vertical(scene, plot("/plots/speed_kmh", "speed (km/h)"), attack, row_shares=[4, 1, 2]),
+                rrb.Vertical(rows["wheel_lift_mm"], rows["derailment_coefficient"], rows["unloading_ratio"]),
+                rrb.Vertical(rows["lateral_force_kN"], rows["vertical_force_kN"]),
+                column_shares=[4, 5, 4]),
+            # the whole width, so that an alert's sentence is read whole
+            rrb.TextLogView(origin="/alerts", name="alerts"),
+            row_shares=[4, 1], name="run")
+
+    def sensors_view(self):
+        """What the sensors measure, each lateral plot with its rules' levels in the legend, and the
+        estimator's unloading beside the ground truth's."""
+        rows = []
+        for group, title in SENSOR_GROUPS:
+            panels = [plot(f"/sensors/{group}/lateral", f"{title} lateral acceleration (m/s^2)"),
+                      plot(f"/sensors/{group}/vertical", f"{title} vertical acceleration (m/s^2)")]
+            if group == "car_body":
+                panels.append(plot("/sensors/car_body/roll_rate", "car body roll rate (rad/s)"))
+            rows.append(rrb.Horizontal(*panels))
+        unloading = " / ".join(level_text("running_gear_unloading", thr)
+                               for _, thr in self.limits.levels("running_gear_unloading"))
+        rows.append(rrb.Horizontal(*(plot(f"/sensors/estimator/{bogie}", f"{bogie} running gear unloading dQ/Q0, "
+                                          f"estimated from the sensors and ground truth: {unloading}")
+                                     for bogie in estimator.BOGIES)))
+        return rrb.Vertical(*rows, name="sensors")
 
     def save(self, path):
         self.rec.save(str(path), default_blueprint=self.blueprint())
@@ -154,6 +236,10 @@ class RunViewer:
         self._static()
 
     def _static(self):
+        self.sink = True
+        self._static_scene()
+
+    def _static_scene(self):
         log = self.rec.log
         log("/scene", rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
         rails = [[[-16.0, y, 0.0], [16.0, y, 0.0]] for y in (RAIL_Y, -RAIL_Y)]
@@ -176,19 +262,25 @@ class RunViewer:
             log(f"/scene/track/wheelset_{w}/label", rr.Points3D([[0.0, 0.0, WHEEL_RADIUS + 0.15]], radii=0.02,
                                                                 labels=[f"ws{w}"], show_labels=True), static=True)
         log(f"/plots/{ATTACK}/values", rr.SeriesLines(names=WHEELSETS, colors=WHEELSET_COLORS), static=True)
-        self._static_limits(ATTACK, "attack_angle", 1e3)
+        self._static_limits(f"/plots/{ATTACK}", "attack_angle")
         for entity, criterion, scale, _ in WHEEL_PLOTS:
             for side in SIDES:
                 log(f"/plots/{entity}/{side}", rr.SeriesLines(names=WHEELSETS, colors=WHEELSET_COLORS), static=True)
             if criterion is not None:
-                self._static_limits(entity, criterion, scale)
+                self._static_limits(f"/plots/{entity}", criterion)
         log("/plots/speed_kmh", rr.SeriesLines(names=["speed"], colors=[GREY]), static=True)
 
-    def _static_limits(self, entity, criterion, scale):
+    def _static_limits(self, origin, criterion):
         for (sev, thr), color in zip(self.limits.levels(criterion), LEVEL_COLORS):
             label = "critical" if sev == SEVERITY_CRITICAL else "warning"
-            self.rec.log(f"/plots/{entity}/limit_{label}", rr.SeriesLines(
+            self.rec.log(f"{origin}/limit_{label}", rr.SeriesLines(
                 colors=[color], widths=[2.5], names=[f"{label} {level_text(criterion, thr)}"]), static=True)
+
+    def _style(self, entity, lines):
+        """Log an entity's series style (rr.SeriesLines) once, the first time it has data."""
+        if entity not in self.sensor_series:
+            self.sensor_series.add(entity)
+            self.rec.log(entity, lines, static=True)
 
     # --- input ------------------------------------------------------------------------------
     def _append(self, entity, t, values):
@@ -201,16 +293,20 @@ class RunViewer:
         self._append(f"/plots/{entity}/left", t, values[0::2])
         self._append(f"/plots/{entity}/right", t, values[1::2])
 
-    def _limits(self, entity, criterion, t, scale=1.0):
-        """Threshold lines: two points per flushed batch (its first and last time) are enough."""
+    def _line(self, entity, t, value):
+        """A level line: two points per flushed batch (its first and last time) are enough."""
+        times, vals = self.buffers.setdefault(entity, ([], []))
+        if len(times) < 2:
+            times.append(t)
+            vals.append(value)
+        else:
+            times[1] = t
+
+    def _limits(self, entity, criterion, t, scale=1.0, origin="/plots"):
+        """Threshold lines of a criterion's levels."""
         for sev, thr in self.limits.levels(criterion):
-            name = f"/plots/{entity}/limit_{'critical' if sev == SEVERITY_CRITICAL else 'warning'}"
-            times, vals = self.buffers.setdefault(name, ([], []))
-            if len(times) < 2:
-                times.append(t)
-                vals.append(thr * scale)
-            else:
-                times[1] = t
+            self._line(f"{origin}/{entity}/limit_{'critical' if sev == SEVERITY_CRITICAL else 'warning'}", t,
+                       thr * scale)
 
     def _tick(self):
         self.pending += 1
@@ -242,6 +338,8 @@ class RunViewer:
         self._limits("unloading_ratio", "wheel_unloading", t)
         self._wheels("lateral_force_kN", t, _arr(msg.lateral_force) * 1e-3)
         self._wheels("vertical_force_kN", t, _arr(msg.vertical_force) * 1e-3)
+        for column, values in zip(self.wheel_loads, (t, _arr(msg.vertical_force), _arr(msg.lateral_force))):
+            column.append(values)
 
     def on_status(self, msg):
         self.status = msg
@@ -279,6 +377,81 @@ class RunViewer:
         self.rec.set_time(TIMELINE, duration=t)
         self.rec.log("/alerts", rr.TextLog(text, level="INFO"))
         self.final_entry = None
+
+    # --- sensors ----------------------------------------------------------------------------
+    def on_sensor(self, topic, msg):
+        """A message of a sensor topic (/railderail/sensors/..., ros_interface.sensor_topics): an IMU's
+        acceleration and roll rate into its group's plots; every one kept for the estimator. The first
+        one adds the sensors' tab to the blueprint."""
+        first = not self.sensors.messages
+        if not self.sensors.add(topic, msg):
+            return
+        if first and self.sink:
+            self.rec.send_blueprint(self.blueprint(), make_active=True, make_default=True)
+        mount, _, kind = topic[len(m.SENSORS_NS) + 1:].partition("/")
+        group = sensor_group(mount)
+        if kind != "imu" or group is None:
+            return
+        t = seconds(msg.header.stamp)
+        self.sensor_time = max(self.sensor_time, t)
+        plots = [("lateral", msg.linear_acceleration.y), ("vertical", msg.linear_acceleration.z)]
+        if group == "car_body" and msg.angular_velocity_covariance[0] != -1.0:
+            plots.append(("roll_rate", msg.angular_velocity.x))
+        for name, value in plots:
+            origin = f"/sensors/{group}/{name}"
+            entity = f"{origin}/{mount}"
+            if entity not in self.sensor_series:
+                shown = sum(e.startswith(origin + "/") and "/limit_" not in e for e in self.sensor_series)
+                self._style(entity, rr.SeriesLines(names=[mount], colors=[MOUNT_COLORS[shown % len(MOUNT_COLORS)]]))
+            self._append(entity, t, value)
+            for line, level, colour, label in self.sensor_levels.get((group, name), ()):
+                self._style(f"{origin}/{line}", rr.SeriesLines(names=[f"+{label}", f"-{label}"], colors=[colour] * 2,
+                                                                widths=[2.0] * 2))
+                self._line(f"{origin}/{line}", t, (level, -level))
+
+    def _estimate(self, final):
+        """The estimator's running-gear unloading over the sensor record so far (onboard.estimator: the
+        viewer computes nothing itself), its samples after those already shown, and the ground truth's from
+        the wheel loads beside it; every estimate_period s of sensor time and at the end. A sensor set
+        without the estimator's mounts shows no estimate."""
+        if not self.sensors.messages or not (final or self.sensor_time >= self.next_estimate):
+            return
+        self.next_estimate = self.sensor_time + self.estimate_period
+        a = self.sensors.arrays()
+        try:
+            est = estimator.estimate(a, self.vehicle, self.effective_area) if len(
+                a.get("sensor_car_body_centre_time", ())) >= 2 else None
+        except KeyError:            # a mount or the air springs it needs are not in the record
+            est = None
+        if est is not None:
+            new = est["time"] > self.estimated_until
+            if np.any(new):
+                self.estimated_until = est["time"][new][-1]
+                self._estimated("estimated", est["time"][new], est["unloading"][new], ESTIMATE_COLORS)
+        t = np.asarray(self.wheel_loads[0])
+        new = t > self.truth_until
+        if est is not None and np.any(new):
+            self.truth_until = t[new][-1]
+            truth = estimator.truth(dict(time=t[new], vertical_force=np.asarray(self.wheel_loads[1])[new],
+                                         lateral_force=np.asarray(self.wheel_loads[2])[new]), self.vehicle)
+            self._estimated("ground_truth", t[new], truth["unloading"], TRUTH_COLORS)
+
+    def _estimated(self, series, times, unloading, colours):
+        """(n,) times and (n, 4) unloading [front left, front right, rear left, rear right] into the two
+        running gears' plots, with the monitor's running_gear_unloading levels."""
+        for j, bogie in enumerate(estimator.BOGIES):
+            origin = f"/sensors/estimator/{bogie}"
+            label = series.replace("_", " ")
+            self._style(f"{origin}/{series}", rr.SeriesLines(names=[f"{label} {side}" for side in SIDES],
+                                                             colors=list(colours)))
+            if f"{origin}/limit_warning" not in self.sensor_series:
+                self.sensor_series |= {f"{origin}/limit_warning", f"{origin}/limit_critical"}
+                self._static_limits(origin, "running_gear_unloading")
+            buffer = self.buffers.setdefault(f"{origin}/{series}", ([], []))
+            buffer[0].extend(times)
+            buffer[1].extend(unloading[:, 2 * j:2 * j + 2])
+            for t in (times[0], times[-1]):
+                self._limits(bogie, "running_gear_unloading", t, origin="/sensors/estimator")
 
     # --- scene ------------------------------------------------------------------------------
     def _scene(self, t, states, lift):
@@ -365,6 +538,7 @@ class RunViewer:
 
     # --- output -----------------------------------------------------------------------------
     def flush(self):
+        self._estimate(final=self.closed)
         for entity, (times, values) in self.buffers.items():
             if not times:
                 continue
@@ -388,8 +562,8 @@ class RunViewer:
 # --- live viewer node ---------------------------------------------------------------------------
 
 class ViewerNode(Node):
-    """The viewer node `railderail_viewer`: every /railderail topic into a RunViewer, which it
-    closes (flushing the file or the stream) in `destroy_node`."""
+    """The viewer node `railderail_viewer`: every /railderail topic (the sensors' included) into a
+    RunViewer, which it closes (flushing the file or the stream) in `destroy_node`."""
 
     def __init__(self, viewer, saving=None):
         super().__init__("railderail_viewer")
@@ -399,6 +573,9 @@ class ViewerNode(Node):
                     m.FINAL_STATUS: viewer.on_final_status}
         for topic, (_, cls, _, qos) in m.TOPICS.items():
             self.create_subscription(cls, topic, handlers[topic], qos)
+        # every mount's, the air springs' and the odometer's topics: those of a smaller set never publish
+        for topic, (_, cls, _, qos) in m.sensor_topics(default_set()).items():
+            self.create_subscription(cls, topic, lambda msg, topic=topic: viewer.on_sensor(topic, msg), qos)
         self.get_logger().info("showing /railderail in Rerun" + (f" (saving {saving})" if saving else ""))
 
     def destroy_node(self):

@@ -14,6 +14,7 @@ read-only). A bad value at start is one line `railderail-simulator: error: ...` 
 The scenario's parameters are read-only (the model is built from them); real_time_factor,
 status_rate, linger_s and frame_id may change while running (`ros2 param set`), checked as at start.
 """
+import math
 import sys
 import time
 from dataclasses import replace
@@ -286,6 +287,9 @@ class SimulatorNode(Node):
             self.finish(S.STATE_FINISHED, f"finished: end of the line at s = {a['position'][i]:.1f} m", a, i)
 
     def finish(self, state, text, a, i, code=0):
+        if self.sensor_stream is not None:
+            # the last rows' samples, stamped after them by their latency: the train's sensors still send them
+            self.publish_sensors(math.inf)
         if a is None:
             status = m.msgs.VehicleStatus(state=state, message=text)
         else:

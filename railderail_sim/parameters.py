@@ -73,11 +73,18 @@ SOURCES = {
 }
 
 
-def _p(value, unit, source, sure, note=""):
+def parameter(value, unit, source, sure, note=""):
+    """A dataclass field of a parameter with its default `value`, `unit`, `source` (a key of SOURCES or a
+    sentence), how sure it is (`sure`, the letters above) and a `note`, kept in the field's metadata for
+    `parameter_rows`: every parameter table (this module's, the sensors' instruments) declares its fields
+    with it."""
     return field(default=value, metadata={"unit": unit, "source": source, "sure": sure, "note": note})
 
 
-def _rows(parameters):
+_p = parameter          # the short name of the tables below
+
+
+def parameter_rows(parameters):
     """Rows (name, value, unit, source, sure, note) of a parameter dataclass's fields, for reports."""
     return [(f.name, getattr(parameters, f.name), f.metadata["unit"], f.metadata["source"], f.metadata["sure"],
              f.metadata["note"]) for f in fields(parameters) if f.metadata]
@@ -487,7 +494,7 @@ class ElasticTrackParameters:
 
     def describe(self):
         """Rows (name, value, unit, source, sure, note) for reports, with the co-running values."""
-        rows = _rows(self)
+        rows = parameter_rows(self)
         for name, units in (("vertical", ("kg", "N/m", "N s/m")), ("lateral", ("kg", "N/m", "N s/m")),
                             ("roll", ("kg m^2", "N m/rad", "N m s/rad"))):
             what = ("inertia" if name == "roll" else "mass", "stiffness", "damping")
@@ -558,4 +565,4 @@ class AerodynamicParameters:
 
     def describe(self):
         """Rows (name, value, unit, source, sure, note) for reports."""
-        return _rows(self)
+        return parameter_rows(self)

@@ -32,6 +32,9 @@ the air spring's name (`sensor_topics`):
 | /railderail/sensors/odometer                   | geometry_msgs/TwistWithCovarianceStamped  |
 |                                                | (linear.x the forward speed, m/s)         |
 
+`SensorConverter` makes the messages of the sensors' samples; `SensorRecord` turns received or recorded
+messages back into the `sensor_<unit>_<signal>` arrays of `railderail simulate --sensors`.
+
 Subscribers of the sensor-data topics use best effort with a deeper queue (SENSOR_SUBSCRIBER) so
 that a burst does not overwrite samples before the callback runs.
 """
@@ -136,6 +139,13 @@ class SensorConverter:
             step = 2.0 * math.pi * rolling_radius / o.pulses_per_revolution * o.sampling.sample_rate_hz
             self.speed_variance = step * step / 12.0
 
+    def arrays_messages(self, arrays):
+        """`messages` of a run's `sensor_<unit>_<signal>` arrays (`sensors.measure.SensorLog.arrays()`, the
+        output file of `simulate --sensors`)."""
+        units = [mount.name for mount in self.sensors.mounts] + ["air_springs", self.odometer]
+        return self.messages({unit: {name[len(f"sensor_{unit}_"):]: values for name, values in arrays.items()
+                                     if name.startswith(f"sensor_{unit}_")} for unit in units})
+
     def messages(self, samples):
         """(stamp s, topic, message) of every sample of one `process` output."""
         out = []
@@ -184,6 +194,88 @@ class SensorConverter:
         return out
 
 
+class SensorRecord:
+    """The sensor topics' messages (decoded: rclpy's or a reader's, attribute access) back into the
+    `sensor_<unit>_<signal>` arrays of `railderail simulate --sensors` (docs/output-format.md), the inverse of
+    SensorConverter: `add(topic, message)` for each, then `arrays()` (times in s from the stamps) or
+    `stamps_ns()` (the stamps as the messages carry them, integer ns), each unit's samples in stamp order.
+    An air spring's deflection is its height (`height_m`, the sensor set's) less the Range's reading; an
+    air-spring sample is one whose eight messages (each spring's pressure and height) all came, as the
+    simulator sends them. Each call of `arrays` converts only what came since the last (a live viewer asks
+    for the whole record every simulated second)."""
+
+    def __init__(self, height_m=None):
+        from railderail_sim.sensors.config import AIR_SPRING_HEIGHT, AIR_SPRINGS, ODOMETER
+        self.height = AIR_SPRING_HEIGHT if height_m is None else float(height_m)
+        self.spring_names, self.odometer_name = AIR_SPRINGS, ODOMETER
+        self.pending = {}      # unit -> {"stamp" | signal: [values since the last conversion]}
+        self.blocks = {}       # unit -> {"stamp" | signal: array, in stamp order}
+        self.springs = {}      # stamp ns -> {(spring, "pressure" | "height"): value} of incomplete samples
+        self.messages = 0
+
+    def _sample(self, unit, ns, **signals):
+        pending = self.pending.setdefault(unit, {})
+        pending.setdefault("stamp", []).append(ns)
+        for name, value in signals.items():
+            pending.setdefault(name, []).append(value)
+
+    def add(self, topic, message):
+        """Keep a sensor topic's message; False (and nothing kept) for any other topic."""
+        if not topic.startswith(SENSORS_NS + "/"):
+            return False
+        name, _, kind = topic[len(SENSORS_NS) + 1:].partition("/")
+        ns = stamp_ns(message.header.stamp)
+        if kind == "imu":
+            a, w = message.linear_acceleration, message.angular_velocity
+            gyro = {} if message.angular_velocity_covariance[0] == -1.0 else dict(angular_rate=(w.x, w.y, w.z))
+            self._sample(name, ns, acceleration=(a.x, a.y, a.z), **gyro)
+        elif name in self.spring_names and kind in ("pressure", "height"):
+            sample = self.springs.setdefault(ns, {})
+            sample[(name, kind)] = message.fluid_pressure if kind == "pressure" else message.range
+            if len(sample) == 2 * len(self.spring_names):
+                del self.springs[ns]
+                self._sample("air_springs", ns,
+                             deflection=[self.height - sample[(s, "height")] for s in self.spring_names],
+                             pressure=[sample[(s, "pressure")] for s in self.spring_names])
+        elif name == self.odometer_name and not kind:
+            self._sample(name, ns, speed=message.twist.twist.linear.x)
+        else:
+            return False
+        self.messages += 1
+        return True
+
+    def _converted(self):
+        """{unit: {"stamp" | signal: array}} of everything so far, in stamp order (a stable sort: samples of
+        one stamp in their order of arrival)."""
+        for unit, pending in self.pending.items():
+            blocks = self.blocks.setdefault(unit, {})
+            stamps = np.concatenate([blocks.get("stamp", np.zeros(0, dtype=np.int64)),
+                                     np.asarray(pending.pop("stamp"), dtype=np.int64)])
+            order = np.argsort(stamps, kind="stable")
+            blocks["stamp"] = stamps[order]
+            for name in set(pending) | set(blocks) - {"stamp"}:
+                # a signal every sample has (a mount without gyro has no angular rate; one that comes and goes
+                # is dropped)
+                new = np.asarray(pending.get(name, ()), dtype=float)
+                old = blocks.get(name, np.zeros((0,) + new.shape[1:]))
+                blocks[name] = None if old is None or len(old) + len(new) != len(order) else (
+                    np.concatenate([old, new.reshape((-1,) + old.shape[1:])])[order])
+        self.pending = {}
+        return {unit: {k: v for k, v in blocks.items() if v is not None} for unit, blocks in self.blocks.items()}
+
+    def stamps_ns(self):
+        """{unit: (m,) int64 stamps}, the units of `arrays`."""
+        return {unit: signals["stamp"] for unit, signals in self._converted().items()}
+
+    def arrays(self):
+        """{sensor_<unit>_<signal>: array} of the messages so far."""
+        out = {}
+        for unit, signals in self._converted().items():
+            out[f"sensor_{unit}_time"] = signals["stamp"] / 1e9
+            out.update({f"sensor_{unit}_{name}": v for name, v in signals.items() if name != "stamp"})
+        return out
+
+
 def count_as_subscriber(node):
     """Subscribe `node` to the wheelset states and contact forces (raw, ignored), so that a simulator
     started with `wait_for_subscribers` counts it: its latched derailment event and final status reach
@@ -215,6 +307,11 @@ def stamp(message, seconds):
 def seconds(time_msg):
     """builtin_interfaces/Time (or anything with sec and nanosec) -> seconds."""
     return time_msg.sec + 1e-9 * time_msg.nanosec
+
+
+def stamp_ns(time_msg):
+    """builtin_interfaces/Time -> integer nanoseconds (what `set_time` wrote: round(seconds * 1e9))."""
+    return time_msg.sec * 1_000_000_000 + time_msg.nanosec
 
 
 # --- core rows -> messages --------------------------------------------------------------------

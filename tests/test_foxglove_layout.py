@@ -1,6 +1,7 @@
 """foxglove/railderail-layout.json: every panel placed, every topic and field path it plots or shows exists in
-the message definitions (msg_defs/msg, array indexes in range, plotted leaves numeric), and its threshold lines
-are the monitor's thresholds (the shipped monitor.yaml)."""
+the message definitions (msg_defs/msg and the installed sensor_msgs, array indexes in range, plotted leaves
+numeric), and its threshold lines are the monitor's thresholds (the shipped monitor.yaml) and, in the sensors'
+tab, the on-board rules' levels as the Rerun views draw them."""
 import json
 import re
 from pathlib import Path
@@ -10,14 +11,17 @@ from rosidl_adapter.parser import parse_message_file
 
 from railderail_monitor.criteria import default_limits
 from railderail_monitor.recording import msg_file
-from railderail_monitor.viewer import WHEELSET_COLORS
+from railderail_monitor.viewer import SENSOR_GROUPS, WHEELSET_COLORS, sensor_group, sensor_levels
 from railderail_sim import ros_interface as m
+from railderail_sim.parameters import VehicleParameters
+from railderail_sim.sensors.config import MOUNTS, default_set
 
 ROOT = Path(__file__).resolve().parents[1]
 LAYOUT = json.loads((ROOT / "foxglove" / "railderail-layout.json").read_text())
 NUMERIC = {"bool", "byte", "char", "int8", "uint8", "int16", "uint16", "int32", "uint32", "int64", "uint64",
            "float32", "float64"}
 STEP = re.compile(r"^(\w+)(?:\[(\d+)\])?$")
+TOPICS = {**m.TOPICS, **m.sensor_topics(default_set()), m.CLOCK: m.CLOCK_TOPIC}
 
 
 def definition(package, name):
@@ -30,8 +34,8 @@ def leaf_type(path):
     """The primitive type a message path such as /railderail/wheelset_states.wheel_lift[3] ends on
     (AssertionError naming the path where it does not resolve)."""
     topic, _, rest = path.partition(".")
-    assert topic in {**m.TOPICS, m.CLOCK: m.CLOCK_TOPIC}, f"{path}: no topic {topic}"
-    package, _, name = m.TOPICS[topic][0].split("/")
+    assert topic in TOPICS, f"{path}: no topic {topic}"
+    package, _, name = TOPICS[topic][0].split("/")
     fields = definition(package, name)
     steps = rest.split(".") if rest else []
     field_type = None
@@ -51,7 +55,11 @@ def leaf_type(path):
 
 
 def panels(node):
-    return [node] if isinstance(node, str) else panels(node["first"]) + panels(node["second"])
+    """The panels a layout node places, those of its tabs' layouts included."""
+    if isinstance(node, str):
+        tabs = LAYOUT["configById"].get(node, {}).get("tabs") if node.startswith("Tab!") else None
+        return [node] + [p for tab in tabs for p in panels(tab["layout"])] if tabs else [node]
+    return panels(node["first"]) + panels(node["second"])
 
 
 def test_every_panel_is_placed_once():
@@ -75,7 +83,9 @@ def test_every_path_exists_in_the_message_definitions():
                 assert field_type.is_primitive_type() and field_type.type in NUMERIC and not (
                     field_type.is_array and "[" not in value.rsplit(".", 1)[1]), f"{panel}: {value} is not a number"
             checked += 1
-    assert checked == 35      # 4 wheelsets, 3 x 8 wheels, speed and acceleration, 2 timelines, 3 whole topics
+    # 4 wheelsets, 3 x 8 wheels, speed and acceleration, 2 timelines, 3 whole topics; the sensors' tab: 13
+    # mounts' lateral and vertical acceleration, the car body's 3 roll rates
+    assert checked == 35 + 2 * len(MOUNTS) + 3
 
 
 def thresholds(panel):
@@ -105,3 +115,24 @@ def test_the_same_wheel_has_the_same_colour_in_every_plot():
     assert len(set(colours.values())) == 8
     # the hues of the Rerun views: a wheelset's left wheel in its colour there
     assert [colours[2 * w] for w in range(4)] == ["#%02x%02x%02x" % c for c in WHEELSET_COLORS]
+
+
+def test_the_sensors_tab_plots_every_mount_with_the_rules_levels_of_the_rerun_views():
+    tabs = LAYOUT["configById"][LAYOUT["layout"]]["tabs"]
+    assert [tab["title"] for tab in tabs] == ["run", "sensors"]
+    levels = sensor_levels(VehicleParameters())
+    for group, _ in SENSOR_GROUPS:
+        for plot, field in (("lateral", "linear_acceleration.y"), ("vertical", "linear_acceleration.z")):
+            config = LAYOUT["configById"][f"Plot!sensors_{group}_{plot}"]
+            shown = [s["value"] for s in config["paths"] if s["value"].startswith("/")]
+            assert shown == [f"{m.SENSORS_NS}/{x}/imu.{field}" for x in MOUNTS if sensor_group(x) == group]
+            expected = sorted(sign * level for _, level, _, _ in levels.get((group, plot), ()) for sign in (1, -1))
+            assert thresholds(f"Plot!sensors_{group}_{plot}") == expected
+    roll = levels[("car_body", "roll_rate")][0][1]
+    assert thresholds("Plot!sensors_car_body_roll_rate") == [-roll, roll]
+
+
+def test_the_sensors_tab_is_the_one_railderail_monitor_foxglove_writes():
+    from railderail_monitor.foxglove import with_sensors_tab
+
+    assert with_sensors_tab(LAYOUT) == LAYOUT, "python -m railderail_monitor.foxglove writes the tab anew"

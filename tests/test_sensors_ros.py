@@ -1,9 +1,11 @@
 """The on-board sensors through ROS 2: the simulator node publishes each mount's sensor_msgs/Imu (frame_id the
 mount, covariances from the noise model), the air springs' FluidPressure and Range, the odometer's
 TwistWithCovarianceStamped, at the sensors' rates; the recorder writes them to a rosbag2 MCAP bag that rosbags
-(which shares no code with ours) decodes."""
+(which shares no code with ours) decodes; the messages carry, bit for bit, what `railderail simulate --sensors`
+stores for the same scenario and seed."""
 import signal
 import sys
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -11,8 +13,9 @@ from rosbags.highlevel import AnyReader
 from rosbags.typesys import Stores, get_typestore
 
 from railderail_sim import ros_interface as m
+from railderail_sim.cli import main
 from railderail_sim.parameters import GRAVITY
-from railderail_sim.sensors.config import AIR_SPRING_EFFECTIVE_AREA, load
+from railderail_sim.sensors.config import AIR_SPRING_EFFECTIVE_AREA, AIR_SPRINGS, load
 from railderail_sim.sensors.measure import noise_variance
 from railderail_sim.parameters import vehicle_parameters
 
@@ -22,7 +25,36 @@ SIMULATOR = [PY, "-m", "railderail_sim.node", "--ros-args", "-p", "speed_mode:=c
              "-p", "sensors:=shipped", "-p", "sensor_seed:=4"]
 
 
-@pytest.mark.timeout(500)
+def stamp_ns(message):
+    return message.header.stamp.sec * 1_000_000_000 + message.header.stamp.nanosec
+
+
+def assert_as_simulate(messages, sensors, npz):
+    """The decoded messages of every sensor topic equal `simulate --sensors`'s arrays bit for bit: the stamps
+    (integer ns, as the messages carry them) and every value; a height through its Range's float32."""
+    stored = np.load(npz)
+    for mount in sensors.mounts:
+        imu = messages[f"{m.SENSORS_NS}/{mount.name}/imu"]
+        key = f"sensor_{mount.name}"
+        assert np.array_equal([stamp_ns(x) for x in imu], np.round(stored[f"{key}_time"] * 1e9)), mount.name
+        acc = [(x.linear_acceleration.x, x.linear_acceleration.y, x.linear_acceleration.z) for x in imu]
+        assert np.array_equal(acc, stored[f"{key}_acceleration"]), mount.name
+        rate = [(x.angular_velocity.x, x.angular_velocity.y, x.angular_velocity.z) for x in imu]
+        assert np.array_equal(rate, stored[f"{key}_angular_rate"]), mount.name
+    for j, spring in enumerate(AIR_SPRINGS):
+        pressure = messages[f"{m.SENSORS_NS}/{spring}/pressure"]
+        height = messages[f"{m.SENSORS_NS}/{spring}/height"]
+        for series in (pressure, height):
+            assert np.array_equal([stamp_ns(x) for x in series], np.round(stored["sensor_air_springs_time"] * 1e9))
+        assert np.array_equal([x.fluid_pressure for x in pressure], stored["sensor_air_springs_pressure"][:, j])
+        assert np.array_equal([x.range for x in height], np.float32(sensors.air_springs.height_m
+                                                                    - stored["sensor_air_springs_deflection"][:, j]))
+    odometer = messages[f"{m.SENSORS_NS}/odometer"]
+    assert np.array_equal([stamp_ns(x) for x in odometer], np.round(stored["sensor_odometer_time"] * 1e9))
+    assert np.array_equal([x.twist.twist.linear.x for x in odometer], stored["sensor_odometer_speed"])
+
+
+@pytest.mark.timeout(700)
 def test_the_simulator_publishes_the_sensors_on_standard_messages_that_rosbags_decodes(spawn, read_until, tmp_path):
     folder = tmp_path / "bag"
     recorder = spawn([PY, "-m", "railderail_monitor.recording", "--bag-dir", str(folder)])
@@ -59,3 +91,10 @@ def test_the_simulator_publishes_the_sensors_on_standard_messages_that_rosbags_d
     assert height.range == pytest.approx(sensors.air_springs.height_m, abs=2e-3)
     speed = [x.twist.twist.linear.x for x in messages[f"{m.SENSORS_NS}/odometer"]]
     assert np.mean(speed) == pytest.approx(310.0 / 3.6, rel=0.02)
+
+    # the same scenario and seed through the command line: the same signals, bit for bit, every sample of the
+    # run (the last rows' too, stamped after the run's end by their latency)
+    npz = tmp_path / "run.npz"
+    assert main(["simulate", "--radius", "1000", "--speed-kmh", "310", "--rate", "200", "--sensors",
+                 "--sensor-seed", "4", "--out", str(npz)]) == 0
+    assert_as_simulate(messages, replace(sensors, seed=4), npz)

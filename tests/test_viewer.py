@@ -13,23 +13,38 @@ from railderail_sim.cli import main
 
 
 @pytest.fixture(scope="module")
-def rrd(tmp_path_factory):
+def run(tmp_path_factory):
+    """A derailing run with the shipped sensors on, recorded (sensor topics included) and written to .rrd:
+    (rrd path, samples, the run's SensorLog, the run)."""
+    from railderail_sim.sensors.config import load
+    from railderail_sim.sensors.measure import SensorLog
     from railderail_sim.vehicle.simulate import scenario, simulate
 
     folder = tmp_path_factory.mktemp("viewer")
-    result = simulate(replace(scenario(radius=1000.0, speed_kmh=310.0), output_rate=200.0))
-    record_run(folder / "run.mcap", result)
-    return write_rrd(read_recording(folder / "run.mcap"), folder / "run.rrd"), len(result.time)
+    log = SensorLog(replace(load(), seed=3))
+    result = simulate(replace(scenario(radius=1000.0, speed_kmh=310.0), output_rate=200.0), observe=log.observe)
+    record_run(folder / "run.mcap", result, sensor_log=log)
+    return write_rrd(read_recording(folder / "run.mcap"), folder / "run.rrd"), len(result.time), log, result
+
+
+@pytest.fixture(scope="module")
+def rrd(run):
+    return run[:2]
+
+
+def entity_rows(path):
+    """{entity: rows of temporal data} of an .rrd file's recording."""
+    rows = {}
+    for line in str(RrdReader(path).store().summary()).splitlines():
+        entity, _, rest = line.partition(" rows=")
+        if rest and "static=False" in rest:
+            rows[entity] = rows.get(entity, 0) + int(rest.split()[0])
+    return rows
 
 
 def test_rrd_has_the_views(rrd):
     path, samples = rrd
-    summary = str(RrdReader(path).store().summary())
-    rows = {}
-    for line in summary.splitlines():
-        entity, _, rest = line.partition(" rows=")
-        if rest and "static=False" in rest:
-            rows[entity] = rows.get(entity, 0) + int(rest.split()[0])
+    rows = entity_rows(path)
     for series in ("attack_angle_mrad/values", "speed_kmh"):
         assert rows[f"/plots/{series}"] == samples, series
     for entity in ("wheel_lift_mm", "derailment_coefficient", "unloading_ratio", "lateral_force_kN",
@@ -126,3 +141,110 @@ def test_attack_angle_line_appears_at_half_its_level_and_patches_show_the_worst_
     viewer.on_derailment(event)
     synthetic(viewer, 0.025)
     assert colours[-8:] == [RED] * 8                            # at the derailment every patch is red
+
+
+def views(container):
+    """The views of a blueprint container, depth first."""
+    import rerun.blueprint as rrb
+
+    return [v for c in container.contents for v in (views(c) if isinstance(c, rrb.Container) else [c])]
+
+
+def test_the_sensors_tab_comes_with_the_first_sensor_message_and_not_without():
+    import numpy as np
+    import rerun.blueprint as rrb
+
+    from railderail_monitor.viewer import RunViewer
+    from railderail_sim import ros_interface as m
+    from railderail_sim.sensors.config import default_set
+
+    viewer = RunViewer(flush_every=10**6)
+    for t in (0.0, 0.005, 0.01):
+        synthetic(viewer, t)
+    viewer.on_status(m.VehicleStatus(speed=80.0))             # the ground-truth topics only: no tab
+    assert isinstance(viewer.blueprint().root_container, rrb.Vertical)
+    assert not any(entity.startswith("/sensors") for entity in viewer.buffers)
+    viewer.flush()                                             # and no estimate to make
+    imu = m.SensorConverter(default_set(), 200.0, 0.46).messages(
+        {"bogie_rear_frame": dict(time=np.array([0.007, 0.012]), acceleration=np.array([[0.1, -9.0, 9.8]] * 2),
+                                  angular_rate=np.zeros((2, 3)))})
+    for _, topic, msg in imu:
+        viewer.on_sensor(topic, msg)
+    root = viewer.blueprint().root_container
+    assert isinstance(root, rrb.Tabs) and [c.name for c in root.contents] == ["run", "sensors"]
+    origins = {str(v.origin) for v in views(root.contents[1])}
+    assert {"/sensors/bogie_frame/lateral", "/sensors/car_body/roll_rate", "/sensors/estimator/front"} <= origins
+    times, values = viewer.buffers["/sensors/bogie_frame/lateral/bogie_rear_frame"]
+    assert times == [0.007, 0.012] and values == [-9.0, -9.0]           # as measured, in the frame's axes
+    peak = viewer.sensor_levels[("bogie_frame", "lateral")][0][1]
+    assert viewer.buffers["/sensors/bogie_frame/lateral/limit_peak"][1] == [(peak, -peak)] * 2
+    assert peak == pytest.approx(12.0 - (3300.0 + 2 * 1780.0) / 5000.0)    # 12 - M_b/5, M_b in t
+    viewer.flush()           # a frame alone: the estimator lacks its mounts, nothing estimated, no error
+    assert "/sensors/estimator/front/estimated" not in viewer.sensor_series
+
+
+def test_rrd_has_the_sensors_views_and_the_estimate_beside_the_truth(run):
+    import numpy as np
+
+    from railderail_monitor.onboard import estimator
+    from railderail_monitor.replay import feed_viewer
+    from railderail_monitor.viewer import RunViewer
+    from railderail_sim.parameters import VehicleParameters
+    from railderail_sim.sensors.config import AIR_SPRING_EFFECTIVE_AREA, MOUNTS
+
+    path, samples, log, result = run
+    measured = {mount: {"time": log.arrays()[f"sensor_{mount}_time"]} for mount in MOUNTS}
+    rows = entity_rows(path)
+    for mount in MOUNTS:
+        group = "bogie_frame" if mount.endswith("_frame") else "_".join(mount.split("_")[:2])
+        for plot in ("lateral", "vertical"):
+            assert rows[f"/sensors/{group}/{plot}/{mount}"] == len(measured[mount]["time"]), (mount, plot)
+    assert rows["/sensors/car_body/roll_rate/car_body_centre"] == len(measured["car_body_centre"]["time"])
+    for line in ("car_body/lateral/limit_ydd", "bogie_frame/lateral/limit_bids", "car_body/roll_rate/limit_roll_rate",
+                 "estimator/rear/limit_warning"):
+        assert rows[f"/sensors/{line}"] >= 2, line
+    est = estimator.estimate(log.arrays(), VehicleParameters(), AIR_SPRING_EFFECTIVE_AREA)
+    for bogie in estimator.BOGIES:
+        assert rows[f"/sensors/estimator/{bogie}/estimated"] == len(est["time"]) > 0.9 * samples
+        assert rows[f"/sensors/estimator/{bogie}/ground_truth"] == samples
+    assert len(RrdReader(path).blueprints()) == 2          # the first one's, and with the sensors' tab
+
+    # the values drawn are the estimator's on the run's own sensor arrays (the topics decoded: the air springs'
+    # height went through a float32 Range)
+    viewer = RunViewer(flush_every=10**9)
+    show = feed_viewer(viewer)
+    for item in read_recording(path.with_suffix(".mcap")).messages:
+        show(*item)
+    viewer._estimate(final=True)
+    times, values = viewer.buffers["/sensors/estimator/rear/estimated"]
+    assert np.array_equal(np.round(np.asarray(times) * 1e9), np.round(est["time"] * 1e9))
+    assert np.allclose(values, est["unloading"][:, 2:], rtol=0.0, atol=1e-5)
+    times, values = viewer.buffers["/sensors/estimator/front/ground_truth"]
+    truth = estimator.truth(result.arrays(), VehicleParameters())
+    assert np.array_equal(np.round(np.asarray(times) * 1e9), np.round(truth["time"] * 1e9))
+    assert np.allclose(values, truth["unloading"][:, :2], rtol=0.0, atol=1e-12)
+
+
+def test_sensor_topics_decode_back_into_the_run_s_sensor_arrays(run):
+    import numpy as np
+
+    from railderail_sim import ros_interface as m
+
+    path, _, log, _ = run
+    record = m.SensorRecord()
+    for topic, _, _, _, msg in read_recording(path.with_suffix(".mcap")).messages:
+        if msg is not None:
+            record.add(topic, msg)
+    got, want = record.arrays(), log.arrays()
+    assert set(got) == set(want)
+    stamps = record.stamps_ns()
+    for name, values in want.items():
+        signal = next(s for s in ("time", "acceleration", "angular_rate", "deflection", "pressure", "speed")
+                      if name.endswith("_" + s))
+        unit = name[len("sensor_"):-len(signal) - 1]
+        if signal == "time":
+            assert np.array_equal(stamps[unit], np.round(values * 1e9).astype(np.int64)), name
+        elif signal == "deflection":       # the height sensor's Range is float32
+            assert np.allclose(got[name], values, rtol=0.0, atol=1e-7), name
+        else:
+            assert np.array_equal(got[name], values), name               # bit for bit

@@ -15,7 +15,7 @@ its latency and drops samples (config.Mount).
 from dataclasses import dataclass, fields, replace
 import math
 
-from ..parameters import GRAVITY, _p, _rows
+from ..parameters import GRAVITY, parameter, parameter_rows
 from ..ranges import check_range
 
 G = GRAVITY
@@ -46,15 +46,16 @@ class Instrument:
     name: str
     quantity: str                   # acceleration, angular_rate, deflection or pressure
     unit: str
-    noise_density: float = _p(0.0, "unit/sqrt(Hz)", "model", "A", "white noise, one-sided")
-    bias: float = _p(0.0, "unit", "model", "A", "1-sigma of the constant bias of each axis, drawn from the seed")
-    bias_random_walk: float = _p(0.0, "unit/sqrt(s)", "model", "A", "the bias's random walk")
-    range_low: float = _p(-math.inf, "unit", "model", "A", "the reading clips here")
-    range_high: float = _p(math.inf, "unit", "model", "A", "and here")
-    bits: int = _p(0, "-", "model", "A", "quantisation over the range; 0: none")
-    anti_alias_ratio: float = _p(0.25, "-", "model", "A", "the anti-alias low-pass's corner over the sample rate")
-    anti_alias_order: int = _p(4, "-", "model", "A", "order of that Butterworth low-pass")
-    high_pass_hz: float = _p(0.0, "Hz", "model", "A", "corner of a first-order AC coupling; 0: DC response")
+    noise_density: float = parameter(0.0, "unit/sqrt(Hz)", "model", "A", "white noise, one-sided")
+    bias: float = parameter(0.0, "unit", "model", "A", "1-sigma of the constant bias of each axis, drawn from the seed")
+    bias_random_walk: float = parameter(0.0, "unit/sqrt(s)", "model", "A", "the bias's random walk")
+    range_low: float = parameter(-math.inf, "unit", "model", "A", "the reading clips here")
+    range_high: float = parameter(math.inf, "unit", "model", "A", "and here")
+    bits: int = parameter(0, "-", "model", "A", "quantisation over the range; 0: none")
+    anti_alias_ratio: float = parameter(0.25, "-", "model", "A",
+                                        "the anti-alias low-pass's corner over the sample rate")
+    anti_alias_order: int = parameter(4, "-", "model", "A", "order of that Butterworth low-pass")
+    high_pass_hz: float = parameter(0.0, "Hz", "model", "A", "corner of a first-order AC coupling; 0: DC response")
 
     @property
     def resolution(self):
@@ -81,7 +82,7 @@ class Instrument:
     def describe(self):
         """Rows (name, value, unit, source, sure, note) for reports (the unit of the quantity filled in)."""
         return [(f"{self.name}.{n}", v, u.replace("unit", self.unit), src, sure, note)
-                for n, v, u, src, sure, note in _rows(self)]
+                for n, v, u, src, sure, note in parameter_rows(self)]
 
 
 def _instrument(name, quantity, unit, **values):

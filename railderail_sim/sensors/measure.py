@@ -173,26 +173,29 @@ class SensorStream:
         if n == 0:
             return out
         y = self.ideal(a) + self.constant_bias
-        for u in self.units:
-            c = u.columns.stop - u.columns.start
-            draws = u.noise.standard_normal((n, 2 * c))
-            y[:, u.columns] += draws[:, :c] * self.white[u.columns]
-            steps = draws[:, c:] * self.walk_step[u.columns]
-            walk = np.cumsum(np.concatenate([self.walk[None, u.columns], steps]), axis=0)[1:]
-            self.walk[u.columns] = walk[-1]
-            y[:, u.columns] += walk
+        if self.units:
+            # each unit draws from its own generator; the arithmetic then runs once over all the columns (the
+            # same operations on each element as unit by unit: the same signals, fewer calls per chunk)
+            draws = [u.noise.standard_normal((n, 2 * (u.columns.stop - u.columns.start))) for u in self.units]
+            white = np.concatenate([d[:, :d.shape[1] // 2] for d in draws], axis=1)
+            steps = np.concatenate([d[:, d.shape[1] // 2:] for d in draws], axis=1) * self.walk_step
+            y += white * self.white
+            walk = np.cumsum(np.concatenate([self.walk[None, :], steps]), axis=0)[1:]
+            self.walk = walk[-1].copy()
+            y += walk
         for k, (sos, cols, state) in enumerate(self.filters):
             if state is None:
                 state = signal.sosfilt_zi(sos)[..., None] * y[0, cols]
             y[:, cols], state = signal.sosfilt(sos, y[:, cols], axis=0, zi=state)
             self.filters[k] = (sos, cols, state)
         rows = self.row + np.arange(n)
+        y = self.quantised(y, slice(None))
+        takes = {}
         for u in self.units:
-            take = np.flatnonzero(rows % u.every == 0)
-            samples = self.quantised(y[take, u.columns], u.columns)
-            kept = u.lost.random(len(take)) >= u.sampling.dropout
-            time = a["time"][take][kept] + u.sampling.latency_s
-            samples = samples[kept]
+            if u.every not in takes:
+                takes[u.every] = np.flatnonzero(rows % u.every == 0)
+            take = takes[u.every]
+            time, samples = self.kept(u, a["time"][take] + u.sampling.latency_s, y[take, u.columns])
             if u.name == "air_springs":
                 half = (u.columns.stop - u.columns.start) // 2
                 out[u.name] = dict(time=time, deflection=samples[:, :half], pressure=samples[:, half:])
@@ -204,6 +207,15 @@ class SensorStream:
             out[ODOMETER] = self.odometer_samples(a, rows)
         self.row += n
         return out
+
+    @staticmethod
+    def kept(unit, *taken):
+        """The samples of a unit that are not lost (each with its chance `dropout`, from the unit's own
+        generator: a unit that loses none draws nothing, which changes none of its signals)."""
+        if unit.sampling.dropout == 0.0:
+            return taken
+        kept = unit.lost.random(len(taken[0])) >= unit.sampling.dropout
+        return tuple(x[kept] for x in taken)
 
     def quantised(self, x, cols):
         """Readings clipped to each channel's range and rounded to its resolution."""
@@ -227,8 +239,8 @@ class SensorStream:
         speed = (counts[take] - previous) * self.pulse_nominal * o.sampling.sample_rate_hz
         if len(take):
             self.last_count = counts[take][-1]
-        kept = u.lost.random(len(take)) >= o.sampling.dropout
-        return dict(time=a["time"][take][kept] + o.sampling.latency_s, speed=speed[kept])
+        time, speed = self.kept(u, a["time"][take] + o.sampling.latency_s, speed)
+        return dict(time=time, speed=speed)
 
 
 class SensorLog:
