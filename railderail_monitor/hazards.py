@@ -18,6 +18,7 @@ figures are as quoted in ../shared/reference/ and docs/warning-evaluation.md):
 | `wheel_unloading` | dQ/Q0 of a wheel (20 Hz), mean over 1.524 m (5 ft) | 0.90 | 49 CFR 213.333 (vertical wheel load >= 10 % of static over 5 ft); EN 14067-6's 0.90 of a running gear |
 | `flange_climb` | Q/P of a wheel (20 Hz), mean over 1.524 m | Nadal's limit at the run's friction | 49 CFR 213.333 single-wheel L/V (Nadal, 5 ft) with the friction the simulator knows |
 | `track_shift` | \\|sum Y\\| of a wheelset (20 Hz), mean over 2 m | Prud'homme alpha (10 + P0/3) kN, alpha 1 | EN 14363 / UIC 518 (sum Y)2m,lim, P0 the static axle load in kN |
+| `instability` | sum Y of a wheelset (20 Hz), band-passed f0 +- 2 Hz, r.m.s. over 100 m | half Prud'homme's limit | EN 14363 / UIC 518 (sum Y)rms,lim: the running is unstable (hunting) |
 | `wheel_lift` | lift of a wheel | half the flange height | no standard value: half way up the flange, a modelling choice (sensitivity in the report) |
 
 Useful lead: a warning is of use when it comes early enough for the train to react and brake to a safe
@@ -31,6 +32,7 @@ import math
 
 import numpy as np
 
+from railderail_sim.assessment.en14363 import RMS_WINDOW_M
 from railderail_sim.parameters import ContactParameters
 from railderail_sim.vehicle.layout import RUNNING_GEARS
 
@@ -66,6 +68,12 @@ class HazardRules:
                                      "EN 14363 / UIC 518: alpha = 1 for passenger vehicles", "B")
     track_shift_window_m: float = _rule(2.0, "m", "track over which the track-shift force is averaged",
                                         "EN 14363: (sum Y)2m, the 2 m sliding mean", "B")
+    instability_share: float = _rule(0.5, "-", "near miss (instability): a wheelset's sum Y band-passed f0 +- 2 Hz, "
+                                     "its r.m.s. over instability_window_m, at or above this share of the "
+                                     "track-shift limit", "EN 14363 / UIC 518 (sum Y)rms,lim = (sum Y)2m,lim / 2",
+                                     "B (formula), C (window)")
+    instability_window_m: float = _rule(RMS_WINDOW_M, "m", "track over which the instability r.m.s. is taken",
+                                        "EN 14363: 100 m sliding r.m.s. (en14363.RMS_WINDOW_M)", "C")
     lift_share: float = _rule(0.5, "-", "near miss: a wheel's lift at or above this share of the flange height",
                               "no standard value: half way up the flange (a modelling choice)", "-")
     low_pass_forces: bool = _rule(True, "-", "the wheel forces low-passed 20 Hz before their margins are judged",
@@ -91,7 +99,8 @@ class HazardRules:
 
     def validated(self):
         for name in ("window_s", "unloading_level", "margin_window_m", "track_shift_alpha", "track_shift_window_m",
-                     "lift_share", "reaction_s", "brake_buildup_s", "permitted_cant_deficiency"):
+                     "instability_share", "instability_window_m", "lift_share", "reaction_s", "brake_buildup_s",
+                     "permitted_cant_deficiency"):
             if not getattr(self, name) > 0.0:
                 raise ValueError(f"{name} {getattr(self, name)!r} must be positive")
         if not 0.0 < self.safe_speed_reduction <= 1.0:
@@ -164,11 +173,37 @@ def filtered_forces(arrays, rules):
     vertical, lateral = (np.asarray(arrays[k], dtype=float) for k in ("vertical_force", "lateral_force"))
     if not rules.low_pass_forces or len(t) < 2:
         return vertical, lateral
-    low, rate = force_low_pass(), 1.0 / float(np.median(np.diff(t)))
-    # the filter (a periodic one: `AnalogFilter.apply`) settled on the first sample: half a second of it in
-    # front, where the record's end wraps round, then cut off
-    pad = int(round(0.5 * rate))
-    return tuple(low.apply(np.concatenate([np.repeat(x[:1], pad, axis=0), x]), rate)[pad:] for x in (vertical, lateral))
+    rate = 1.0 / float(np.median(np.diff(t)))
+    return tuple(settled(force_low_pass(), x, rate) for x in (vertical, lateral))
+
+
+def settled(analog, x, rate):
+    """x (axis 0 time) through an `assessment.filters.AnalogFilter` at `rate` Hz, settled on the first sample:
+    the filter is a periodic one (`AnalogFilter.apply`), so two seconds of the first sample go in front, where
+    the record's end wraps round, and are cut off."""
+    pad = int(round(2.0 * rate))
+    return analog.apply(np.concatenate([np.repeat(x[:1], pad, axis=0), x]), rate)[pad:]
+
+
+def stability_band(arrays, lateral):
+    """Each wheelset's sum Y (n, 4), N, band-passed f0 +- 2 Hz (`assessment.filters.stability_band_pass`)
+    about the run's instability frequency f0: the Welch peak of the four sums in EN 14363's search band
+    (`en14363.INSTABILITY_BAND_HZ`); zeros for a record too short to have a spectrum."""
+    from scipy import signal
+
+    from railderail_sim.assessment.en14363 import INSTABILITY_BAND_HZ
+    from railderail_sim.assessment.filters import stability_band_pass
+    t = np.asarray(arrays["time"], dtype=float)
+    sum_y = np.asarray(lateral, dtype=float)[:, 0::2] - np.asarray(lateral, dtype=float)[:, 1::2]
+    if len(t) < 2:
+        return np.zeros_like(sum_y)
+    rate = 1.0 / float(np.median(np.diff(t)))
+    f, p = signal.welch(sum_y - sum_y.mean(axis=0), fs=rate, nperseg=min(len(t), int(round(4.0 * rate))), axis=0)
+    band = (f >= INSTABILITY_BAND_HZ[0]) & (f <= INSTABILITY_BAND_HZ[1])
+    if not band.any():
+        return np.zeros_like(sum_y)
+    f0 = float(f[band][np.argmax(p[band].sum(axis=1))])
+    return settled(stability_band_pass(f0), sum_y, rate)
 
 
 def margins(arrays, car, rules):
@@ -182,9 +217,11 @@ def margins(arrays, car, rules):
     loaded = vertical > ContactParameters().derailment_coefficient_min_load * car.static_wheel_load
     qp = sliding_mean(np.where(loaded, lateral / np.where(loaded, vertical, 1.0), 0.0), s, rules.margin_window_m)
     shift = sliding_mean(track_shift_force(lateral), s, rules.track_shift_window_m)
+    instability = np.sqrt(sliding_mean(stability_band(arrays, lateral) ** 2, s, rules.instability_window_m))
     return {"wheel_unloading": (unloading >= rules.unloading_level, wheel_places),
             "flange_climb": (qp >= car.nadal, wheel_places),
             "track_shift": (shift >= car.track_shift_limit(rules), axle_places),
+            "instability": (instability >= rules.instability_share * car.track_shift_limit(rules), axle_places),
             "wheel_lift": (np.asarray(arrays["wheel_lift"]) >= rules.lift_share * car.flange_height, wheel_places)}
 
 

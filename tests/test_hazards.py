@@ -70,6 +70,23 @@ def test_margins_are_judged_on_the_forces_low_passed_20_hz():
     assert np.std(vertical[400:, 0] - P0) * math.sqrt(2) == pytest.approx(1e3 / math.sqrt(2), rel=0.02)
 
 
+def test_a_hunting_wheelset_is_a_near_miss_by_instability_at_its_bogie():
+    # wheelset 2 (rear bogie) pushes its rails 5 Hz back and forth from t = 5 s: sum Y = amplitude sin, its
+    # r.m.s. amplitude / sqrt 2 against half Prud'homme's 47.38 kN; 40 kN (28.3 rms) is unstable, 25 kN
+    # (17.7 rms) is not
+    def hunting(amplitude):
+        a = quiet_run()
+        t = a["time"]
+        y = np.where(t >= 5.0, amplitude * np.sin(2 * np.pi * 5.0 * t), 0.0)
+        a["lateral_force"][:, 4], a["lateral_force"][:, 5] = 0.5 * y, -0.5 * y
+        return hazards(a, None, CAR, RULES)
+    (h,) = hunting(40e3)
+    assert (h["margin"], h["places"]) == ("instability", [(1, 0), (1, 1)])
+    # the 100 m window (2 s at 50 m/s) fills with the oscillation: its r.m.s. reaches 23.7 kN after 1.4 s
+    assert 5.0 < h["time_s"] < 7.0
+    assert hunting(25e3) == []
+
+
 def test_a_derailment_window_is_the_last_w_before_it_at_the_derailed_wheel():
     a = quiet_run()
     event = dict(time_s=15.0, speed_kmh=180.0, car_body_position_m=750.0, wheelset=2, wheel_side="left",

@@ -229,7 +229,7 @@ def test_the_shipped_results_false_alarms_cannot_fall_as_a_threshold_falls():
             assert row["test"]["false_alarms_per_1000_km_ci95"][1] <= row["budget_per_1000_km"]
 
 
-@pytest.mark.parametrize("name", ["line-r1000-erri-low-160", "staircase-r1000-erri-low", "line-r7000-wind-15-300",
+@pytest.mark.parametrize("name", ["line-r1000-erri-low-160", "staircase-r1000-erri-low", "line-r7000-wind-15-210",
                                   "line-r2000-air-spring-deflated-160"])
 def test_a_catalogue_scenario_becomes_the_simulator_node_s_parameters(name):
     """`railderail demo --catalogue --scenario NAME`: the node's parameters of a scenario pass the node's own
@@ -257,7 +257,7 @@ def test_the_demo_refuses_what_the_node_cannot_run():
     with pytest.raises(ValueError, match="--scenario 'nothing' is not in the catalogue"):
         catalogue_parameters(None, "nothing")
     with pytest.raises(ValueError, match="straight track, which the simulator node does not model"):
-        catalogue_parameters(None, "line-straight-china-hsr-300")
+        catalogue_parameters(None, "line-straight-china-hsr-210")
     with pytest.raises(ValueError, match="a track defect or a longer approach"):
         catalogue_parameters(None, "kink-35mm-5m")
     with pytest.raises(ValueError, match="--seed 9 is not one of the scenario's seeds"):
