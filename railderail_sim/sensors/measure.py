@@ -231,6 +231,18 @@ class SensorStream:
         return dict(time=a["time"][take][kept] + o.sampling.latency_s, speed=speed[kept])
 
 
+def named(samples):
+    """{`sensor_<unit>_<signal>`: array} of `SensorStream.process`'s {unit: {signal: array}}
+    (docs/output-format.md)."""
+    return {f"sensor_{unit}_{name}": values for unit, signals in samples.items() for name, values in signals.items()}
+
+
+def run_signals(sensors: SensorSet, sim, arrays):
+    """The `sensor_<unit>_<signal>` arrays of a whole run already simulated: a Simulation (its scenario,
+    model and speed table) and its output arrays; any sensor set over the same arrays, no re-simulation."""
+    return named(SensorStream(sensors, sim.scenario, sim.model, sim.speed_table).process(arrays))
+
+
 class SensorLog:
     """A whole run's sensor signals: `observe(sim, rows)` after each chunk of `vehicle.simulate.simulate`,
     then `arrays()`: `sensor_<unit>_<signal>` arrays for the output file (docs/output-format.md)."""
@@ -241,9 +253,8 @@ class SensorLog:
     def observe(self, sim, rows):
         if self.stream is None:
             self.stream = SensorStream(self.sensors, sim.scenario, sim.model, sim.speed_table)
-        for unit, signals in self.stream.process(output_arrays(rows)).items():
-            for name, values in signals.items():
-                self.parts.setdefault(f"sensor_{unit}_{name}", []).append(values)
+        for name, values in named(self.stream.process(output_arrays(rows))).items():
+            self.parts.setdefault(name, []).append(values)
 
     def arrays(self):
         return {name: np.concatenate(parts) for name, parts in self.parts.items()}
