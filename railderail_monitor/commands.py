@@ -18,4 +18,7 @@ COMMANDS = (
     ("warnings", "warning quality: lead time and false alarms of each criterion over the six radii, or over a "
      "scenario catalogue with thresholds swept (--catalogue)",
      "railderail_monitor.warning_quality:command"),
+    ("onboard-study", "at which speed and how early the bogie-instability rules on the measured frame accelerations "
+     "see hunting (failed yaw dampers) and a broken primary spring (--out DIR)",
+     "railderail_monitor.onboard.study:command"),
 )
