@@ -89,7 +89,9 @@ def odometer_distance(odometer_time, odometer_speed, at_time):
 
 @dataclass(frozen=True)
 class Measured:
-    """A criterion's value per sample (n,) and its level, in SI (`unit`), with its source and how sure."""
+    """A criterion's value per sample (n,) and its level, in SI (`unit`), with its source and how sure.
+    From `measured.evaluate`: value (n, k), one column per place (`places`: the mount or running-gear side),
+    on the criterion's own `time` (n,) s, with the track `position` (n,) m the odometer gives there."""
     criterion: str
     value: np.ndarray
     level: float
@@ -97,16 +99,26 @@ class Measured:
     source: str
     sure: str
     debounce: float = 0.0     # m of track the value must stay at or above the level before the alarm
+    time: np.ndarray = None
+    position: np.ndarray = None
+    places: tuple = ()
 
     def alarm_intervals(self, position, rearm_fraction=0.9, rearm_m=50.0):
         """[(alert, rearm)] of the monitor's Detector fed this value (`criteria.alarm_intervals`)."""
         return alarm_intervals(self.value, position, self.level, self.debounce, rearm_fraction, rearm_m)
 
-    def alarm_mask(self, position, rearm_fraction=0.9, rearm_m=50.0):
-        """(n,) bool: the channel is in alarm (as `scoring.in_alarm`)."""
+    def channel_intervals(self, position=None, rearm_fraction=0.9, rearm_m=50.0):
+        """[[(alert, rearm)] of each column] (one list for a value (n,)), each column its own channel."""
+        position = self.position if position is None else position
+        columns = self.value.T if np.ndim(self.value) == 2 else [self.value]
+        return [alarm_intervals(v, position, self.level, self.debounce, rearm_fraction, rearm_m) for v in columns]
+
+    def alarm_mask(self, position=None, rearm_fraction=0.9, rearm_m=50.0):
+        """(n,) bool: a channel is in alarm (as `scoring.in_alarm`)."""
         mask = np.zeros(len(self.value), dtype=bool)
-        for a, b in self.alarm_intervals(position, rearm_fraction, rearm_m):
-            mask[a:b] = True
+        for intervals in self.channel_intervals(position, rearm_fraction, rearm_m):
+            for a, b in intervals:
+                mask[a:b] = True
         return mask
 
     def first_alarm(self, position, rearm_fraction=0.9, rearm_m=50.0):
@@ -147,21 +159,23 @@ def hunting_frequency(time, frame_lateral):
     return float(f[band][np.argmax(p[band])])
 
 
-def bogie_rms(time, frame_lateral, position, bogie_mass, f0_hz):
+def bogie_rms(time, frame_lateral, position, bogie_mass, f0_hz, rate_hz=None, window_m=en14363.RMS_WINDOW_M,
+              step_m=en14363.RMS_STEP_M):
     """EN 14363's instability rule on the bogie frame (simplified method): the lateral acceleration band-passed
     f0 +- 2 Hz (filters.stability_band_pass), its sliding r.m.s. over 100 m every 10 m (en14363.RMS_WINDOW_M,
-    RMS_STEP_M), against (12 - M_b/5)/2 m/s^2. Processing B (GENSYS course page), limit and window C."""
-    rate = sample_rate(time)
+    RMS_STEP_M), against (12 - M_b/5)/2 m/s^2. Processing B (GENSYS course page), limit and window C.
+    rate_hz: the sensor's sample rate (default: from the stamps, `sample_rate`)."""
+    rate = rate_hz or sample_rate(time)
     band = apply_causal(filters.stability_band_pass(f0_hz), frame_lateral, rate, f0_hz)
-    mean_square = trailing_window(position, band, en14363.RMS_WINDOW_M, en14363.RMS_STEP_M, 2)
+    mean_square = trailing_window(position, band, window_m, step_m, 2)
     return Measured("bogie_rms", np.sqrt(mean_square), bogie_limits(bogie_mass)[1], "m/s^2",
                     "EN 14363:2005 / UIC 518 simplified method: (12 - M_b/5)/2, sliding r.m.s. 100 m, f0 +- 2 Hz", "C")
 
 
-def bogie_peak(time, frame_lateral, bogie_mass, f0_hz):
+def bogie_peak(time, frame_lateral, bogie_mass, f0_hz, rate_hz=None):
     """The peak form of the same rule (UIC 515 / UIC 518): |band-passed frame acceleration| against
     12 - M_b/5 m/s^2 (C)."""
-    band = apply_causal(filters.stability_band_pass(f0_hz), frame_lateral, sample_rate(time), f0_hz)
+    band = apply_causal(filters.stability_band_pass(f0_hz), frame_lateral, rate_hz or sample_rate(time), f0_hz)
     return Measured("bogie_peak", np.abs(band), bogie_limits(bogie_mass)[0], "m/s^2",
                     "UIC 515 / UIC 518 / EN 14363:2005: 12 - M_b/5 (recalled)", "C")
 
@@ -191,38 +205,43 @@ def consecutive_peaks(x, limit):
 
 
 def peak_count(time, frame_lateral, band_hz=BIDS_BAND_HZ, limit=BIDS_LIMIT, peaks=BIDS_PEAKS,
-               name="bids_peak_count", source="UIC 515-5 as stated in EP 2166333 A1 [0004] (e.g. values)", sure="A"):
+               name="bids_peak_count", source="UIC 515-5 as stated in EP 2166333 A1 [0004] (e.g. values)", sure="A",
+               rate_hz=None):
     """The peak-count rule of on-board bogie instability detection: the frame's lateral acceleration band-passed
     `band_hz` (Butterworth, 2 poles at each edge), alarm when `peaks` consecutive half-wave peaks reach `limit`
     m/s^2. Defaults: UIC 515-5 (EP 2166333); `china_peak_count` for the Chinese form."""
     check_range("peak limit", limit, 0.0, 1000.0, "m/s^2", lo_open=True)
     check_range("number of peaks", peaks, 1, 1000)
     band = apply_causal(filters.butterworth(f"{band_hz[0]:g}-{band_hz[1]:g} Hz band-pass", 2, band_hz, "bandpass"),
-                        frame_lateral, sample_rate(time), math.sqrt(band_hz[0] * band_hz[1]))
+                        frame_lateral, rate_hz or sample_rate(time), math.sqrt(band_hz[0] * band_hz[1]))
     return Measured(name, consecutive_peaks(band, limit), float(peaks), "peaks", source, sure)
 
 
-def china_peak_count(time, frame_lateral, limit=CHINA_LIMIT):
+CHINA_SOURCE = ("GB/T 5599-2019 / TB/T 3188 / 2008 EMU test code (clause not read); band and 8 m/s^2 from a "
+                "CARS study")
+
+
+def china_peak_count(time, frame_lateral, limit=CHINA_LIMIT, band_hz=CHINA_BAND_HZ, peaks=CHINA_PEAKS, rate_hz=None):
     """The Chinese on-board form: 0.5-10 Hz, 6 consecutive peaks at or over 8 m/s^2 (10 for power bogies)."""
-    return peak_count(time, frame_lateral, CHINA_BAND_HZ, limit, CHINA_PEAKS, "bids_peak_count_china",
-                      "GB/T 5599-2019 / TB/T 3188 / 2008 EMU test code (clause not read); band and 8 m/s^2 from a "
-                      "CARS study", "C")
+    return peak_count(time, frame_lateral, band_hz, limit, peaks, "bids_peak_count_china", CHINA_SOURCE, "C",
+                      rate_hz)
 
 
-def car_body_lateral(time, floor_lateral, debounce_m=0.0):
+def car_body_lateral(time, floor_lateral, debounce_m=0.0, rate_hz=None):
     """EN 14363's ydd*: the car-body floor's lateral acceleration over a bogie band-passed 0.4-10 Hz, its
     magnitude against 2.5 m/s^2 (passenger coaches and MUs, C; the standard takes the 99.85 % percentile of
     a section, a monitor each sample)."""
-    band = apply_causal(filters.car_body_band_pass(), floor_lateral, sample_rate(time), CAR_BODY_CENTRE_HZ)
+    band = apply_causal(filters.car_body_band_pass(), floor_lateral, rate_hz or sample_rate(time), CAR_BODY_CENTRE_HZ)
     lim = en14363.LIMITS["ydd_car_body"]
     return Measured("car_body_lateral", np.abs(band), lim.value, lim.unit, lim.source, lim.sure, debounce_m)
 
 
-def car_body_lateral_qst(time, floor_lateral, position):
+def car_body_lateral_qst(time, floor_lateral, position, rate_hz=None, window_m=en14363.MIN_SECTION_M,
+                         step_m=en14363.RMS_STEP_M):
     """EN 14363's ydd*_qst: the floor's lateral acceleration low-passed 20 Hz, its mean over the last 100 m
     (en14363.MIN_SECTION_M, the shortest curve section) every 10 m, its magnitude against 1.5 m/s^2 (C)."""
-    low = apply_causal(filters.force_low_pass(), floor_lateral, sample_rate(time), filters.FORCE_LOW_PASS_HZ)
-    mean = trailing_window(position, low, en14363.MIN_SECTION_M, en14363.RMS_STEP_M, 1)
+    low = apply_causal(filters.force_low_pass(), floor_lateral, rate_hz or sample_rate(time), filters.FORCE_LOW_PASS_HZ)
+    mean = trailing_window(position, low, window_m, step_m, 1)
     lim = en14363.LIMITS["ydd_qst"]
     return Measured("car_body_lateral_qst", np.abs(mean), lim.value, lim.unit, lim.source, lim.sure)
 
@@ -240,12 +259,12 @@ def roll_level(vehicle):
     return vehicle.air_spring_emergency_clearance / vehicle.air_spring_semi_spacing
 
 
-def car_body_roll(time, deflection, vehicle):
+def car_body_roll(time, deflection, vehicle, rate_hz=None):
     """The car body's roll to its bogies (the larger of the two), low-passed 20 Hz, against the roll at which
     an air spring reaches its emergency spring (`roll_level`, A): beyond it the car body rolls on the stiff
     stop and the roll no longer tells the load it carries."""
     roll = air_spring_roll(deflection, vehicle.air_spring_semi_spacing)
-    rate = sample_rate(time)
+    rate = rate_hz or sample_rate(time)
     low = apply_causal(filters.force_low_pass(), roll, rate, min(filters.FORCE_LOW_PASS_HZ, 0.4 * rate))
     return Measured("car_body_roll", np.max(np.abs(low), axis=1), roll_level(vehicle), "rad",
                     "air spring at its emergency spring: clearance / semi-spacing (parameters.py, A)", "A")
@@ -260,10 +279,10 @@ def car_body_roll_frequency(vehicle):
     return math.sqrt(k / vehicle.car_body_roll_inertia) / (2.0 * math.pi)
 
 
-def car_body_roll_rate(time, roll_rate, vehicle):
+def car_body_roll_rate(time, roll_rate, vehicle, rate_hz=None):
     """The car body's roll rate (the gyro's x, rad/s) band-passed 0.4-10 Hz (the car-body band: no steady
     part, no bias), against a roll oscillation at the body's roll frequency reaching `roll_level` (derived, A)."""
-    band = apply_causal(filters.car_body_band_pass(), roll_rate, sample_rate(time), CAR_BODY_CENTRE_HZ)
+    band = apply_causal(filters.car_body_band_pass(), roll_rate, rate_hz or sample_rate(time), CAR_BODY_CENTRE_HZ)
     level = 2.0 * math.pi * car_body_roll_frequency(vehicle) * roll_level(vehicle)
     return Measured("car_body_roll_rate", np.abs(band), level, "rad/s",
                     "roll level x 2 pi x the car body's roll frequency (derived)", "A")

@@ -49,14 +49,15 @@ def _track_lateral(reading, roll):
     return reading[:, 1] * np.cos(roll) - reading[:, 2] * np.sin(roll)
 
 
-def estimate(a, vehicle, effective_area, axle_box_corner_hz=INSTRUMENTS["iepe_axle_box"].high_pass_hz):
+def estimate(a, vehicle, effective_area, axle_box_corner_hz=INSTRUMENTS["iepe_axle_box"].high_pass_hz, rate_hz=None):
     """{time (n,), side_load (n, 4) N [front left, front right, rear left, rear right], unloading (n, 4) the
     mean dP/P0 of a running gear's two wheels on one side, lateral_force (n, 2) N of the rails on each bogie's
     wheels (+ left), derailment_coefficient (n, 4): the gear's lateral force toward a side's field side over
-    that side's load} from the `sensor_*` arrays of a run (docs/output-format.md)."""
+    that side's load} from the `sensor_*` arrays of a run (docs/output-format.md), at the car-body centre's
+    stamps; rate_hz: that sensor's sample rate (default: from its stamps)."""
     vp = vehicle
     t = np.asarray(a["sensor_car_body_centre_time"], dtype=float)
-    rate = 1.0 / float(np.median(np.diff(t)))
+    rate = rate_hz or 1.0 / float(np.median(np.diff(t)))
     springs_t = a["sensor_air_springs_time"]
     d = hold(springs_t, a["sensor_air_springs_deflection"], t)
     force = hold(springs_t, a["sensor_air_springs_pressure"], t) * effective_area
