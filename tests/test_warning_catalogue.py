@@ -10,6 +10,7 @@ import pytest
 
 from railderail_monitor import catalogue, warning_catalogue as wc
 from railderail_monitor.hazards import HazardRules
+from railderail_monitor.onboard import measured
 
 ROOT = Path(__file__).resolve().parents[1]
 SHIPPED_RESULT = ROOT / "docs" / "report" / "warnings-catalogue.json"
@@ -86,7 +87,8 @@ def test_the_criteria_table_is_the_test_part_s_and_counts_per_km_and_hour(small)
         assert row["false_alarms_per_1000_km"] == pytest.approx(expected)
         lo, hi = row["false_alarms_per_1000_km_ci95"]
         assert lo <= row["false_alarms_per_1000_km"] <= hi
-        assert row["signals"] == "ground_truth"
+        assert row["signals"] == ("measured" if row["criterion"] in measured.CRITERIA else "ground_truth")
+    assert {r["criterion"] for r in result["criteria"] if r["signals"] == "measured"} == set(measured.CRITERIA)
 
 
 def test_a_second_evaluation_reads_every_run_from_the_cache(small, monkeypatch):
@@ -101,6 +103,50 @@ def test_a_second_evaluation_reads_every_run_from_the_cache(small, monkeypatch):
     # a cache entry's file written whole: a killed evaluation leaves the others readable
     for path in (folder / "cache").rglob("*.json"):
         json.loads(path.read_text())
+
+
+def test_a_measured_alarm_holds_from_the_first_row_at_or_after_its_sample_s_stamp():
+    import numpy as np
+    rows = np.arange(10) * 0.005                        # 200 Hz rows
+    stamps = np.array([0.002, 0.012, 0.022, 0.032])      # 100 Hz samples, 2 ms late
+    alarm = np.array([False, True, True, False])
+    # the sample stamped 0.012 s alarms the rows from 0.015 s, the one at 0.032 s re-arms from 0.035 s
+    assert wc.rows_in_alarm(stamps, alarm, rows).tolist() == [False] * 3 + [True] * 4 + [False] * 3
+
+
+def test_measured_criteria_warn_the_rollover_from_the_sensors_alone(small):
+    """The roll-balance estimate of the running gear's unloading, on the sensors with their noise, warns the
+    over-speed rollover at the derailed side, ahead of it; it has no channel for a wheel's flange climb."""
+    _, _, result = small
+    for run in (r for r in result["runs"] if r["scenario"] == "overspeed"):
+        first = run["first_true_alert"]["estimated_running_gear_unloading"]
+        assert first is not None and 0.5 < first["lead_s"] < 10.0
+        assert run["peaks"]["estimated_running_gear_unloading"] > 0.9
+
+
+def test_the_measured_criteria_s_scores_move_with_the_sensors(small):
+    """The sensor sensitivity is the test part's measured criteria seen through each sensor variant over the
+    same rows: the shipped set's rows are the criteria table's, and without noise or with three times the
+    bias some score differs."""
+    _, _, result = small
+    sens = result["sensor_sensitivity"]
+    assert {s["variant"] for s in sens} == {wc.variant_name(v) for v in wc.SENSOR_VARIANTS}
+    base = {s["criterion"]: s for s in sens if s["variant"] == wc.variant_name(wc.SENSOR_VARIANTS[0])}
+    table = {r["criterion"]: r for r in result["criteria"]
+             if r["threshold"] == result["shipped_levels"][r["criterion"]] and r["signals"] == "measured"}
+    assert set(base) == set(table) == set(measured.CRITERIA)
+    keys = ("derailments", "warned", "usefully_warned", "lead_s_median", "false_alarm_episodes", "time_in_alarm_share")
+    for c in base:
+        assert [base[c][k] for k in keys] == pytest.approx([table[c][k] for k in keys], nan_ok=True)
+    for v in wc.SENSOR_VARIANTS[1:]:
+        assert all(s["derailments"] == 2 for s in sens if s["variant"] == wc.variant_name(v))
+
+    def scores(variant):
+        return [s[k] for s in sens if s["variant"] == wc.variant_name(variant) for k in keys]
+    quiet, biased = (next(v for v in wc.SENSOR_VARIANTS if (v[k], v["rate_hz"]) == (x, 200.0) and v[o] == 1.0)
+                     for k, x, o in (("noise", 0.0, "bias"), ("bias", 3.0, "noise")))
+    assert scores(quiet) != pytest.approx(scores(wc.SENSOR_VARIANTS[0]), nan_ok=True)
+    assert scores(biased) != pytest.approx(scores(wc.SENSOR_VARIANTS[0]), nan_ok=True)
 
 
 @pytest.mark.parametrize("text, message", [
@@ -185,7 +231,8 @@ def test_the_recommended_file_keeps_its_budgets_when_read_back_and_scored_again(
     test = [r for r in _raw(small) if r["part"] == "test"]
     rescored = wc.summarize(test, rules.window_s, rules)
     enabled = 0
-    for row in result["recommended"]:
+    assert {r["criterion"] for r in result["recommended"] if r["signals"] == "measured"} == set(measured.CRITERIA)
+    for row in (r for r in result["recommended"] if r["signals"] == "ground_truth"):
         name = row["criterion"] if row["level"] == "warning" else critical_name(row["criterion"])
         level = getattr(limits, name)
         if row["threshold"] is None:

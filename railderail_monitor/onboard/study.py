@@ -4,10 +4,11 @@ of an on-board unit, at which speed and how early (issue 24 item 6; docs/onboard
 A speed sweep on straight irregular track (the catalogue's `Entry`, so that a case found detectable is a
 catalogue line as it stands): the car healthy, with both bogies' yaw dampers failed (its linear critical
 speed falls from about 403 to 197 km/h) and with a broken primary spring. Each run carries the shipped
-sensor set (noise on, its seed the run's seed); the instability rules (`criteria.bogie_rms`, `bogie_peak`,
-`peak_count`, `china_peak_count`) are applied to the lateral acceleration of every frame mount: the frame's
-centre and the frame over each wheelset, where EN 14363 places the reading. Track distance is the odometer's
-(`criteria.odometer_distance`), as the unit knows it. The fault is there from the run's start; the rules
+sensor set (noise on, its seed the run's seed); the instability rules of the on-board monitor (`measured`:
+the sliding r.m.s. and the peak in the design band f0 +- 2 Hz, the BIDS and the Chinese peak counts, at its
+shipped settings) are applied to the lateral acceleration of every frame mount: the frame's centre and the
+frame over each wheelset, where EN 14363 places the reading. Track distance is the odometer's, as the unit
+knows it. The fault is there from the run's start; the rules
 see the record from `SETTLE_S` on (the suspension's start-up transient, 13-16 m/s^2 in the first 0.1 s,
 is not a hunting), so a first alarm's time and distance count from that switch-on, the start of the
 section. A rule that never alarms is reported with its largest value against its level, not tuned.
@@ -20,8 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .criteria import (bogie_limits, bogie_peak, bogie_rms, china_peak_count, hunting_frequency, odometer_distance,
-                       peak_count)
+from railderail_sim.sensors.config import ODOMETER
+
+from .criteria import hunting_frequency
+from .measured import FRAMES, evaluate, measured_limits, sample_rates
 
 SPEEDS_KMH = (250.0, 275.0, 300.0, 325.0, 350.0)
 LINE_M = 3000.0             # m of straight track per run: 30 or more hunting cycles at 250-350 km/h
@@ -29,8 +32,9 @@ IRREGULARITY = "erri-low"
 SEED = 1
 SETTLE_S = 1.0              # s: the rules switched on after the start-up transient
 RATE_HZ = 200.0             # the simulator's output rate, the sensors' top rate
-FRAME_MOUNTS = ("bogie_front_frame", "bogie_rear_frame", "bogie_frame_0", "bogie_frame_1", "bogie_frame_2",
-                "bogie_frame_3")
+# the frame mounts, in pairs of one per bogie: the centres, over the leading wheelsets, over the trailing ones
+MOUNT_PAIRS = (FRAMES, ("bogie_frame_0", "bogie_frame_2"), ("bogie_frame_1", "bogie_frame_3"))
+FRAME_MOUNTS = tuple(m for pair in MOUNT_PAIRS for m in pair)
 RULES = ("bogie_rms", "bogie_peak", "bids_peak_count", "bids_peak_count_china")
 
 
@@ -56,12 +60,21 @@ def entry(case, speed_kmh):
                  line_length_m=LINE_M, faults=case.faults)
 
 
-def frame_rules(time, lateral, position, bogie_mass, f0_hz):
-    """{rule: Measured} of one frame mount's lateral acceleration."""
-    return {"bogie_rms": bogie_rms(time, lateral, position, bogie_mass, f0_hz),
-            "bogie_peak": bogie_peak(time, lateral, bogie_mass, f0_hz),
-            "bids_peak_count": peak_count(time, lateral),
-            "bids_peak_count_china": china_peak_count(time, lateral)}
+def frame_rules(signals, mounts, start_s):
+    """{(mount, rule): Measured} of the frame mounts `mounts` (one per bogie, front first), from start_s on:
+    `measured.evaluate` of the record with these mounts as the two frames, at the monitor's shipped settings
+    (design f0, bands, levels, the sensors' rates)."""
+    from railderail_sim.parameters import VehicleParameters
+    seen = {k: v for k, v in signals.items() if k.startswith(f"sensor_{ODOMETER}_")}
+    rates = sample_rates()
+    for frame, mount in zip(FRAMES, mounts):
+        t = signals[f"sensor_{mount}_time"]
+        keep = t >= start_s
+        seen[f"sensor_{frame}_time"], seen[f"sensor_{frame}_acceleration"] = t[keep], signals[
+            f"sensor_{mount}_acceleration"][keep]
+        rates[frame] = rates[mount]
+    found = evaluate(seen, VehicleParameters(), rates=rates)
+    return {(mount, rule): (found[rule], k) for rule in RULES for k, mount in enumerate(mounts)}
 
 
 def run_case(item):
@@ -77,27 +90,24 @@ def run_case(item):
     sc = replace(entry(case, speed_kmh).scenario(SEED), output_rate=RATE_HZ)
     sim, arrays, error = run_to_stop(sc)
     signals = run_signals(replace(load_sensors(), seed=SEED), sim, arrays)
-    vp = sc.vehicle
-    bogie_mass = vp.bogie_frame_mass + 2.0 * vp.wheelset_mass
+    limits = measured_limits(sc.vehicle)
     event = sim.derailment()
     out = dict(case=case.name, faults=list(case.faults), speed_kmh=speed_kmh, simulated_s=float(arrays["time"][-1]),
                diverged=error, derailment=None if event is None else {
                    k: event[k] for k in ("time_s", "car_body_position_m", "wheelset", "wheel_side", "mechanism")},
-               f0_hz={}, rules={rule: {} for rule in RULES})
-    for mount in FRAME_MOUNTS:
-        t = signals[f"sensor_{mount}_time"]
-        keep = t >= SETTLE_S
-        t, lateral = t[keep], signals[f"sensor_{mount}_acceleration"][keep, 1]
-        s = odometer_distance(signals["sensor_odometer_time"], signals["sensor_odometer_speed"], t)
-        s = s - s[0]
-        f0 = hunting_frequency(t, lateral)
-        out["f0_hz"][mount] = f0
-        for rule, measured in frame_rules(t, lateral, s, bogie_mass, f0).items():
-            first = measured.first_alarm(s)
+               f0_record_hz={}, rules={rule: {} for rule in RULES})
+    for pair in MOUNT_PAIRS:
+        for (mount, rule), (m, k) in frame_rules(signals, pair, SETTLE_S).items():
+            first = next((a for a, _ in m.channel_intervals(None, limits.rearm_fraction, limits.rearm_m)[k]), None)
+            s0 = m.position[0]                     # the switch-on
             out["rules"][rule][mount] = dict(
-                peak=float(np.nanmax(measured.value)), level=measured.level, unit=measured.unit,
-                first_alarm=None if first is None else dict(time_s=float(t[first] - t[0]), distance_m=float(s[first]),
-                                                            speed_kmh=speed_kmh))
+                peak=float(np.nanmax(m.value[:, k])), level=m.level, unit=m.unit,
+                first_alarm=None if first is None else dict(time_s=float(m.time[first] - SETTLE_S),
+                                                            distance_m=float(m.position[first] - s0)))
+        for mount in pair:
+            t = signals[f"sensor_{mount}_time"]
+            out["f0_record_hz"][mount] = hunting_frequency(t[t >= SETTLE_S],
+                                                           signals[f"sensor_{mount}_acceleration"][t >= SETTLE_S, 1])
     return out
 
 
@@ -117,14 +127,14 @@ def study(workers=None, progress=True, speeds=SPEEDS_KMH, cases=CASES):
                                            and earliest(r, rule) is not None), None) for rule in RULES}
                    for case in cases}
     from railderail_sim.parameters import VehicleParameters
-    vp = VehicleParameters()
-    peak_limit, rms_limit = bogie_limits(vp.bogie_frame_mass + 2.0 * vp.wheelset_mass)
+    limits = measured_limits(VehicleParameters())
     return dict(settings=dict(track="straight", line_m=LINE_M, irregularity=IRREGULARITY, seed=SEED, settle_s=SETTLE_S,
                               output_rate_hz=RATE_HZ, sensors="the shipped set (railderail_sim/config/sensors.yaml), "
                               "noise on, seed = the run's seed", frame_mounts=list(FRAME_MOUNTS),
-                              f0="the Welch peak of each mount's record in 1.5-12 Hz (criteria.hunting_frequency)",
-                              limits=dict(bogie_rms=rms_limit, bogie_peak=peak_limit, bids_peak_count=6,
-                                          bids_peak_count_china=6)),
+                              hunting_frequency_hz=limits.hunting_frequency,
+                              limits={rule: getattr(limits, rule) for rule in RULES},
+                              peak_limits=dict(bids_peak_count=limits.bids_peak_limit,
+                                               bids_peak_count_china=limits.china_peak_limit)),
                 cases=[dict(name=c.name, faults=list(c.faults), meaning=c.meaning) for c in cases],
                 runs=runs, first_speed_kmh=first_speed)
 
@@ -144,17 +154,22 @@ def markdown(result):
     lines = ["## Hunting and faults seen by the instability rules (`railderail onboard-study`)", "",
              f"Straight track, {st['irregularity']} irregularity (seed {st['seed']}), {st['line_m']:.0f} m per run at a "
              f"constant speed; {st['sensors']}; the rules on every frame mount ({', '.join(st['frame_mounts'])}) from "
-             f"{st['settle_s']:g} s on, track distance from the odometer; f0: {st['f0']}. Limits: sliding r.m.s. "
-             f"{st['limits']['bogie_rms']:.2f} m/s^2, peak {st['limits']['bogie_peak']:.2f} m/s^2, 6 consecutive peaks "
-             "at or over 8 m/s^2 (4-8 Hz, UIC 515-5; 0.5-10 Hz, the Chinese form). A cell gives the earliest alarm "
-             "over the mounts (time and distance from the switch-on, the mount), or the largest value against its "
-             "level where the rule never alarmed.", "",
-             "| case | speed (km/h) | derailed | f0 (Hz, frame centres) | " + " | ".join(RULES) + " |",
+             f"{st['settle_s']:g} s on (the fault is there from the start), track distance from the odometer; the "
+             f"monitor's design f0 {st['hunting_frequency_hz']:.2f} Hz (band f0 +- 2 Hz). Levels: sliding r.m.s. "
+             f"{st['limits']['bogie_rms']:.2f} m/s^2, peak {st['limits']['bogie_peak']:.2f} m/s^2, "
+             f"{st['limits']['bids_peak_count']:g} consecutive peaks at or over "
+             f"{st['peak_limits']['bids_peak_count']:g} m/s^2 (4-8 Hz, UIC 515-5) and "
+             f"{st['limits']['bids_peak_count_china']:g} at or over {st['peak_limits']['bids_peak_count_china']:g} "
+             "m/s^2 (0.5-10 Hz, the Chinese form). A cell gives the earliest alarm over the mounts (time and "
+             "distance from the switch-on, the mount), or, where the rule never alarmed, its largest value against "
+             "its level (the mount nearest to it). f0 of the record: the Welch peak of the frame centres' readings "
+             "(1.5-12 Hz), where the motion really is.", "",
+             "| case | speed (km/h) | derailed | f0 of the record (Hz, front/rear) | " + " | ".join(RULES) + " |",
              "|---|---|---|---|" + "---|" * len(RULES)]
     for r in result["runs"]:
         d = r["derailment"]
         derailed = "-" if d is None else f"{d['mechanism'].replace('_', ' ')} at {d['time_s']:.1f} s"
-        f0 = "/".join(f"{r['f0_hz'][m]:.2f}" for m in FRAME_MOUNTS[:2])
+        f0 = "/".join(f"{r['f0_record_hz'][m]:.2f}" for m in FRAMES)
         lines.append(f"| {r['case']} | {r['speed_kmh']:g} | {derailed} | {f0} | "
                      + " | ".join(_cell(r, rule) for rule in RULES) + " |")
     lines += ["", "Lowest speed of the sweep at which each rule alarmed:", "",
