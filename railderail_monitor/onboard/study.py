@@ -7,11 +7,12 @@ speed falls from about 403 to 197 km/h) and with a broken primary spring. Each r
 sensor set (noise on, its seed the run's seed); the instability rules of the on-board monitor (`measured`:
 the sliding r.m.s. and the peak in the design band f0 +- 2 Hz, the BIDS and the Chinese peak counts, at its
 shipped settings) are applied to the lateral acceleration of every frame mount: the frame's centre and the
-frame over each wheelset, where EN 14363 places the reading. Track distance is the odometer's, as the unit
-knows it. The fault is there from the run's start; the rules
-see the record from `SETTLE_S` on (the suspension's start-up transient, 13-16 m/s^2 in the first 0.1 s,
-is not a hunting), so a first alarm's time and distance count from that switch-on, the start of the
-section. A rule that never alarms is reported with its largest value against its level, not tuned.
+frame over each wheelset, where EN 14363 places the reading; beside them, the first alert of every other
+measured criterion of the whole sensor set. Track distance is the odometer's, as the unit knows it. The
+fault is there from the run's start; the monitor sees the record from `SETTLE_S` on (the suspension's
+start-up transient, 13-16 m/s^2 in the first 0.1 s, is not a hunting), so a first alarm's time and distance
+count from that switch-on, the start of the section (the fault's onset is SETTLE_S earlier). A rule that
+never alarms is reported with its largest value against its level, not tuned.
 """
 from __future__ import annotations
 
@@ -24,7 +25,7 @@ import numpy as np
 from railderail_sim.sensors.config import ODOMETER
 
 from .criteria import hunting_frequency
-from .measured import FRAMES, evaluate, measured_limits, sample_rates
+from .measured import FRAMES, alerts, evaluate, measured_limits, sample_rates
 
 SPEEDS_KMH = (250.0, 275.0, 300.0, 325.0, 350.0)
 LINE_M = 3000.0             # m of straight track per run: 30 or more hunting cycles at 250-350 km/h
@@ -60,26 +61,35 @@ def entry(case, speed_kmh):
                  line_length_m=LINE_M, faults=case.faults)
 
 
-def frame_rules(signals, mounts, start_s):
-    """{(mount, rule): Measured} of the frame mounts `mounts` (one per bogie, front first), from start_s on:
+def after(signals, start_s):
+    """The record from start_s on: every unit's samples stamped at or after it, the odometer's included (its
+    distance then counts from there)."""
+    units = [k[len("sensor_"):-len("_time")] for k in signals if k.endswith("_time")]
+    out = {}
+    for unit in units:
+        keep = np.asarray(signals[f"sensor_{unit}_time"]) >= start_s
+        out.update({k: np.asarray(v)[keep] for k, v in signals.items() if k.startswith(f"sensor_{unit}_")})
+    return out
+
+
+def frame_rules(signals, mounts, vehicle):
+    """{(mount, rule): (Measured, its channel)} of the frame mounts `mounts` (one per bogie, front first):
     `measured.evaluate` of the record with these mounts as the two frames, at the monitor's shipped settings
     (design f0, bands, levels, the sensors' rates)."""
-    from railderail_sim.parameters import VehicleParameters
     seen = {k: v for k, v in signals.items() if k.startswith(f"sensor_{ODOMETER}_")}
     rates = sample_rates()
     for frame, mount in zip(FRAMES, mounts):
-        t = signals[f"sensor_{mount}_time"]
-        keep = t >= start_s
-        seen[f"sensor_{frame}_time"], seen[f"sensor_{frame}_acceleration"] = t[keep], signals[
-            f"sensor_{mount}_acceleration"][keep]
+        for signal in ("time", "acceleration"):
+            seen[f"sensor_{frame}_{signal}"] = signals[f"sensor_{mount}_{signal}"]
         rates[frame] = rates[mount]
-    found = evaluate(seen, VehicleParameters(), rates=rates)
+    found = evaluate(seen, vehicle, rates=rates)
     return {(mount, rule): (found[rule], k) for rule in RULES for k, mount in enumerate(mounts)}
 
 
 def run_case(item):
-    """One run of the sweep (case, speed km/h): the derailment if any, and per frame mount and rule its
-    largest value, its level and its first alarm (time s and distance m from the switch-on, speed km/h)."""
+    """One run of the sweep (case, speed km/h): the derailment if any; per frame mount and rule its largest
+    value, its level and its first alarm (time s and odometer distance m from the switch-on); the first alert
+    of every other measured criterion (`measured.alerts` of the whole sensor set)."""
     from dataclasses import replace
 
     from railderail_sim.sensors.config import load as load_sensors
@@ -89,25 +99,28 @@ def run_case(item):
     case, speed_kmh = item
     sc = replace(entry(case, speed_kmh).scenario(SEED), output_rate=RATE_HZ)
     sim, arrays, error = run_to_stop(sc)
-    signals = run_signals(replace(load_sensors(), seed=SEED), sim, arrays)
+    signals = after(run_signals(replace(load_sensors(), seed=SEED), sim, arrays), SETTLE_S)
     limits = measured_limits(sc.vehicle)
     event = sim.derailment()
     out = dict(case=case.name, faults=list(case.faults), speed_kmh=speed_kmh, simulated_s=float(arrays["time"][-1]),
-               diverged=error, derailment=None if event is None else {
-                   k: event[k] for k in ("time_s", "car_body_position_m", "wheelset", "wheel_side", "mechanism")},
+               diverged=error, derailment=None if event is None else dict(
+                   {k: event[k] for k in ("car_body_position_m", "wheelset", "wheel_side", "mechanism")},
+                   time_s=event["time_s"] - SETTLE_S),
                f0_record_hz={}, rules={rule: {} for rule in RULES})
     for pair in MOUNT_PAIRS:
-        for (mount, rule), (m, k) in frame_rules(signals, pair, SETTLE_S).items():
+        for (mount, rule), (m, k) in frame_rules(signals, pair, sc.vehicle).items():
             first = next((a for a, _ in m.channel_intervals(None, limits.rearm_fraction, limits.rearm_m)[k]), None)
-            s0 = m.position[0]                     # the switch-on
             out["rules"][rule][mount] = dict(
                 peak=float(np.nanmax(m.value[:, k])), level=m.level, unit=m.unit,
                 first_alarm=None if first is None else dict(time_s=float(m.time[first] - SETTLE_S),
-                                                            distance_m=float(m.position[first] - s0)))
+                                                            distance_m=float(m.position[first])))
         for mount in pair:
-            t = signals[f"sensor_{mount}_time"]
-            out["f0_record_hz"][mount] = hunting_frequency(t[t >= SETTLE_S],
-                                                           signals[f"sensor_{mount}_acceleration"][t >= SETTLE_S, 1])
+            out["f0_record_hz"][mount] = hunting_frequency(signals[f"sensor_{mount}_time"],
+                                                           signals[f"sensor_{mount}_acceleration"][:, 1])
+    firsts = {}
+    for a in alerts(evaluate(signals, sc.vehicle, limits), limits):
+        firsts.setdefault(a.criterion, dict(time_s=a.time_s - SETTLE_S, distance_m=a.track_position, place=a.place))
+    out["measured_first_alerts"] = firsts
     return out
 
 
@@ -164,14 +177,17 @@ def markdown(result):
              "distance from the switch-on, the mount), or, where the rule never alarmed, its largest value against "
              "its level (the mount nearest to it). f0 of the record: the Welch peak of the frame centres' readings "
              "(1.5-12 Hz), where the motion really is.", "",
-             "| case | speed (km/h) | derailed | f0 of the record (Hz, front/rear) | " + " | ".join(RULES) + " |",
-             "|---|---|---|---|" + "---|" * len(RULES)]
+             "| case | speed (km/h) | derailed (s after the switch-on) | f0 of the record (Hz, front/rear) | "
+             + " | ".join(RULES) + " | other measured criteria's first alert (s) |",
+             "|---|---|---|---|" + "---|" * len(RULES) + "---|"]
     for r in result["runs"]:
         d = r["derailment"]
         derailed = "-" if d is None else f"{d['mechanism'].replace('_', ' ')} at {d['time_s']:.1f} s"
         f0 = "/".join(f"{r['f0_record_hz'][m]:.2f}" for m in FRAMES)
+        others = ", ".join(f"{c} {a['time_s']:.1f} ({a['place']})" for c, a in r["measured_first_alerts"].items()
+                           if c not in RULES) or "-"
         lines.append(f"| {r['case']} | {r['speed_kmh']:g} | {derailed} | {f0} | "
-                     + " | ".join(_cell(r, rule) for rule in RULES) + " |")
+                     + " | ".join(_cell(r, rule) for rule in RULES) + f" | {others} |")
     lines += ["", "Lowest speed of the sweep at which each rule alarmed:", "",
               "| case | " + " | ".join(RULES) + " |", "|---|" + "---|" * len(RULES)]
     for case, by_rule in result["first_speed_kmh"].items():
@@ -193,6 +209,10 @@ def write(result, out):
 
 def command(parser):
     parser.add_argument("--out", metavar="DIR", default=None, help="write DIR/onboard-study.json and .md")
+    parser.add_argument("--speeds", default=",".join(f"{v:g}" for v in SPEEDS_KMH), metavar="KMH,...",
+                        help="the sweep's speeds in km/h (default %(default)s)")
+    parser.add_argument("--cases", default=",".join(c.name for c in CASES), metavar="NAME,...",
+                        help="the cases (default %(default)s)")
     parser.add_argument("--workers", type=int, default=None, help="processes (default: the cores)")
     parser.add_argument("--json", action="store_true", help="print the JSON object instead of the table")
 
@@ -201,9 +221,21 @@ def command(parser):
 
         from railderail_sim import jsonout
         from railderail_sim.ranges import check_range
+        from railderail_sim.vehicle.simulate import SPEED_RANGE_KMH
+        try:
+            speeds = [float(x) for x in args.speeds.split(",") if x]
+        except ValueError:
+            raise ValueError(f"--speeds {args.speeds!r} is not a comma-separated list of speeds in km/h") from None
+        for v in speeds:
+            check_range("--speeds", v, *SPEED_RANGE_KMH, "km/h")
+        names = {c.name: c for c in CASES}
+        bad = [c for c in args.cases.split(",") if c not in names]
+        if bad:
+            raise ValueError(f"--cases: unknown case(s) {', '.join(bad)}; the cases are {', '.join(names)}")
         if args.workers is not None:
             check_range("--workers", args.workers, 1, 256)
-        result = study(workers=args.workers, progress=not args.json)
+        result = study(workers=args.workers, progress=not args.json, speeds=speeds,
+                       cases=[names[c] for c in args.cases.split(",")])
         if args.out:
             print(f"wrote {write(result, args.out)}", file=sys.stderr)
         print(jsonout.dumps(result, indent=1) if args.json else markdown(result))
