@@ -13,7 +13,8 @@ where the exposure cannot resolve the budget or too few derailments are usefully
 Beside the ground-truth criteria, every criterion on measured signals (`onboard.measured`: the bogie-frame
 instability rules, the car body's accelerations and roll, the roll-balance estimator's warnings), from the
 shipped sensor set with its noise on, its seed the run's seed, applied to the run's output rows
-(`sensors.measure.run_signals`). Each is evaluated on its own stamps (latency included) and held onto the
+(`sensors.measure.run_signals`), the monitor switched on after the simulation's start-up
+(`sensors.measure.START_UP_S`). Each is evaluated on its own stamps (latency included) and held onto the
 200 Hz rows for scoring: a row is in alarm when the criterion's last sample stamped at or before it is
 (`rows_in_alarm`), so the alarm starts at the first row at or after the alert's stamp. Its channels are
 mounts or running-gear sides (`scoring.channel_places`). On the test part's runs the sensors are applied
@@ -140,10 +141,11 @@ def measured_alarms(results, row_time, sweep):
 
 
 def measured_results(sensors, sim, arrays):
-    """`measured.evaluate` of a run seen through a sensor set."""
-    from railderail_sim.sensors.measure import run_signals
-    return measured.evaluate(run_signals(sensors, sim, arrays), sim.scenario.vehicle, shipped_measured_limits(),
-                             measured.sample_rates(sensors))
+    """`measured.evaluate` of a run seen through a sensor set, the monitor switched on after the simulation's
+    start-up (`sensors.measure.START_UP_S`: a train in service never sees it)."""
+    from railderail_sim.sensors.measure import START_UP_S, after, run_signals
+    return measured.evaluate(after(run_signals(sensors, sim, arrays), START_UP_S), sim.scenario.vehicle,
+                             shipped_measured_limits(), measured.sample_rates(sensors))
 
 
 def criterion_values(arrays, limits):

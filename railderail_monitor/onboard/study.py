@@ -9,10 +9,11 @@ the sliding r.m.s. and the peak in the design band f0 +- 2 Hz, the BIDS and the 
 shipped settings) are applied to the lateral acceleration of every frame mount: the frame's centre and the
 frame over each wheelset, where EN 14363 places the reading; beside them, the first alert of every other
 measured criterion of the whole sensor set. Track distance is the odometer's, as the unit knows it. The
-fault is there from the run's start; the monitor sees the record from `SETTLE_S` on (the suspension's
-start-up transient, 13-16 m/s^2 in the first 0.1 s, is not a hunting), so a first alarm's time and distance
-count from that switch-on, the start of the section (the fault's onset is SETTLE_S earlier). A rule that
-never alarms is reported with its largest value against its level, not tuned.
+fault is there from the run's start; the monitor sees the record from `sensors.measure.START_UP_S` on
+(the suspension's start-up transient, 13-16 m/s^2 in the first 0.1 s, is not a hunting), so a first
+alarm's time and distance count from that switch-on, the start of the section (the fault's onset is
+START_UP_S earlier). A rule that never alarms is reported with its largest value against its level, not
+tuned.
 """
 from __future__ import annotations
 
@@ -23,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from railderail_sim.sensors.config import ODOMETER
+from railderail_sim.sensors.measure import START_UP_S
 
 from .criteria import hunting_frequency
 from .measured import FRAMES, alerts, evaluate, measured_limits, sample_rates
@@ -31,7 +33,6 @@ SPEEDS_KMH = (250.0, 275.0, 300.0, 325.0, 350.0)
 LINE_M = 3000.0             # m of straight track per run: 30 or more hunting cycles at 250-350 km/h
 IRREGULARITY = "erri-low"
 SEED = 1
-SETTLE_S = 1.0              # s: the rules switched on after the start-up transient
 RATE_HZ = 200.0             # the simulator's output rate, the sensors' top rate
 # the frame mounts, in pairs of one per bogie: the centres, over the leading wheelsets, over the trailing ones
 MOUNT_PAIRS = (FRAMES, ("bogie_frame_0", "bogie_frame_2"), ("bogie_frame_1", "bogie_frame_3"))
@@ -61,17 +62,6 @@ def entry(case, speed_kmh):
                  line_length_m=LINE_M, faults=case.faults)
 
 
-def after(signals, start_s):
-    """The record from start_s on: every unit's samples stamped at or after it, the odometer's included (its
-    distance then counts from there)."""
-    units = [k[len("sensor_"):-len("_time")] for k in signals if k.endswith("_time")]
-    out = {}
-    for unit in units:
-        keep = np.asarray(signals[f"sensor_{unit}_time"]) >= start_s
-        out.update({k: np.asarray(v)[keep] for k, v in signals.items() if k.startswith(f"sensor_{unit}_")})
-    return out
-
-
 def frame_rules(signals, mounts, vehicle):
     """{(mount, rule): (Measured, its channel)} of the frame mounts `mounts` (one per bogie, front first):
     `measured.evaluate` of the record with these mounts as the two frames, at the monitor's shipped settings
@@ -93,33 +83,33 @@ def run_case(item):
     from dataclasses import replace
 
     from railderail_sim.sensors.config import load as load_sensors
-    from railderail_sim.sensors.measure import run_signals
+    from railderail_sim.sensors.measure import after, run_signals
     from railderail_sim.vehicle.simulate import run_to_stop
 
     case, speed_kmh = item
     sc = replace(entry(case, speed_kmh).scenario(SEED), output_rate=RATE_HZ)
     sim, arrays, error = run_to_stop(sc)
-    signals = after(run_signals(replace(load_sensors(), seed=SEED), sim, arrays), SETTLE_S)
+    signals = after(run_signals(replace(load_sensors(), seed=SEED), sim, arrays), START_UP_S)
     limits = measured_limits(sc.vehicle)
     event = sim.derailment()
     out = dict(case=case.name, faults=list(case.faults), speed_kmh=speed_kmh, simulated_s=float(arrays["time"][-1]),
                diverged=error, derailment=None if event is None else dict(
                    {k: event[k] for k in ("car_body_position_m", "wheelset", "wheel_side", "mechanism")},
-                   time_s=event["time_s"] - SETTLE_S),
+                   time_s=event["time_s"] - START_UP_S),
                f0_record_hz={}, rules={rule: {} for rule in RULES})
     for pair in MOUNT_PAIRS:
         for (mount, rule), (m, k) in frame_rules(signals, pair, sc.vehicle).items():
             first = next((a for a, _ in m.channel_intervals(None, limits.rearm_fraction, limits.rearm_m)[k]), None)
             out["rules"][rule][mount] = dict(
                 peak=float(np.nanmax(m.value[:, k])), level=m.level, unit=m.unit,
-                first_alarm=None if first is None else dict(time_s=float(m.time[first] - SETTLE_S),
+                first_alarm=None if first is None else dict(time_s=float(m.time[first] - START_UP_S),
                                                             distance_m=float(m.position[first])))
         for mount in pair:
             out["f0_record_hz"][mount] = hunting_frequency(signals[f"sensor_{mount}_time"],
                                                            signals[f"sensor_{mount}_acceleration"][:, 1])
     firsts = {}
     for a in alerts(evaluate(signals, sc.vehicle, limits), limits):
-        firsts.setdefault(a.criterion, dict(time_s=a.time_s - SETTLE_S, distance_m=a.track_position, place=a.place))
+        firsts.setdefault(a.criterion, dict(time_s=a.time_s - START_UP_S, distance_m=a.track_position, place=a.place))
     out["measured_first_alerts"] = firsts
     return out
 
@@ -135,13 +125,19 @@ def study(workers=None, progress=True, speeds=SPEEDS_KMH, cases=CASES):
     """The sweep's JSON object: settings, runs, and per case and rule the lowest speed at which it alarmed."""
     from railderail_sim.methods.parallel import run_all
     items = [(case, v) for case in cases for v in speeds]
-    runs = run_all(run_case, items, workers=workers, progress=progress, desc="onboard-study", unit="run")
-    first_speed = {case.name: {rule: next((r["speed_kmh"] for r in runs if r["case"] == case.name
-                                           and earliest(r, rule) is not None), None) for rule in RULES}
+    return summary(run_all(run_case, items, workers=workers, progress=progress, desc="onboard-study", unit="run"),
+                   cases)
+
+
+def summary(runs, cases):
+    """The study's JSON object of its runs (`run_case`) over `cases`."""
+    first_speed = {case.name: {rule: min((r["speed_kmh"] for r in runs if r["case"] == case.name
+                                          and earliest(r, rule) is not None), default=None) for rule in RULES}
                    for case in cases}
     from railderail_sim.parameters import VehicleParameters
     limits = measured_limits(VehicleParameters())
-    return dict(settings=dict(track="straight", line_m=LINE_M, irregularity=IRREGULARITY, seed=SEED, settle_s=SETTLE_S,
+    return dict(settings=dict(track="straight", line_m=LINE_M, irregularity=IRREGULARITY, seed=SEED,
+                              switch_on_s=START_UP_S,
                               output_rate_hz=RATE_HZ, sensors="the shipped set (railderail_sim/config/sensors.yaml), "
                               "noise on, seed = the run's seed", frame_mounts=list(FRAME_MOUNTS),
                               hunting_frequency_hz=limits.hunting_frequency,
@@ -167,7 +163,7 @@ def markdown(result):
     lines = ["## Hunting and faults seen by the instability rules (`railderail onboard-study`)", "",
              f"Straight track, {st['irregularity']} irregularity (seed {st['seed']}), {st['line_m']:.0f} m per run at a "
              f"constant speed; {st['sensors']}; the rules on every frame mount ({', '.join(st['frame_mounts'])}) from "
-             f"{st['settle_s']:g} s on (the fault is there from the start), track distance from the odometer; the "
+             f"{st['switch_on_s']:g} s on (the fault is there from the start), track distance from the odometer; the "
              f"monitor's design f0 {st['hunting_frequency_hz']:.2f} Hz (band f0 +- 2 Hz). Levels: sliding r.m.s. "
              f"{st['limits']['bogie_rms']:.2f} m/s^2, peak {st['limits']['bogie_peak']:.2f} m/s^2, "
              f"{st['limits']['bids_peak_count']:g} consecutive peaks at or over "

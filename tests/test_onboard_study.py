@@ -1,0 +1,64 @@
+"""`railderail onboard-study` (railderail_monitor/onboard/study.py): the bogie-instability rules of the on-board
+monitor on every frame mount of a hunting car (both yaw dampers failed, straight erri-low track) against the
+healthy car, the study's table and files, and its refusals."""
+import json
+
+import pytest
+
+from railderail_monitor.onboard import study
+
+SPEED = 300.0        # km/h
+
+
+@pytest.fixture(scope="module")
+def runs():
+    """The healthy and the hunting car at 300 km/h over 1.5 km (18 s), in this process."""
+    patch = pytest.MonkeyPatch()
+    patch.setattr(study, "LINE_M", 1500.0)
+    try:
+        return {c.name: study.run_case((c, SPEED)) for c in study.CASES if c.name != "primary-spring-broken"}
+    finally:
+        patch.undo()
+
+
+def test_the_hunting_frame_reads_more_over_its_wheelsets_than_at_its_centre_and_more_than_a_healthy_one(runs):
+    """The frame's yaw adds to its centre's lateral acceleration over each wheelset (EN 14363's place); the
+    failed yaw dampers let the bogie hunt at several times the healthy car's band r.m.s."""
+    hunting, healthy = runs["yaw-dampers-failed"]["rules"]["bogie_rms"], runs["healthy"]["rules"]["bogie_rms"]
+    for centre, over in (("bogie_front_frame", ("bogie_frame_0", "bogie_frame_1")),
+                         ("bogie_rear_frame", ("bogie_frame_2", "bogie_frame_3"))):
+        assert max(hunting[m]["peak"] for m in over) > 1.1 * hunting[centre]["peak"]
+        assert hunting[centre]["peak"] > 1.5 * healthy[centre]["peak"]
+    assert all(a["first_alarm"] is None for a in healthy.values())
+    # the hunting's own frequency lies in the monitor's design band f0 +- 2 Hz
+    f0 = study.measured_limits(study_vehicle()).hunting_frequency
+    for m in ("bogie_front_frame", "bogie_rear_frame"):
+        assert abs(runs["yaw-dampers-failed"]["f0_record_hz"][m] - f0) < 2.0
+
+
+def study_vehicle():
+    from railderail_sim.parameters import VehicleParameters
+    return VehicleParameters()
+
+
+def test_the_study_writes_its_table_and_json(runs, tmp_path):
+    result = study.summary(list(runs.values()), [c for c in study.CASES if c.name in runs])
+    path = study.write(result, tmp_path)
+    text = path.read_text()
+    assert "| yaw-dampers-failed | 300 |" in text and "| healthy | 300 |" in text
+    data = json.loads((tmp_path / "onboard-study.json").read_text())
+    assert {r["case"] for r in data["runs"]} == {"healthy", "yaw-dampers-failed"}
+    assert set(data["first_speed_kmh"]["healthy"].values()) == {None}        # the healthy car never alarms
+    assert set(data["runs"][0]["rules"]["bogie_rms"]) == set(study.FRAME_MOUNTS)
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--speeds", "250,fast"], "--speeds '250,fast' is not a comma-separated list"),
+    (["--speeds", "900"], "--speeds 900 km/h is outside the accepted range [30, 800] km/h"),
+    (["--cases", "healthy,derailed"], "--cases: unknown case(s) derailed; the cases are healthy"),
+])
+def test_bad_arguments_are_refused_with_one_line(argv, message, capsys):
+    from railderail_sim.cli import main
+    assert main(["onboard-study", *argv]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1
