@@ -114,6 +114,60 @@ def test_a_measured_alarm_holds_from_the_first_row_at_or_after_its_sample_s_stam
     assert wc.rows_in_alarm(stamps, alarm, rows).tolist() == [False] * 3 + [True] * 4 + [False] * 3
 
 
+def _hunting_front_bogie(seconds=30.0, rate=200.0, speed=80.0, start_s=8.0):
+    """Output arrays of a car at speed on level track whose front bogie frame oscillates laterally at 4 Hz,
+    12 m/s^2, from start_s on (a hunting bogie), the rest at rest; and their sensors' signals (the shipped set
+    but the air springs, with its noise)."""
+    from dataclasses import replace
+
+    import numpy as np
+    from railderail_sim.parameters import GRAVITY
+    from railderail_sim.sensors import config
+    from railderail_sim.sensors.measure import named, SensorStream
+    from railderail_sim.vehicle.layout import N_BODY, Body, BodyMotion
+    from railderail_sim.vehicle.simulate import Scenario
+    n = int(seconds * rate)
+    t = np.arange(n) / rate
+    motion = np.zeros((n, N_BODY, BodyMotion.size()))
+    motion[:, :, BodyMotion.specific_force + 2] = GRAVITY
+    motion[:, Body.front_bogie, BodyMotion.specific_force + 1] = 12.0 * np.sin(2 * np.pi * 4.0 * t) * (t >= start_s)
+    arrays = dict(time=t, position=speed * t, speed=np.full(n, speed), body_motion=motion,
+                  body_states=np.zeros((n, N_BODY, 5)))
+    sensors = replace(config.default_set(), air_springs=None, seed=3)
+    return arrays, named(SensorStream(sensors, replace(Scenario(), output_rate=rate)).process(arrays)), sensors
+
+
+def test_a_hunting_front_frame_warns_a_hazard_of_its_bogie_only_and_from_its_stamps():
+    """The measured scoring path on synthetic rows: the frame rules of the hunting front bogie alarm, held onto
+    the rows from their stamps, and are true warnings of a hazard at the front bogie (either side) in its
+    window and false for one at the rear bogie; the car body's channels (at rest here) never alarm."""
+    import numpy as np
+    from railderail_sim.parameters import VehicleParameters
+    from railderail_sim.sensors.measure import START_UP_S, after
+    arrays, signals, sensors = _hunting_front_bogie()
+    results = measured.evaluate(after(signals, START_UP_S), VehicleParameters(), wc.shipped_measured_limits(),
+                                measured.sample_rates(sensors))
+    alarms = wc.measured_alarms(results, arrays["time"], lambda c: [wc.shipped_level(c)])
+    peak = alarms["bogie_peak"][wc.shipped_level("bogie_peak")]
+    assert peak.shape == (2, len(arrays["time"])) and peak[0].any() and not peak[1].any()
+    first = np.flatnonzero(peak[0])[0]
+    m, limits = results["bogie_peak"], wc.shipped_measured_limits()
+    raised = m.time[m.channel_intervals(None, limits.rearm_fraction, limits.rearm_m)[0][0][0]]   # its alert
+    assert arrays["time"][first - 1] < raised <= arrays["time"][first]       # the first row at or after the stamp
+    assert not any(a.any() for c in ("car_body_lateral", "car_body_roll_rate")
+                   for a in alarms[c].values())
+
+    def hazard(bogie):
+        return dict(kind="derailment", margin="wheel_unloading", time_s=20.0, end_s=20.0, speed_m_s=80.0,
+                    position_m=1600.0, places=[(bogie, 1)])
+    front, rear = (wc.scores(alarms, arrays, [hazard(b)], 20.0) for b in (0, 1))
+    for rule in ("bogie_rms", "bogie_peak", "bids_peak_count"):
+        (row,) = front[rule]
+        assert row["warnings"][0] is not None and 10.0 < row["warnings"][0][0] <= 12.0, rule
+        assert rear[rule][0]["warnings"] == [None]
+        assert rear[rule][0]["false_episodes"] > front[rule][0]["false_episodes"] > 0
+
+
 def test_measured_criteria_warn_the_rollover_from_the_sensors_alone(small):
     """The roll-balance estimate of the running gear's unloading, on the sensors with their noise, warns the
     over-speed rollover at the derailed side, ahead of it; it has no channel for a wheel's flange climb."""
