@@ -126,12 +126,18 @@ def rows_in_alarm(sample_time, sample_alarm, row_time):
 
 
 def measured_alarms(results, row_time, sweep):
-    """{criterion: {threshold: (channels, n rows) bool}} of `measured.evaluate`'s results, each channel put
-    through the monitor's alarm logic on its own stamps and odometer positions at each threshold of
-    `sweep(criterion)`, then held onto the rows (`rows_in_alarm`)."""
+    """{criterion: {threshold: (channels, n rows) bool}} of every measured criterion from `measured.evaluate`'s
+    results, each channel put through the monitor's alarm logic on its own stamps and odometer positions at
+    each threshold of `sweep(criterion)`, then held onto the rows (`rows_in_alarm`); a criterion the results
+    lack (its sensors missing, or a run too short) never alarms."""
     limits = shipped_measured_limits()
     out = {}
-    for criterion, m in results.items():
+    for criterion in measured.CRITERIA:
+        if criterion not in results:
+            out[criterion] = {thr: np.zeros((len(measured.PLACES[criterion]), len(row_time)), dtype=bool)
+                              for thr in sweep(criterion)}
+            continue
+        m = results[criterion]
         values = m.value if np.ndim(m.value) == 2 else m.value[:, None]
         out[criterion] = {thr: np.array([rows_in_alarm(m.time, in_alarm(values[:, k], m.position, thr, m.debounce,
                                                                          limits.rearm_fraction, limits.rearm_m),
@@ -144,8 +150,10 @@ def measured_results(sensors, sim, arrays):
     """`measured.evaluate` of a run seen through a sensor set, the monitor switched on after the simulation's
     start-up (`sensors.measure.START_UP_S`: a train in service never sees it)."""
     from railderail_sim.sensors.measure import START_UP_S, after, run_signals
-    return measured.evaluate(after(run_signals(sensors, sim, arrays), START_UP_S), sim.scenario.vehicle,
-                             shipped_measured_limits(), measured.sample_rates(sensors))
+    seen = after(run_signals(sensors, sim, arrays), START_UP_S)
+    if any(len(v) < 2 for k, v in seen.items() if k.endswith("_time")):
+        return {}           # a run ending before every sensor has given the monitor two samples: nothing said
+    return measured.evaluate(seen, sim.scenario.vehicle, shipped_measured_limits(), measured.sample_rates(sensors))
 
 
 def criterion_values(arrays, limits):
@@ -207,14 +215,14 @@ def score_run(arrays, found, limits, rules, measured_found=None):
     return out
 
 
-def sensor_sensitivity_run(sensors, sim, arrays, found, rules):
+def sensor_sensitivity_run(sensors, sim, arrays, found, rules, variants=SENSOR_VARIANTS[1:]):
     """{variant name: {criterion: [its row at the shipped level]}} at the window of the recommendation: the
-    measured criteria of one run seen through each of SENSOR_VARIANTS but the first (the shipped set, scored
-    with the run itself), over the same rows: no re-simulation."""
+    measured criteria of one run seen through each of `variants` (by default SENSOR_VARIANTS but the first,
+    the shipped set, scored with the run itself), over the same rows: no re-simulation."""
     shipped = lambda criterion: [shipped_level(criterion)]
     return {variant_name(v): scores(measured_alarms(measured_results(sensor_variant(sensors, v), sim, arrays),
                                                     arrays["time"], shipped), arrays, found, rules.window_s)
-            for v in SENSOR_VARIANTS[1:]}
+            for v in variants}
 
 
 def run_one(item, cache=None):

@@ -162,8 +162,8 @@ class SensorSet:
         """The same set with every instrument's white noise density times `noise`, its constant bias and the
         bias's random walk times `bias`, the odometer's radius error times `bias` (a sensitivity study over
         the same run: `measure.run_signals`)."""
-        check_range("noise scale", noise, 0.0, 1.0e3)
-        check_range("bias scale", bias, 0.0, 1.0e3)
+        check_range("noise scale", noise, 0.0, 1.0e4)
+        check_range("bias scale", bias, 0.0, 1.0e4)
         changed = {name: replace(inst, noise_density=noise * inst.noise_density, bias=bias * inst.bias,
                                  bias_random_walk=bias * inst.bias_random_walk)
                    for name, inst in self.instruments.items()}
