@@ -61,13 +61,16 @@ def causal(analog, rate_hz, centre_hz):
     return sps.zpk2sos(zd, pd, kd)
 
 
-class CausalFilter:
-    """`causal(analog, rate_hz, centre_hz)` over a signal fed in chunks (axis 0 time), its state carried
+SHORT_CHUNK = 16       # samples up to which SosFilter runs its own loop instead of scipy's
+
+
+class SosFilter:
+    """A digital filter's second-order sections over a signal fed in chunks (axis 0 time), its state carried
     (scipy.signal.sosfilt's zi) and settled on the first sample (as the sensors' filters start,
     sensors.measure: a monitor switched on does not see a step): the same output whatever the chunks."""
 
-    def __init__(self, analog, rate_hz, centre_hz):
-        self.sos, self.zi = causal(analog, rate_hz, centre_hz), None
+    def __init__(self, sos):
+        self.sos, self.zi = np.asarray(sos, dtype=float), None
 
     def __call__(self, x):
         x = np.asarray(x, dtype=float)
@@ -75,8 +78,36 @@ class CausalFilter:
             return x.copy()
         if self.zi is None:
             self.zi = sps.sosfilt_zi(self.sos).reshape((self.sos.shape[0], 2) + (1,) * (x.ndim - 1)) * x[0]
-        y, self.zi = sps.sosfilt(self.sos, x, axis=0, zi=self.zi)
-        return y
+        if len(x) > SHORT_CHUNK:
+            y, self.zi = sps.sosfilt(self.sos, x, axis=0, zi=self.zi)
+            return y
+        return self._short(x)
+
+    def _short(self, x):
+        """sosfilt's recursion (scipy/signal/_sosfilt.pyx) in Python floats, the same operations in the same
+        order (so the same numbers), without its call's overhead, which dominates for a sample or two."""
+        flat = x.reshape(len(x), -1)
+        zi = self.zi.reshape(self.sos.shape[0], 2, -1)
+        state = zi.tolist()
+        sections = self.sos.tolist()
+        out = np.empty(flat.shape)
+        for n, row in enumerate(flat.tolist()):
+            for c, value in enumerate(row):
+                for z, (b0, b1, b2, _, a1, a2) in zip(state, sections):
+                    y = b0 * value + z[0][c]
+                    z[0][c] = b1 * value - a1 * y + z[1][c]
+                    z[1][c] = b2 * value - a2 * y
+                    value = y
+                out[n, c] = value
+        self.zi = np.array(state).reshape(self.zi.shape)
+        return out.reshape(x.shape)
+
+
+class CausalFilter(SosFilter):
+    """`causal(analog, rate_hz, centre_hz)` as a SosFilter."""
+
+    def __init__(self, analog, rate_hz, centre_hz):
+        super().__init__(causal(analog, rate_hz, centre_hz))
 
 
 def apply_causal(analog, x, rate_hz, centre_hz):

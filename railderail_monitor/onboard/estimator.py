@@ -33,6 +33,8 @@ from scipy import signal as sps
 from railderail_sim.sensors.instruments import INSTRUMENTS
 from railderail_sim.vehicle.layout import RUNNING_GEARS
 
+from .criteria import SosFilter
+
 # m: half the distance of the rolling circles, the wheel loads' lever arm (TB449: 1493 mm, parameters.SOURCES)
 CONTACT_SEMI_DISTANCE = 0.7465
 BOGIES = ("front", "rear")
@@ -74,8 +76,7 @@ class RollBalance:
     def __init__(self, vehicle, effective_area, axle_box_corner_hz=INSTRUMENTS["iepe_axle_box"].high_pass_hz,
                  rate_hz=200.0):
         self.vehicle, self.effective_area = vehicle, effective_area
-        self.low = sps.butter(1, axle_box_corner_hz, fs=rate_hz, output="sos")
-        self.zi = [None] * len(BOGIES)
+        self.low = [SosFilter(sps.butter(1, axle_box_corner_hz, fs=rate_hz, output="sos")) for _ in BOGIES]
 
     def __call__(self, h):
         """{side_load (n, 4) N [front left, front right, rear left, rear right], unloading (n, 4),
@@ -95,10 +96,7 @@ class RollBalance:
             frame = h[f"bogie_{g}_frame"]
             boxes = [h[unit][:, 1] for unit in AXLE_BOXES[j]]
             fy = frame[:, 1]
-            if self.zi[j] is None:
-                self.zi[j] = sps.sosfilt_zi(self.low) * fy[0]
-            low, self.zi[j] = sps.sosfilt(self.low, fy, zi=self.zi[j])
-            wheelset = low + np.mean(boxes, axis=0)
+            wheelset = self.low[j](fy) + np.mean(boxes, axis=0)
             y = m_f * fy + 2.0 * m_w * wheelset + body[j]
             total = force[:, 2 * j] + force[:, 2 * j + 1] + (m_f + 2.0 * m_w) * frame[:, 2]
             moment = (b_s * (force[:, 2 * j] - force[:, 2 * j + 1]) - vp.secondary_height * body[j]
