@@ -156,6 +156,11 @@ class Odometer:
             return np.zeros(at.shape)
         return np.where(k >= 0, self.s[kk] + self.v[kk] * (at - self.t[kk]), 0.0)
 
+    def speed(self, at_time):
+        """The speed (m/s) of the last sample at or before each time, 0 before the first."""
+        k = np.searchsorted(self.t, np.asarray(at_time, dtype=float), "right") - 1
+        return np.where(k >= 0, self.v[np.maximum(k, 0)], 0.0) if len(self.t) else np.zeros(np.shape(at_time))
+
     def forget(self, before):
         """Drop the samples no time at or after `before` needs (all but the last at or before it)."""
         keep = max(int(np.searchsorted(self.t, before, "right")) - 1, 0)
