@@ -150,6 +150,10 @@ class Odometer:
 
     def position(self, at_time):
         at = np.asarray(at_time, dtype=float)
+        if at.size == 1 and len(self.t):          # one stamp: the same operations without array calls
+            k = int(self.t.searchsorted(at.item(), "right")) - 1
+            value = float(self.s[k]) + float(self.v[k]) * (at.item() - float(self.t[k])) if k >= 0 else 0.0
+            return np.full(at.shape, value)
         k = np.searchsorted(self.t, at, "right") - 1
         kk = np.maximum(k, 0)
         if not len(self.t):
@@ -225,39 +229,48 @@ class TrailingWindow:
 
     def __init__(self, window_m, step_m, power):
         self.window, self.step, self.power = float(window_m), float(step_m), power
-        self.s = self.integral = self.v = None      # the kept samples (and the last value**power)
+        self.s, self.integral = [], []      # the kept samples' positions and running integrals (floats)
+        self.v = None                       # the last value**power
         self.lo, self.k, self.mean = None, 0, math.nan
 
     def __call__(self, position, values):
         s, v = np.asarray(position, dtype=float), np.asarray(values, dtype=float) ** self.power
-        out = np.full(len(s), np.nan)
-        if not len(s):
-            return out
-        if self.s is None:
+        n = len(s)
+        if not n:
+            return np.full(0, np.nan)
+        if self.lo is None:
             self.lo = s[0] + 0.5 * self.window
-            steps = 0.5 * np.diff(s) * (v[1:] + v[:-1])
-            integral = np.cumsum(np.concatenate([[0.0], steps]))
-        else:
-            steps = 0.5 * np.diff(np.concatenate([self.s[-1:], s])) * (v + np.concatenate([[self.v], v[:-1]]))
-            integral = np.cumsum(np.concatenate([self.integral[-1:], steps]))[1:]
-            s, integral = np.concatenate([self.s, s]), np.concatenate([self.integral, integral])
-        self.v = v[-1]
-        fresh = len(out)
-        # the windows completed in this chunk: k from self.k while their end is at or before the last sample
-        k = self.k + np.arange(max(int(math.floor((s[-1] - 0.5 * self.window - self.lo) / self.step + 1e-9))
+        if n > SHORT_CHUNK:
+            if self.s:
+                steps = 0.5 * np.diff(np.concatenate([[self.s[-1]], s])) * (v + np.concatenate([[self.v], v[:-1]]))
+                integral = np.cumsum(np.concatenate([[self.integral[-1]], steps]))[1:]
+            else:
+                integral = np.cumsum(np.concatenate([[0.0], 0.5 * np.diff(s) * (v[1:] + v[:-1])]))
+            self.s += s.tolist()
+            self.integral += integral.tolist()
+        else:           # the same operations in Python floats: a sample at a time costs no array calls
+            for si, vi in zip(s.tolist(), v.tolist()):
+                self.integral.append(self.integral[-1] + 0.5 * (si - self.s[-1]) * (vi + self.v) if self.s else 0.0)
+                self.s.append(si)
+                self.v = vi
+        self.v = float(v[-1])
+        last = self.s[-1]
+        if not self.lo + self.step * self.k + 0.5 * self.window <= last:
+            return np.full(n, self.mean)         # no window completed in this chunk
+        hs, hi = np.array(self.s), np.array(self.integral)
+        # the windows completed: k from self.k while their end is at or before the last sample
+        k = self.k + np.arange(max(int(math.floor((last - 0.5 * self.window - self.lo) / self.step + 1e-9))
                                    + 1 - self.k, 0))
         centres = self.lo + self.step * k
         ends = centres + 0.5 * self.window
-        k, centres, ends = k[ends <= s[-1]], centres[ends <= s[-1]], ends[ends <= s[-1]]
-        means = (np.interp(ends, s, integral) - np.interp(centres - 0.5 * self.window, s, integral)) / self.window
-        ends_all = np.concatenate([[-math.inf], ends])
-        means_all = np.concatenate([[self.mean], means])
-        out[:] = means_all[np.searchsorted(ends_all, s[-fresh:], "right") - 1]
+        k, centres, ends = k[ends <= last], centres[ends <= last], ends[ends <= last]
+        means = (np.interp(ends, hs, hi) - np.interp(centres - 0.5 * self.window, hs, hi)) / self.window
+        out = np.concatenate([[self.mean], means])[np.searchsorted(np.concatenate([[-math.inf], ends]), s, "right") - 1]
         if len(k):
             self.k, self.mean = int(k[-1]) + 1, float(means[-1])
         # keep from the last sample at or before the next window's start
-        keep = max(int(np.searchsorted(s, self.lo + self.step * self.k - 0.5 * self.window, "right")) - 1, 0)
-        self.s, self.integral = s[keep:], integral[keep:]
+        keep = max(int(np.searchsorted(hs, self.lo + self.step * self.k - 0.5 * self.window, "right")) - 1, 0)
+        del self.s[:keep], self.integral[:keep]
         return out
 
 
@@ -313,29 +326,18 @@ class PeakCounter:
         self.limit, self.run, self.reached, self.negative = float(limit), 0, False, None
 
     def __call__(self, x):
-        x = np.asarray(x, dtype=float)
-        n = len(x)
-        count = np.zeros(n)
-        if not n:
-            return count
-        negative = np.signbit(x)
-        change = np.flatnonzero(negative[1:] != negative[:-1]) + 1
-        starts, ends = np.concatenate([[0], change]), np.concatenate([change, [n]])
-        for i, (a, b) in enumerate(zip(starts, ends)):
-            if i or negative[0] != self.negative:        # a new half-wave
+        count = []
+        for value in np.asarray(x, dtype=float).tolist():
+            negative = math.copysign(1.0, value) < 0.0          # np.signbit: a sign change at -0.0 too
+            if negative != self.negative:                      # a new half-wave
                 if not self.reached:
                     self.run = 0
-                self.reached = False
-            over = [] if self.reached else np.flatnonzero(np.abs(x[a:b]) >= self.limit)
-            if len(over):
-                count[a:a + over[0]] = self.run
+                self.reached, self.negative = False, negative
+            if not self.reached and abs(value) >= self.limit:
                 self.run += 1
                 self.reached = True
-                count[a + over[0]:b] = self.run
-            else:
-                count[a:b] = self.run
-        self.negative = negative[-1]
-        return count
+            count.append(self.run)
+        return np.array(count, dtype=float)
 
 
 def consecutive_peaks(x, limit):

@@ -177,10 +177,17 @@ class _Criterion:
         bound = min([inputs[u].watermark for u in self.units] + [odometer_watermark])
         if not any(ch.t.size and ch.t[-1] > self.done for ch in self.channels) or not bound > self.done:
             return []
-        stamps = np.unique(np.concatenate([ch.t[(ch.t > self.done) & (ch.t < bound)] for ch in self.channels]))
-        if not len(stamps):
-            return []
-        values = np.stack([ch.held(stamps) for ch in self.channels], axis=1)
+        one = {ch.t[-1] if ch.t.size and ch.t[-1] > self.done and (ch.t.size < 2 or ch.t[-2] <= self.done) else None
+               for ch in self.channels}
+        if len(one) == 1 and None not in one and min(one) < bound:
+            # the usual case, a stamp that every channel has (the same as the general case, without its calls)
+            stamps = np.array([min(one)])
+            values = np.array([[ch.v[-1] for ch in self.channels]])
+        else:
+            stamps = np.unique(np.concatenate([ch.t[(ch.t > self.done) & (ch.t < bound)] for ch in self.channels]))
+            if not len(stamps):
+                return []
+            values = np.stack([ch.held(stamps) for ch in self.channels], axis=1)
         self.done = float(stamps[-1])
         for ch in self.channels:
             ch.forget(self.done)
@@ -238,7 +245,9 @@ class MeasuredMonitor:
         self.estimator = (_Estimator(self.limits, vehicle, rates) if any(c in me.ESTIMATED for c in found)
                           else None)
         self.odometer = oc.Odometer()
-        self.feeds = 0
+        self.feeds = self.pruned = 0
+        self.all = self.criteria + ([self.estimator] if self.estimator is not None else [])
+        self.waiting = set()        # the consumers with samples added since the last advance (None: all)
         # the consumers each unit's samples may advance (the odometer's: all)
         self.consumers = {u: [c for c in self.criteria if u in c.units]
                           + ([self.estimator] if self.estimator is not None and u in me.ESTIMATOR_UNITS else [])
@@ -248,29 +257,44 @@ class MeasuredMonitor:
         """A unit's sample (time a float, each signal its values) or samples (time (n,), signals (n, ...)):
         `acceleration` and `angular_rate` of a mount, `deflection` and `pressure` of the air springs, `speed`
         of the odometer (the names of `sensor_<unit>_<signal>`). Returns the alerts now decided."""
+        self.add(unit, time, **signals)
+        return self.advance()
+
+    def add(self, unit, time, **signals):
+        """`feed` without deciding anything yet (`advance` decides): several units' samples that came
+        together are then processed together, each consumer once."""
         if unit not in self.inputs:
             raise ValueError(f"unknown sensor unit {unit!r}: the monitor's units are {', '.join(self.inputs)}")
         self.inputs[unit].add(time, signals)
         if unit == ODOMETER:
             self.odometer.add(np.atleast_1d(time), np.atleast_1d(signals["speed"]))
+            self.waiting = None
+        elif self.waiting is not None:
+            self.waiting.update(self.consumers[unit])
         self.feeds += 1
-        found = self._advance(None if unit == ODOMETER else self.consumers[unit])
-        if self.feeds % PRUNE_EVERY == 0:
+
+    def advance(self):
+        """The alerts decided by the samples added since the last call."""
+        found = self._advance(None if self.waiting is None else [c for c in self.all if c in self.waiting])
+        self.waiting = set()
+        if self.feeds - self.pruned >= PRUNE_EVERY:
             self._forget()
+            self.pruned = self.feeds
         return found
 
     def finish(self):
         """The end of every stream: the alerts of what is left."""
         for source in self.inputs.values():
             source.closed = True
-        return self._advance()
+        self.waiting = None
+        return self.advance()
 
     def _advance(self, consumers=None):
         """Advance the consumers (default all) as far as the watermarks let them."""
         if ODOMETER not in self.inputs:
             return []
         if consumers is None:
-            consumers = self.criteria + ([self.estimator] if self.estimator is not None else [])
+            consumers = self.all
         watermark = self.inputs[ODOMETER].watermark
         found = []
         for c in consumers:
