@@ -58,6 +58,19 @@ class _Input:
         return {name: values[self.begin:self.end] for name, values in self._signals.items()}
 
     def add(self, time, signals):
+        if isinstance(time, float) and time > self.last:            # one sample: fewer array calls
+            if self.end + 1 > len(self._t):
+                self._grow(1)
+            if self.first == -math.inf:
+                self.first = time
+            self._t[self.end] = time
+            for name, values in signals.items():
+                if name not in self._signals:
+                    self._signals[name] = np.zeros((len(self._t),) + np.shape(values))
+                self._signals[name][self.end] = values
+            self.end += 1
+            self.last = time
+            return
         t = np.atleast_1d(np.asarray(time, dtype=float))
         n = len(t)
         if not n:
@@ -171,9 +184,11 @@ class _Criterion:
         self.alarms = _Alarms(criterion, limits)
         self.done = -math.inf
 
-    def advance(self, inputs, odometer, odometer_watermark):
+    def advance(self, inputs, odometer, odometer_watermark, unit=None):
+        """`unit`: the one unit that got samples since the last call (None: any, or the odometer)."""
         for ch in self.channels:
-            ch.advance(inputs[ch.unit], odometer, odometer_watermark)
+            if unit is None or ch.unit == unit:
+                ch.advance(inputs[ch.unit], odometer, odometer_watermark)
         bound = min([inputs[u].watermark for u in self.units] + [odometer_watermark])
         if not any(ch.t.size and ch.t[-1] > self.done for ch in self.channels) or not bound > self.done:
             return []
@@ -206,14 +221,15 @@ class _Estimator:
         self.alarms = [_Alarms(c, limits) for c in me.ESTIMATED]
         self.done, self.start = -math.inf, None
 
-    def advance(self, inputs, odometer, odometer_watermark):
+    def advance(self, inputs, odometer, odometer_watermark, unit=None):
         if self.start is None:
             if not all(inputs[u].started for u in me.ESTIMATOR_UNITS):
                 return []
             self.start = max(inputs[u].first for u in est.INPUTS)
+            self.sources = [inputs[u] for u in me.ESTIMATOR_UNITS]
         start = self.start
         base = inputs[est.TIME_BASE]
-        bound = min([inputs[u].watermark for u in me.ESTIMATOR_UNITS] + [odometer_watermark])
+        bound = min(min(source.watermark for source in self.sources), odometer_watermark)
         if not base.last > self.done or not bound > self.done:
             return []
         stamps = base.t[base.after(max(self.done, np.nextafter(start, -math.inf)), bound)]
@@ -270,12 +286,15 @@ class MeasuredMonitor:
             self.odometer.add(np.atleast_1d(time), np.atleast_1d(signals["speed"]))
             self.waiting = None
         elif self.waiting is not None:
-            self.waiting.update(self.consumers[unit])
+            self.waiting.add(unit)
         self.feeds += 1
 
     def advance(self):
         """The alerts decided by the samples added since the last call."""
-        found = self._advance(None if self.waiting is None else [c for c in self.all if c in self.waiting])
+        waiting = self.waiting
+        unit = next(iter(waiting)) if waiting is not None and len(waiting) == 1 else None
+        found = self._advance(None if waiting is None else [c for c in self.all if c in self.consumers_of(waiting)],
+                              unit)
         self.waiting = set()
         if self.feeds - self.pruned >= PRUNE_EVERY:
             self._forget()
@@ -289,8 +308,12 @@ class MeasuredMonitor:
         self.waiting = None
         return self.advance()
 
-    def _advance(self, consumers=None):
-        """Advance the consumers (default all) as far as the watermarks let them."""
+    def consumers_of(self, units):
+        return {c for u in units for c in self.consumers[u]}
+
+    def _advance(self, consumers=None, unit=None):
+        """Advance the consumers (default all) as far as the watermarks let them; `unit`: the one unit that
+        got samples, if only one did."""
         if ODOMETER not in self.inputs:
             return []
         if consumers is None:
@@ -298,7 +321,7 @@ class MeasuredMonitor:
         watermark = self.inputs[ODOMETER].watermark
         found = []
         for c in consumers:
-            found += c.advance(self.inputs, self.odometer, watermark)
+            found += c.advance(self.inputs, self.odometer, watermark, unit)
         if not found:
             return found
         return sorted(found, key=lambda a: (a.time_s, me.CRITERIA.index(a.criterion),
