@@ -41,6 +41,29 @@ MEASURED_LEVELS = dict(car_body_lateral=0.3, bogie_peak=1.0, car_body_roll_rate=
                        estimated_running_gear_unloading=0.3, estimated_side_ratio=0.15)
 
 
+def _spin_run(executor, simulator, monitor, nothing_yet):
+    """Spin until the simulator node exits (an error after 300 s, or after 240 s while `nothing_yet()`:
+    a cold compile included), 1 s more for the last messages; stop it and the monitor: their stderr."""
+    try:
+        started = time.monotonic()
+        while simulator.poll() is None:
+            executor.spin_once(timeout_sec=0.05)
+            if nothing_yet() and time.monotonic() - started > 240:
+                raise RuntimeError("bench: the simulator node published nothing within 240 s")
+            if time.monotonic() - started > 300:
+                raise RuntimeError("bench: the simulator node ran for more than 300 s")
+        end = time.monotonic() + 1.0
+        while time.monotonic() < end:
+            executor.spin_once(timeout_sec=0.05)
+    finally:
+        if simulator.poll() is None:
+            simulator.send_signal(signal.SIGINT)
+        sim_log = simulator.communicate(timeout=30)[1]
+        monitor.send_signal(signal.SIGINT)
+        mon_log = monitor.communicate(timeout=30)[1]
+    return sim_log, mon_log
+
+
 def _isolated_env():
     env = dict(os.environ, ROS_DOMAIN_ID=str(150 + os.getpid() % 80), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST")
     os.environ.update({k: env[k] for k in ("ROS_DOMAIN_ID", "ROS_AUTOMATIC_DISCOVERY_RANGE")})
@@ -92,20 +115,8 @@ def _measured_figures():
          "-p", "sensors:=shipped"], env=env, stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, text=True,
         start_new_session=True)
     try:
-        started = time.monotonic()
-        while simulator.poll() is None:
-            executor.spin_once(timeout_sec=0.05)
-            if time.monotonic() - started > 300:
-                raise RuntimeError("bench: the simulator node ran for more than 300 s")
-        end = time.monotonic() + 1.0
-        while time.monotonic() < end:
-            executor.spin_once(timeout_sec=0.05)
+        _, mon_log = _spin_run(executor, simulator, monitor, lambda: not last_of_stamp)
     finally:
-        if simulator.poll() is None:
-            simulator.send_signal(signal.SIGINT)
-        simulator.communicate(timeout=30)
-        monitor.send_signal(signal.SIGINT)
-        mon_log = monitor.communicate(timeout=30)[1]
         executor.shutdown()
         node.destroy_node()
         rclpy.shutdown(context=context)
@@ -159,22 +170,8 @@ def _ros_figures():
          "-p", f"publish_rate:={RATE}", "-p", "real_time_factor:=1.0", "-p", "wait_for_subscribers:=2"],
         env=env, stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, text=True, start_new_session=True)
     try:
-        started = time.monotonic()
-        while simulator.poll() is None:
-            executor.spin_once(timeout_sec=0.05)
-            if not received["states"] and time.monotonic() - started > 240:     # a cold compile included
-                raise RuntimeError("bench: the simulator node published nothing within 240 s")
-            if time.monotonic() - started > 300:
-                raise RuntimeError("bench: the simulator node ran for more than 300 s")
-        end = time.monotonic() + 1.0
-        while time.monotonic() < end:
-            executor.spin_once(timeout_sec=0.05)
+        sim_log, mon_log = _spin_run(executor, simulator, monitor, lambda: not received["states"])
     finally:
-        if simulator.poll() is None:
-            simulator.send_signal(signal.SIGINT)
-        sim_log = simulator.communicate(timeout=30)[1]
-        monitor.send_signal(signal.SIGINT)
-        mon_log = monitor.communicate(timeout=30)[1]
         executor.shutdown()
         node.destroy_node()
         rclpy.shutdown(context=context)
