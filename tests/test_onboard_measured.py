@@ -93,6 +93,10 @@ def test_each_criterion_on_its_own_time_base():
     assert me.evaluate({k: v for k, v in a.items() if "odometer" not in k}, VP) == {}
     left = me.evaluate({k: v for k, v in a.items() if "air_springs" not in k}, VP)
     assert "car_body_roll" not in left and "estimated_side_ratio" not in left and "bogie_rms" in left
+    rates = me.sample_rates()
+    del rates["bogie_rear_frame"]
+    with pytest.raises(ValueError, match="no sample rate for sensor unit.s. bogie_rear_frame"):
+        me.evaluate(a, VP, rates=rates)
 
 
 def test_the_odometer_position_uses_no_later_sample():

@@ -306,6 +306,10 @@ def evaluate(signals, vehicle: VehicleParameters, limits: MeasuredLimits = None,
     rates = sample_rates() if rates is None else rates
     units = units_of(signals)
     found = criteria_of(units)
+    unknown = sorted(u for c in found for u in (ESTIMATOR_UNITS if c in ESTIMATED else PLACES[c]) if u not in rates)
+    if unknown:
+        raise ValueError(f"no sample rate for sensor unit(s) {', '.join(dict.fromkeys(unknown))}: the rates given are "
+                         f"those of {', '.join(rates) or 'no unit'} (measured.sample_rates of the record's sensor set)")
     odometer = oc.Odometer()
     if found:
         odometer.add(units[ODOMETER]["time"], units[ODOMETER]["speed"])
