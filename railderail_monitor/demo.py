@@ -78,6 +78,26 @@ class Node:
             if echo is not None:
                 echo(line)
 
+    def cpu_ticks(self):
+        """The process's user and system CPU time so far, in clock ticks (/proc/PID/stat); None once gone."""
+        try:
+            fields = Path(f"/proc/{self.process.pid}/stat").read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            return None
+        return int(fields[11]) + int(fields[12])
+
+    def wait_idle(self, quiet_s=0.5, timeout=120.0):
+        """Wait until the process used no CPU for `quiet_s` (it worked through its queue), at most `timeout`."""
+        deadline = time.monotonic() + timeout
+        last, since = self.cpu_ticks(), time.monotonic()
+        while last is not None and time.monotonic() < deadline:
+            time.sleep(0.1)
+            now = self.cpu_ticks()
+            if now != last:
+                last, since = now, time.monotonic()
+            elif time.monotonic() - since >= quiet_s:
+                return
+
     def stop(self, timeout=15.0):
         """SIGINT, then SIGKILL after `timeout`; returns the exit status."""
         if self.process.poll() is None:
@@ -291,6 +311,10 @@ def run_demo(args, say=print):
                                f"see {nodes['simulator'].log_path}")
         if "viewer" in nodes:
             nodes.pop("viewer").stop()
+        if "onboard" in nodes:
+            # a Python node behind a simulator faster than real time may still be working through the sensor
+            # messages in its queue: stopping it now would lose them
+            nodes["onboard"].wait_idle()
         codes = {name: nodes.pop(name).stop() for name in ("monitor", "onboard", "recorder") if name in nodes}
         if any(codes.values()):
             raise RuntimeError("exit status " + ", ".join(f"{k} {v}" for k, v in codes.items())
