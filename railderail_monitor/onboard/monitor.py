@@ -154,7 +154,6 @@ class _Alarms:
 
     def __init__(self, criterion, limits: me.MeasuredLimits):
         self.criterion, self.places = criterion, me.PLACES[criterion]
-        self.order = me.CRITERIA.index(criterion)
         self.detectors = [[Detector(level, limits.debounce(criterion), limits.rearm_fraction, limits.rearm_m)
                            for _ in self.places] for _, level in limits.levels(criterion)]
         self.samples = 0
