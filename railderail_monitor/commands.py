@@ -7,7 +7,8 @@ COMMANDS = (
     ("replay", "replay an MCAP recording on the ROS topics, in Rerun (--rrd) or as alerts (--json)",
      "railderail_monitor.replay:command"),
     ("record", "record every /railderail topic to an MCAP file", "railderail_monitor.recording:command"),
-    ("recover", "a complete MCAP (summary, footer) of everything readable in a cut-off recording",
+    ("recover", "a complete MCAP (summary, footer) of everything readable in a cut-off recording, or of its "
+     "sensor topics only",
      "railderail_monitor.recover:command"),
     ("view", "show the live /railderail topics in Rerun (--rrd FILE for a file)",
      "railderail_monitor.viewer:command"),

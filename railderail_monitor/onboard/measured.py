@@ -26,7 +26,7 @@ side ratio, the running gear's lateral force over one side's load). Every level 
 on-board unit's alarm, not a derailment limit.
 
 Track position (the EN 14363 windows, the debounce and the re-arm are in metres): the odometer's distance,
-each sample's speed integrated over the step to the next at the speed it reads (`odometer_position`), so the
+each sample's speed integrated over the step to the next at the speed it reads (`criteria.Odometer`), so the
 position is known at every instant from the samples before it alone (no interpolation to a later sample),
 does not decrease, and lags the true distance by at most a sample period's change of speed times the period.
 
@@ -67,9 +67,6 @@ CRITERIA = tuple(PLACES)
 # held over debounce_m of track before the alert; the others are windows or counts already
 INSTANTANEOUS = ("bogie_peak", "car_body_lateral", "car_body_roll", "car_body_roll_rate",
                  "estimated_running_gear_unloading", "estimated_side_ratio")
-# the sensors each criterion reads (units of the sensor arrays), besides the odometer
-NEEDS = {**{c: FRAMES for c in CRITERIA[:4]}, "car_body_lateral": FLOORS, "car_body_lateral_qst": FLOORS,
-         "car_body_roll": (AIR_SPRINGS,), "car_body_roll_rate": (ROLL_GYRO,)}
 
 # EN 15302 Annex B equivalent conicity of LM on UIC60 at 1:40 at 3 mm amplitude, computed by this project's
 # contact geometry (docs/contact-report.md; the amplitude of UIC 518 / EN 14363's conicity, B)
@@ -232,19 +229,6 @@ def sample_rates(sensors=None):
     return rates
 
 
-def odometer_position(odometer_time, odometer_speed, at_time):
-    """Track distance (m) at each of `at_time` from the odometer's samples at or before it: the distance at
-    its last sample k (0 at the first, each step's length its start's speed times its duration) plus v_k times
-    the time since t_k; 0 before the first sample. Continuous and non-decreasing (speeds are >= 0)."""
-    t = np.asarray(odometer_time, dtype=float)
-    v = np.asarray(odometer_speed, dtype=float)
-    s = np.concatenate([[0.0], np.cumsum(v[:-1] * np.diff(t))])
-    at = np.asarray(at_time, dtype=float)
-    k = np.searchsorted(t, at, "right") - 1
-    kk = np.maximum(k, 0)
-    return np.where(k >= 0, s[kk] + v[kk] * (at - t[kk]), 0.0)
-
-
 def held(source_time, values, time):
     """The last of `values` (rows) at or before each of `time`, NaN before the first (a zero-order hold)."""
     values = np.asarray(values, dtype=float)
@@ -254,74 +238,97 @@ def held(source_time, values, time):
     return out
 
 
-def _merged(name, channels, limits: MeasuredLimits, odometer):
-    """A criterion's Measured from its channels [(stamps, value per stamp, Measured of the channel)]: the
-    union of the stamps, each channel held on it."""
-    time = np.unique(np.concatenate([t for t, _, _ in channels]))
-    value = np.stack([held(t, v, time) for t, v, _ in channels], axis=1)
-    first = channels[0][2]
-    return oc.Measured(name, value, float(getattr(limits, name)), first.unit, first.source, first.sure,
-                       limits.debounce(name), time, odometer(time), PLACES[name])
+def _lateral(signals):
+    return np.asarray(signals["acceleration"])[:, 1]
 
 
-def _stream(signals, unit):
-    return np.asarray(signals[f"sensor_{unit}_time"], dtype=float)
+def _roll_rate(signals):
+    return np.asarray(signals["angular_rate"])[:, 0]
+
+
+def _deflection(signals):
+    return np.asarray(signals["deflection"])
+
+
+# criterion: (what a channel reads of its unit's signals, its value's processor from (limits, vehicle, rate))
+CHANNELS = {
+    "bogie_rms": (_lateral, lambda lim, vp, rate: oc.BogieRms(rate, lim.hunting_frequency, lim.rms_window_m,
+                                                               lim.window_step_m)),
+    "bogie_peak": (_lateral, lambda lim, vp, rate: oc.BogiePeak(rate, lim.hunting_frequency)),
+    "bids_peak_count": (_lateral, lambda lim, vp, rate: oc.PeakCount(rate, (lim.bids_band_low, lim.bids_band_high),
+                                                                     lim.bids_peak_limit)),
+    "bids_peak_count_china": (_lateral, lambda lim, vp, rate: oc.PeakCount(
+        rate, (lim.china_band_low, lim.china_band_high), lim.china_peak_limit)),
+    "car_body_lateral": (_lateral, lambda lim, vp, rate: oc.CarBodyLateral(rate)),
+    "car_body_lateral_qst": (_lateral, lambda lim, vp, rate: oc.CarBodyLateralQst(rate, lim.qst_window_m,
+                                                                                  lim.window_step_m)),
+    "car_body_roll": (_deflection, lambda lim, vp, rate: oc.CarBodyRoll(rate, vp)),
+    "car_body_roll_rate": (_roll_rate, lambda lim, vp, rate: oc.CarBodyRollRate(rate)),
+}
+# the estimator's criteria: the estimate each warns on
+ESTIMATED = {"estimated_running_gear_unloading": "unloading", "estimated_side_ratio": "derailment_coefficient"}
+ESTIMATOR_UNITS = (est.TIME_BASE,) + est.INPUTS
+UNITS = tuple(dict.fromkeys(FRAMES + FLOORS + (ROLL_GYRO, AIR_SPRINGS, ODOMETER) + est.INPUTS))
+
+
+def units_of(signals):
+    """{unit: {signal: array}} of the `sensor_<unit>_<signal>` arrays of the units the criteria read."""
+    units = {}
+    for unit in UNITS:
+        prefix = f"sensor_{unit}_"
+        found = {name[len(prefix):]: values for name, values in signals.items() if name.startswith(prefix)}
+        if "time" in found:
+            units[unit] = found
+    return units
+
+
+def criteria_of(units):
+    """The criteria whose sensors (and the odometer) are all among `units`."""
+    if ODOMETER not in units:
+        return ()
+    return tuple(c for c in CRITERIA if all(u in units for u in (ESTIMATOR_UNITS if c in ESTIMATED else PLACES[c])))
+
+
+def measured(criterion, value, limits: MeasuredLimits, time, position):
+    """The Measured of a criterion's values (n, places) on its time base."""
+    meta = next(f.metadata for f in fields(MeasuredLimits) if f.name == criterion)
+    return oc.Measured(criterion, np.asarray(value, dtype=float).reshape(len(time), -1),
+                       float(getattr(limits, criterion)), meta["unit"], meta["source"], meta["sure"],
+                       limits.debounce(criterion), time, position, PLACES[criterion])
 
 
 def evaluate(signals, vehicle: VehicleParameters, limits: MeasuredLimits = None, rates=None):
     """{criterion: Measured} of every criterion on measured signals whose sensors the record holds (those
-    lacking a sensor are left out; the odometer is needed by all): value (n, places), `time` and `position`
+    lacking a sensor, or all without the odometer, are left out): value (n, places), `time` and `position`
     (n,) on the criterion's time base (the module's table). `rates`: {unit: Hz} of the sensors
     (`sample_rates`, default the shipped set's); `limits` default `measured_limits(vehicle)`."""
     limits = (limits or measured_limits(vehicle)).validated()
     rates = sample_rates() if rates is None else rates
-    if f"sensor_{ODOMETER}_time" not in signals:
-        raise ValueError("the measured criteria need the odometer's samples (sensor_odometer_time, _speed)")
-    odo_t, odo_v = _stream(signals, ODOMETER), signals[f"sensor_{ODOMETER}_speed"]
-
-    def odometer(time):
-        return odometer_position(odo_t, odo_v, time)
-
-    have = {c for c, units in NEEDS.items() if all(f"sensor_{u}_time" in signals for u in units)}
-    channels = {c: [] for c in CRITERIA}
-    f0 = limits.hunting_frequency
-    mass = bogie_mass(vehicle)
-    for g in FRAMES if "bogie_rms" in have else ():
-        t, y, rate = _stream(signals, g), np.asarray(signals[f"sensor_{g}_acceleration"])[:, 1], rates[g]
-        s = odometer(t)
-        for m in (oc.bogie_rms(t, y, s, mass, f0, rate, limits.rms_window_m, limits.window_step_m),
-                  oc.bogie_peak(t, y, mass, f0, rate),
-                  oc.peak_count(t, y, (limits.bids_band_low, limits.bids_band_high), limits.bids_peak_limit,
-                                int(limits.bids_peak_count), rate_hz=rate),
-                  oc.china_peak_count(t, y, limits.china_peak_limit, (limits.china_band_low, limits.china_band_high),
-                                      int(limits.bids_peak_count_china), rate)):
-            channels[m.criterion].append((t, m.value, m))
-    for g in FLOORS if "car_body_lateral" in have else ():
-        t, y, rate = _stream(signals, g), np.asarray(signals[f"sensor_{g}_acceleration"])[:, 1], rates[g]
-        for m in (oc.car_body_lateral(t, y, rate_hz=rate),
-                  oc.car_body_lateral_qst(t, y, odometer(t), rate, limits.qst_window_m, limits.window_step_m)):
-            channels[m.criterion].append((t, m.value, m))
-    if "car_body_roll" in have:
-        t = _stream(signals, AIR_SPRINGS)
-        m = oc.car_body_roll(t, signals[f"sensor_{AIR_SPRINGS}_deflection"], vehicle, rates[AIR_SPRINGS])
-        channels[m.criterion].append((t, m.value, m))
-    if "car_body_roll_rate" in have:
-        t = _stream(signals, ROLL_GYRO)
-        m = oc.car_body_roll_rate(t, np.asarray(signals[f"sensor_{ROLL_GYRO}_angular_rate"])[:, 0], vehicle,
-                                  rates[ROLL_GYRO])
-        channels[m.criterion].append((t, m.value, m))
-    out = {c: _merged(c, ch, limits, odometer) for c, ch in channels.items() if ch}
-    try:
+    units = units_of(signals)
+    found = criteria_of(units)
+    unknown = sorted(u for c in found for u in (ESTIMATOR_UNITS if c in ESTIMATED else PLACES[c]) if u not in rates)
+    if unknown:
+        raise ValueError(f"no sample rate for sensor unit(s) {', '.join(dict.fromkeys(unknown))}: the rates given are "
+                         f"those of {', '.join(rates) or 'no unit'} (measured.sample_rates of the record's sensor set)")
+    odometer = oc.Odometer()
+    if found:
+        odometer.add(units[ODOMETER]["time"], units[ODOMETER]["speed"])
+    out = {}
+    for c in found:
+        if c in CHANNELS:
+            read, processor = CHANNELS[c]
+            channels = []
+            for unit in PLACES[c]:
+                t = np.asarray(units[unit]["time"], dtype=float)
+                channels.append((t, processor(limits, vehicle, rates[unit])(read(units[unit]), odometer.position(t))))
+            time = np.unique(np.concatenate([t for t, _ in channels]))
+            value = np.stack([held(t, v, time) for t, v in channels], axis=1)
+            out[c] = measured(c, value, limits, time, odometer.position(time))
+    if any(c in ESTIMATED for c in found):
         e = est.estimate(signals, vehicle, limits.air_spring_effective_area, limits.axle_box_corner,
-                         rates[ROLL_GYRO])
-    except KeyError:            # a sensor of the roll balance missing
-        return out
-    for name, key, source in (("estimated_running_gear_unloading", "unloading",
-                               "estimator.estimate (roll balance) at the ground-truth running_gear_unloading level"),
-                              ("estimated_side_ratio", "derailment_coefficient",
-                               "estimator.estimate (roll balance) at the ground-truth derailment_coefficient level")):
-        out[name] = oc.Measured(name, e[key], float(getattr(limits, name)), "", source, "B", limits.debounce(name),
-                                e["time"], odometer(e["time"]), GEAR_SIDES)
+                         rates[est.TIME_BASE])
+        for c, key in ESTIMATED.items():
+            out[c] = measured(c, e[key], limits, e["time"], odometer.position(e["time"]))
     return out
 
 
@@ -359,4 +366,4 @@ def alerts(results, limits: MeasuredLimits):
 
 
 __all__ = ["MeasuredLimits", "measured_limits", "evaluate", "alerts", "MeasuredAlert", "sample_rates",
-           "odometer_position", "kinematic_bogie_frequency", "CRITERIA", "PLACES", "SIGNALS"]
+           "kinematic_bogie_frequency", "CRITERIA", "PLACES", "SIGNALS"]
