@@ -54,7 +54,7 @@ def test_the_study_writes_its_table_and_json(runs, tmp_path):
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["--speeds", "250,fast"], "--speeds '250,fast' is not a comma-separated list"),
+    (["--speeds", "250,fast"], "--speeds '250,fast' is not a comma-separated list of numbers"),
     (["--speeds", "900"], "--speeds 900 km/h is outside the accepted range [30, 800] km/h"),
     (["--cases", "healthy,derailed"], "--cases: unknown case(s) derailed; the cases are healthy"),
 ])

@@ -216,12 +216,10 @@ def command(parser):
         import sys
 
         from railderail_sim import jsonout
+        from railderail_sim.cli.methods import _floats
         from railderail_sim.ranges import check_range
         from railderail_sim.vehicle.simulate import SPEED_RANGE_KMH
-        try:
-            speeds = [float(x) for x in args.speeds.split(",") if x]
-        except ValueError:
-            raise ValueError(f"--speeds {args.speeds!r} is not a comma-separated list of speeds in km/h") from None
+        speeds = _floats(args.speeds, "--speeds")
         for v in speeds:
             check_range("--speeds", v, *SPEED_RANGE_KMH, "km/h")
         names = {c.name: c for c in CASES}
