@@ -53,6 +53,32 @@ def test_the_study_writes_its_table_and_json(runs, tmp_path):
     assert set(data["runs"][0]["rules"]["bogie_rms"]) == set(study.FRAME_MOUNTS)
 
 
+def test_the_rules_alarm_on_the_hunting_bogie_s_frame_mounts_only_and_the_table_says_so(tmp_path):
+    """Synthetic rows (tests/test_warning_catalogue.py): the front frame oscillating at 4 Hz, 12 m/s^2, from
+    8 s on, the rest at rest. Every rule alarms on the front bogie's three frame mounts (no yaw: the same
+    reading at its centre and over its wheelsets) a few seconds after the onset and never on the rear's."""
+    from railderail_sim.parameters import VehicleParameters
+    from test_warning_catalogue import _hunting_front_bogie
+    _, signals, _ = _hunting_front_bogie()
+    run = dict(case="yaw-dampers-failed", faults=[], speed_kmh=288.0, simulated_s=30.0, diverged="",
+               **study.record(signals, VehicleParameters()))
+    onset = 8.0 - study.START_UP_S
+    for rule in study.RULES:
+        for mount in ("bogie_front_frame", "bogie_frame_0", "bogie_frame_1"):
+            first = run["rules"][rule][mount]["first_alarm"]
+            assert first is not None and onset < first["time_s"] < onset + 3.0, (rule, mount)
+            assert first["distance_m"] == pytest.approx(80.0 * first["time_s"], abs=2.0)    # the odometer's
+        for mount in ("bogie_rear_frame", "bogie_frame_2", "bogie_frame_3"):
+            assert run["rules"][rule][mount]["first_alarm"] is None, (rule, mount)
+    assert run["f0_record_hz"]["bogie_front_frame"] == pytest.approx(4.0, abs=0.25)
+    assert run["measured_first_alerts"]["bogie_rms"]["place"] == "bogie_front_frame"
+    result = study.summary([run], [study.CASES[1]])
+    assert result["first_speed_kmh"]["yaw-dampers-failed"] == {rule: 288.0 for rule in study.RULES}
+    text = study.write(result, tmp_path).read_text()
+    row = next(line for line in text.splitlines() if line.startswith("| yaw-dampers-failed | 288 | - |"))
+    assert row.count("**") == 2 * len(study.RULES) and "rear" not in row and "frame_2" not in row
+
+
 @pytest.mark.parametrize("argv, message", [
     (["--speeds", "250,fast"], "--speeds '250,fast' is not a comma-separated list of numbers"),
     (["--speeds", "900"], "--speeds 900 km/h is outside the accepted range [30, 800] km/h"),

@@ -77,28 +77,35 @@ def frame_rules(signals, mounts, vehicle):
 
 
 def run_case(item):
-    """One run of the sweep (case, speed km/h): the derailment if any; per frame mount and rule its largest
-    value, its level and its first alarm (time s and odometer distance m from the switch-on); the first alert
-    of every other measured criterion (`measured.alerts` of the whole sensor set)."""
+    """One run of the sweep (case, speed km/h), simulated with the shipped sensor set (`record`)."""
     from dataclasses import replace
 
     from railderail_sim.sensors.config import load as load_sensors
-    from railderail_sim.sensors.measure import after, run_signals
+    from railderail_sim.sensors.measure import run_signals
     from railderail_sim.vehicle.simulate import run_to_stop
 
     case, speed_kmh = item
     sc = replace(entry(case, speed_kmh).scenario(SEED), output_rate=RATE_HZ)
     sim, arrays, error = run_to_stop(sc)
-    signals = after(run_signals(replace(load_sensors(), seed=SEED), sim, arrays), START_UP_S)
-    limits = measured_limits(sc.vehicle)
-    event = sim.derailment()
-    out = dict(case=case.name, faults=list(case.faults), speed_kmh=speed_kmh, simulated_s=float(arrays["time"][-1]),
-               diverged=error, derailment=None if event is None else dict(
+    return dict(case=case.name, faults=list(case.faults), speed_kmh=speed_kmh, simulated_s=float(arrays["time"][-1]),
+                diverged=error, **record(run_signals(replace(load_sensors(), seed=SEED), sim, arrays), sc.vehicle,
+                                         sim.derailment()))
+
+
+def record(signals, vehicle, event=None):
+    """What the monitor, switched on at START_UP_S, makes of a run's sensor signals: the derailment (if any,
+    its time from the switch-on); per frame mount and rule its largest value, its level and its first alarm
+    (time s and odometer distance m from the switch-on); the first alert of every measured criterion of the
+    whole sensor set (`measured.alerts`); the Welch peak f0 of each frame mount's record."""
+    from railderail_sim.sensors.measure import after
+    signals = after(signals, START_UP_S)
+    limits = measured_limits(vehicle)
+    out = dict(derailment=None if event is None else dict(
                    {k: event[k] for k in ("car_body_position_m", "wheelset", "wheel_side", "mechanism")},
                    time_s=event["time_s"] - START_UP_S),
                f0_record_hz={}, rules={rule: {} for rule in RULES})
     for pair in MOUNT_PAIRS:
-        for (mount, rule), (m, k) in frame_rules(signals, pair, sc.vehicle).items():
+        for (mount, rule), (m, k) in frame_rules(signals, pair, vehicle).items():
             first = next((a for a, _ in m.channel_intervals(None, limits.rearm_fraction, limits.rearm_m)[k]), None)
             out["rules"][rule][mount] = dict(
                 peak=float(np.nanmax(m.value[:, k])), level=m.level, unit=m.unit,
@@ -108,7 +115,7 @@ def run_case(item):
             out["f0_record_hz"][mount] = hunting_frequency(signals[f"sensor_{mount}_time"],
                                                            signals[f"sensor_{mount}_acceleration"][:, 1])
     firsts = {}
-    for a in alerts(evaluate(signals, sc.vehicle, limits), limits):
+    for a in alerts(evaluate(signals, vehicle, limits), limits):
         firsts.setdefault(a.criterion, dict(time_s=a.time_s - START_UP_S, distance_m=a.track_position, place=a.place))
     out["measured_first_alerts"] = firsts
     return out
