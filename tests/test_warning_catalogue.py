@@ -333,7 +333,7 @@ def test_the_shipped_results_false_alarms_cannot_fall_as_a_threshold_falls():
     the time in alarm and the derailments usefully warned of a higher one; every recommended level keeps its
     budget on the test part."""
     result = json.loads(SHIPPED_RESULT.read_text())
-    for criterion in wc.THRESHOLDS:
+    for criterion in dict.fromkeys(r["criterion"] for r in result["criteria"]):      # the measured ones too
         rows = sorted((r for r in result["criteria"] if r["criterion"] == criterion), key=lambda r: r["threshold"])
         assert len(rows) >= 2
         for low, high in zip(rows, rows[1:]):
