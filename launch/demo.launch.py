@@ -1,8 +1,9 @@
 """`ros2 launch railderail demo.launch.py`: the demo's three nodes on a ROS 2 installation.
 
 Starts the recorder (every /railderail topic to `output`), the monitor (with the shipped thresholds,
-share/railderail/config/monitor.yaml) and the simulator (share/railderail/config/simulator.yaml with
-the launch arguments on top). The simulator starts its run once the monitor and the recorder
+share/railderail/config/monitor.yaml), a second monitor in measured mode (`railderail_onboard_monitor`:
+the on-board sensors' topics only, its alerts on /railderail/onboard_alerts) and the simulator
+(share/railderail/config/simulator.yaml with the launch arguments on top, its shipped sensor set on). The simulator starts its run once the monitor and the recorder
 subscribe, and when it exits (derailment or end of the line) the launch shuts the others down, so
 the MCAP is complete. The launch packages are not on PyPI: the pip set-up runs the same job with
 `railderail demo`, which also prints the alerts' lead times.
@@ -40,9 +41,12 @@ def generate_launch_description():
                     arguments=[LaunchConfiguration("output")])
     monitor = Node(package="railderail", executable="monitor", name="railderail_monitor", output="screen",
                    parameters=[os.path.join(config, "monitor.yaml")])
+    onboard = Node(package="railderail", executable="monitor", name="railderail_onboard_monitor", output="screen",
+                   parameters=[{"signals": "measured"}])
     # waits for the monitor and the recorder, so that neither misses the start of the run
     simulator = Node(package="railderail", executable="simulator", name="railderail_simulator", output="screen",
-                     parameters=[os.path.join(config, "simulator.yaml"), {**overrides, "wait_for_subscribers": 2}])
+                     parameters=[os.path.join(config, "simulator.yaml"),
+                                 {**overrides, "sensors": "shipped", "wait_for_subscribers": 2}])
     stop_all = RegisterEventHandler(OnProcessExit(target_action=simulator,
                                                   on_exit=[EmitEvent(event=Shutdown(reason="the run stopped"))]))
-    return LaunchDescription([*arguments, recorder, monitor, simulator, stop_all])
+    return LaunchDescription([*arguments, recorder, monitor, onboard, simulator, stop_all])

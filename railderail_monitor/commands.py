@@ -7,7 +7,8 @@ COMMANDS = (
     ("replay", "replay an MCAP recording on the ROS topics, in Rerun (--rrd) or as alerts (--json)",
      "railderail_monitor.replay:command"),
     ("record", "record every /railderail topic to an MCAP file", "railderail_monitor.recording:command"),
-    ("recover", "a complete MCAP (summary, footer) of everything readable in a cut-off recording",
+    ("recover", "a complete MCAP (summary, footer) of everything readable in a cut-off recording, or of its "
+     "sensor topics only",
      "railderail_monitor.recover:command"),
     ("view", "show the live /railderail topics in Rerun (--rrd FILE for a file)",
      "railderail_monitor.viewer:command"),
@@ -18,4 +19,7 @@ COMMANDS = (
     ("warnings", "warning quality: lead time and false alarms of each criterion over the six radii, or over a "
      "scenario catalogue with thresholds swept (--catalogue)",
      "railderail_monitor.warning_quality:command"),
+    ("onboard-study", "at which speed and how early the bogie-instability rules on the measured frame accelerations "
+     "see hunting (failed yaw dampers) and a broken primary spring (--out DIR)",
+     "railderail_monitor.onboard.study:command"),
 )

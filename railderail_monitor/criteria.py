@@ -255,6 +255,10 @@ def limits_for_model(model, friction, **changes):
 
 NODE = "railderail_monitor"
 SHIPPED = files("railderail_monitor") / "config" / "monitor.yaml"
+# the node's mode parameter, the first of its parameter file (node.SIGNALS)
+SIGNALS = ("ground_truth", "measured")
+SIGNALS_MEANING = ("what the monitor reads: ground_truth, the simulator's wheelset states and contact forces; "
+                   "measured, the on-board sensors' topics only")
 
 
 def read_limits(path):
@@ -268,7 +272,7 @@ def read_limits(path):
     except (yaml.YAMLError, TypeError, KeyError):
         raise ValueError(f"{path} is not a parameter file with a '{NODE}: ros__parameters:' mapping") from None
     names = [f.name for f in fields(Limits)]
-    unknown, missing = sorted(set(values) - set(names)), [n for n in names if n not in values]
+    unknown, missing = sorted(set(values) - set(names) - {"signals"}), [n for n in names if n not in values]
     if unknown or missing:
         raise ValueError(f"{path}: " + "; ".join(
             text for text in (unknown and f"unknown parameter(s) {', '.join(unknown)}",

@@ -1,10 +1,13 @@
 """`railderail demo`: the main job, as real ROS 2 nodes in separate processes.
 
-Starts the recorder (railderail_monitor.recording), the monitor (railderail_monitor.node) and the
-simulator (railderail_sim.node) on the built-in scenario — R = 1000 m, the paper's progressive
-trial from 200 km/h until a wheel derails — at 200 Hz of simulated time, faster than real time
-(`--real-time-factor`, with /clock). It prints the alerts as they arrive on /railderail/alerts and,
-at the derailment, how long and how far before it each criterion warned. The run folder
+Starts the recorder (railderail_monitor.recording), the monitor (railderail_monitor.node), a second
+monitor in measured mode beside it (`railderail_onboard_monitor`, signals:=measured: the on-board
+sensors' topics only) and the simulator (railderail_sim.node, its shipped sensor set on) on the built-in
+scenario — R = 1000 m, the paper's progressive trial from 200 km/h until a wheel derails — at 200 Hz of
+simulated time, faster than real time (`--real-time-factor`, with /clock). It prints the alerts of both
+as they arrive (/railderail/alerts and /railderail/onboard_alerts), each marked with its mode
+([ground_truth] or [measured]), and, at the derailment, how long and how far before it each criterion
+warned. `--no-sensors` runs without the sensors and the second monitor. The run folder
 (`--out DIR`, default runs/demo-YYYYMMDD-HHMMSS) then holds:
 
   demo.mcap     every topic (railderail record)        demo.rrd     the Rerun views (headless)
@@ -37,8 +40,11 @@ from .criteria import SEVERITY_NAMES, default_limits, lead_times
 NODES = {  # name: python -m module
     "recorder": "railderail_monitor.recording",
     "monitor": "railderail_monitor.node",
+    "onboard": "railderail_monitor.node",
     "simulator": "railderail_sim.node",
 }
+ONBOARD_NODE = "railderail_onboard_monitor"
+ONBOARD_ARGS = ["--ros-args", "-r", f"__node:={ONBOARD_NODE}", "-p", "signals:=measured"]
 
 
 def _child_setup():
@@ -72,6 +78,26 @@ class Node:
             if echo is not None:
                 echo(line)
 
+    def cpu_ticks(self):
+        """The process's user and system CPU time so far, in clock ticks (/proc/PID/stat); None once gone."""
+        try:
+            fields = Path(f"/proc/{self.process.pid}/stat").read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            return None
+        return int(fields[11]) + int(fields[12])
+
+    def wait_idle(self, quiet_s=0.5, timeout=120.0):
+        """Wait until the process used no CPU for `quiet_s` (it worked through its queue), at most `timeout`."""
+        deadline = time.monotonic() + timeout
+        last, since = self.cpu_ticks(), time.monotonic()
+        while last is not None and time.monotonic() < deadline:
+            time.sleep(0.1)
+            now = self.cpu_ticks()
+            if now != last:
+                last, since = now, time.monotonic()
+            elif time.monotonic() - since >= quiet_s:
+                return
+
     def stop(self, timeout=15.0):
         """SIGINT, then SIGKILL after `timeout`; returns the exit status."""
         if self.process.poll() is None:
@@ -90,7 +116,8 @@ def simulator_parameters(args):
     """The simulator node's parameters of the demo: the paper's staircase on --radius, or a catalogue's
     scenario (--catalogue, --scenario, --seed)."""
     run = {"publish_rate": float(args.rate), "real_time_factor": float(args.real_time_factor),
-           "contact_model": args.contact_model, "wait_for_subscribers": SUBSCRIBERS}
+           "contact_model": args.contact_model, "wait_for_subscribers": SUBSCRIBERS,
+           **({} if args.no_sensors else {"sensors": "shipped"})}
     if args.scenario is None and args.catalogue is None:
         return {"radius": float(args.radius), "speed_mode": "progressive", "speed_kmh": float(args.start_kmh), **run}
     return {**catalogue_parameters(args.catalogue, args.scenario, args.seed), **run}
@@ -152,16 +179,24 @@ class Listener:
         self.executor.add_node(self.node)
         self.say = say
         self.alerts, self.derailment, self.final_status, self.final_state = [], None, None, None
+        self.onboard_alerts = []
         self.received_at = {}
         self.node.create_subscription(m.Alert, m.ALERTS, self.on_alert, m.ALERT_QOS)
+        self.node.create_subscription(m.Alert, m.ONBOARD_ALERTS, self.on_onboard_alert, m.ALERT_QOS)
         self.node.create_subscription(m.DerailmentEvent, m.DERAILMENT, self.on_derailment, m.LATCHED)
         self.node.create_subscription(m.VehicleStatus, m.FINAL_STATUS, self.on_final, m.LATCHED)
         m.count_as_subscriber(self.node)
 
     def on_alert(self, msg):
-        a = self.m.alert_dict(msg)
+        a = dict(self.m.alert_dict(msg), signals="ground_truth")
         self.alerts.append(a)
-        self.say(f"  ALERT  t = {a['time_s']:7.3f} s  s = {a['track_position']:7.1f} m  "
+        self.say(f"  ALERT  [ground_truth] t = {a['time_s']:7.3f} s  s = {a['track_position']:7.1f} m  "
+                 f"{a['speed'] * 3.6:5.1f} km/h  {a['message']}")
+
+    def on_onboard_alert(self, msg):
+        a = dict(self.m.alert_dict(msg), signals="measured", place=msg.header.frame_id)
+        self.onboard_alerts.append(a)
+        self.say(f"  ALERT  [measured]     t = {a['time_s']:7.3f} s  s = {a['track_position']:7.1f} m  "
                  f"{a['speed'] * 3.6:5.1f} km/h  {a['message']}")
 
     def on_derailment(self, msg):
@@ -190,6 +225,31 @@ def lead_table(alerts, derailment):
     return lines
 
 
+def measured_leads(alerts, derailment):
+    """{criterion at place: first measured alert's time_s, track_position_m, lead_s, lead_m (NaN without a
+    derailment)}."""
+    out = {}
+    for a in alerts:
+        key = f"{a['criterion']} at {a['place']}"
+        if key not in out:
+            lead_s = derailment["time_s"] - a["time_s"] if derailment else math.nan
+            lead_m = derailment["track_position_m"] - a["track_position"] if derailment else math.nan
+            out[key] = dict(time_s=a["time_s"], track_position_m=a["track_position"], lead_s=lead_s, lead_m=lead_m)
+    return out
+
+
+def measured_summary(alerts, derailment):
+    """Lines about the measured-mode monitor's alerts beside the derailment."""
+    if not alerts:
+        return "measured-mode monitor: no alert" + (" before the derailment" if derailment else "")
+    leads = measured_leads(alerts, derailment)
+    lines = [f"measured-mode monitor: {len(alerts)} alerts; first of each criterion and place:"]
+    for key, v in sorted(leads.items(), key=lambda kv: kv[1]["time_s"]):
+        lead = f"{v['lead_s']:.2f} s / {v['lead_m']:.0f} m before" if derailment else "no derailment followed"
+        lines.append(f"  {key:48s} t = {v['time_s']:7.3f} s  {lead}")
+    return "\n".join(lines)
+
+
 def run_demo(args, say=print):
     started = time.monotonic()
     out = Path(args.out) if args.out else Path("runs") / datetime.datetime.now().strftime("demo-%Y%m%d-%H%M%S")
@@ -216,6 +276,14 @@ def run_demo(args, say=print):
         nodes["recorder"] = Node("recorder", [python, "-m", NODES["recorder"], str(mcap_path)]
                                  + [a for kv in metadata for a in ("--metadata", kv)], out / "logs")
         nodes["monitor"] = Node("monitor", [python, "-m", NODES["monitor"]], out / "logs")
+        if not args.no_sensors:
+            nodes["onboard"] = Node("onboard", [python, "-m", NODES["onboard"]] + ONBOARD_ARGS, out / "logs")
+            # the simulator waits for the subscribers of the states, which this node is not among: wait for it
+            up = time.monotonic() + 120.0
+            while not any("monitoring" in line for line in nodes["onboard"].lines):
+                if nodes["onboard"].process.poll() is not None or time.monotonic() > up:
+                    raise RuntimeError(f"the measured-mode monitor did not start; see {nodes['onboard'].log_path}")
+                listener.spin_once(0.05)
         if args.rerun or args.rerun_connect:
             sink = ["--connect", args.rerun_connect] if args.rerun_connect else ["--spawn"]
             nodes["viewer"] = Node("viewer", [python, "-m", "railderail_monitor.viewer"] + sink, out / "logs")
@@ -224,8 +292,8 @@ def run_demo(args, say=print):
         deadline = time.monotonic() + args.timeout
         while nodes["simulator"].process.poll() is None:
             listener.spin_once(0.1)
-            for name in ("recorder", "monitor"):
-                if nodes[name].process.poll() is not None:
+            for name in ("recorder", "monitor", "onboard"):
+                if name in nodes and nodes[name].process.poll() is not None:
                     raise RuntimeError(f"the {name} node stopped (status {nodes[name].process.returncode}); "
                                        f"see {nodes[name].log_path}")
             if time.monotonic() > deadline:
@@ -234,14 +302,23 @@ def run_demo(args, say=print):
         linger = time.monotonic() + 1.5             # late alerts and the latched final messages
         while time.monotonic() < linger or (listener.final_status is None and time.monotonic() < linger + 3):
             listener.spin_once(0.1)
-        if code not in (0, 1):
-            raise RuntimeError(f"the simulator node failed (status {code}); see {nodes['simulator'].log_path}")
+        # 0: the run ended; 1 is a result only with the final status of a divergence (a failure to start, or
+        # any other error, is not the end of a run, and must not be reported as one)
+        diverged = listener.final_state == listener.m.msgs.VehicleStatus.STATE_DIVERGED
+        if not (code == 0 or code == 1 and diverged):
+            raise RuntimeError(f"the simulator node failed (status {code}"
+                               f"{'' if code != 1 else ', no final status of a divergence'}); "
+                               f"see {nodes['simulator'].log_path}")
         if "viewer" in nodes:
             nodes.pop("viewer").stop()
-        monitor_code = nodes.pop("monitor").stop()
-        recorder_code = nodes.pop("recorder").stop()
-        if recorder_code != 0 or monitor_code != 0:
-            raise RuntimeError(f"monitor/recorder exit status {monitor_code}/{recorder_code}; see {out / 'logs'}")
+        if "onboard" in nodes:
+            # a Python node behind a simulator faster than real time may still be working through the sensor
+            # messages in its queue: stopping it now would lose them
+            nodes["onboard"].wait_idle()
+        codes = {name: nodes.pop(name).stop() for name in ("monitor", "onboard", "recorder") if name in nodes}
+        if any(codes.values()):
+            raise RuntimeError("exit status " + ", ".join(f"{k} {v}" for k, v in codes.items())
+                               + f"; see {out / 'logs'}")
     except KeyboardInterrupt:
         say("\nCtrl-C: stopping the nodes")
         status = 130
@@ -249,7 +326,7 @@ def run_demo(args, say=print):
         say(f"railderail demo: error: {error}")
         status = 1
     finally:
-        for name in ("simulator", "viewer", "monitor", "recorder"):   # the recorder last: its file must hold everything
+        for name in ("simulator", "viewer", "monitor", "onboard", "recorder"):  # the recorder last: its file holds all
             if name in nodes:
                 nodes[name].stop()
         listener.close()
@@ -278,14 +355,18 @@ def run_demo(args, say=print):
         for key, v in sorted(leads.items(), key=lambda kv: kv[1]["time_s"]):
             lead = f"{v['lead_s']:.2f} s / {v['lead_m']:.0f} m before" if d else "no derailment followed"
             say(f"  {key:32s} t = {v['time_s']:7.3f} s  {lead}")
+    if not args.no_sensors:
+        say(measured_summary(listener.onboard_alerts, d))
     sim_log = (out / "logs" / "simulator.log").read_text()
-    mon_log = (out / "logs" / "monitor.log").read_text()
     rate_line = next((l for l in sim_log.splitlines() if "published" in l), "")
-    mon_line = next((l for l in mon_log.splitlines() if "processed" in l), "")
+    logs = {name: next((l for l in (out / "logs" / f"{name}.log").read_text().splitlines() if "processed" in l), "")
+            for name in ("monitor", "onboard") if (out / "logs" / f"{name}.log").exists()}
     if rate_line:
         say("simulator: " + rate_line.split("; ", 1)[-1])
-    if mon_line:
-        say("monitor:   " + mon_line.split("] ", 1)[-1])
+    for name, line in logs.items():
+        if line:
+            say(f"{name + ':':10s} " + line.split("] ", 1)[-1])
+    mon_line = logs.get("monitor", "")
     if not args.no_rrd:
         from .replay import read_recording, write_rrd
         t0 = time.monotonic()
@@ -294,7 +375,10 @@ def run_demo(args, say=print):
     summary = dict(run_folder=str(out), mcap=str(mcap_path), rrd=None if args.no_rrd else str(rrd_path),
                    simulator=sim_params, limits=limits.as_dict(), derailment=d, final_status=listener.final_status,
                    alerts=listener.alerts, lead_times=leads, simulator_log=rate_line.split("]: ", 1)[-1],
-                   monitor_log=mon_line.split("] ", 1)[-1], wall_time_s=time.monotonic() - started,
+                   monitor_log=mon_line.split("] ", 1)[-1],
+                   onboard_alerts=None if args.no_sensors else listener.onboard_alerts,
+                   onboard_lead_times=None if args.no_sensors else measured_leads(listener.onboard_alerts, d),
+                   onboard_log=logs.get("onboard", "").split("] ", 1)[-1] or None, wall_time_s=time.monotonic() - started,
                    wall_time_run_s=wall_run)
     jsonout.write(summary_path, summary)
     say(f"run folder: {out}  (demo.mcap, {'' if args.no_rrd else 'demo.rrd, '}summary.json, logs/); "
@@ -313,6 +397,8 @@ def add_arguments(parser):
                         f"{REAL_TIME_FACTOR_RANGE[1]:g})")
     parser.add_argument("--contact-model", default="hertz", choices=("hertz", "discrete"))
     parser.add_argument("--no-rrd", action="store_true", help="do not write the Rerun file")
+    parser.add_argument("--no-sensors", action="store_true",
+                        help="no on-board sensors and no measured-mode monitor (the ground truth only)")
     parser.add_argument("--rerun", action="store_true", help="also show the run live in a Rerun viewer (spawned)")
     parser.add_argument("--rerun-connect", metavar="URL", help="also stream it live to a running Rerun viewer")
     parser.add_argument("--timeout", type=float, default=900.0, help="stop the run after this many s (900)")

@@ -23,7 +23,8 @@ from pathlib import Path
 
 from railderail_sim.atomic import atomic_write
 
-from .criteria import NODE, SHIPPED, Limits, limits_for_model, model_basis, read_limits  # noqa: F401 (the file's API)
+from .criteria import (NODE, SHIPPED, SIGNALS, SIGNALS_MEANING, Limits, limits_for_model, model_basis,  # noqa: F401
+                       read_limits)
 
 REGENERATE = "railderail monitor-params --out railderail_monitor/config/monitor.yaml"
 
@@ -61,6 +62,8 @@ def parameter_file(limits, basis, command):
         "# NaN (.nan) disables a level. Units SI; '-' = dimensionless.",
         f"{NODE}:",
         "  ros__parameters:",
+        f"    # -: {SIGNALS_MEANING}. Accepted: one of {', '.join(SIGNALS)}. Read-only.",
+        f'    signals: "{SIGNALS[0]}"',
     ]
     for f in fields(Limits):
         meta = f.metadata

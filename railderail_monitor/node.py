@@ -1,6 +1,7 @@
-"""Monitor node `railderail_monitor`: the derailment criteria over the simulator's topics.
+"""Monitor node `railderail_monitor`: the derailment criteria over the simulator's topics, or, with
+`signals:=measured`, the on-board criteria over the sensors' topics only.
 
-Subscribes to /railderail/wheelset_states, /railderail/contact_forces (best effort, deep queue)
+Ground truth (`signals` ground_truth, the default): subscribes to /railderail/wheelset_states, /railderail/contact_forces (best effort, deep queue)
 and /railderail/vehicle_status (for the curve's side), runs `criteria.Monitor` on every sample and
 publishes each alert on /railderail/alerts (reliable, transient local). The criteria, their
 thresholds and the debounce/hysteresis are in railderail_monitor/criteria.py. Every threshold is a
@@ -9,6 +10,17 @@ disables a level) whose default is the shipped parameter file's (railderail_moni
 monitor.yaml, `railderail monitor-params`); all may change while running (`ros2 param set`): the
 node checks them (`Limits.validated`) and starts a new Monitor with them. On exit it logs how many
 samples it processed and how many the sample counters say it missed.
+
+Measured (`signals:=measured`): subscribes to the topics of its sensor set (parameter `sensors`: the shipped
+railderail_sim/config/sensors.yaml or a sensor file: which units, at which rates; /railderail/sensors/*,
+ros_interface.sensor_topics) and to nothing else, decodes them (ros_interface.SensorDecoder) into
+`onboard.monitor.MeasuredMonitor` and publishes its alerts on /railderail/onboard_alerts (a topic of their
+own: what reads /railderail/alerts takes them for the ground truth's), each with header.frame_id the place
+of the channel that raised it (the mount, air_springs, or the running-gear side), wheelset its bogie's
+leading wheelset (-1 for the car body), wheel_side the running gear's side, and a message starting
+"measured". Its thresholds are the fields of `onboard.measured.MeasuredLimits` with the car's defaults
+(parameter `vehicle_set`); changed while running, they start a new MeasuredMonitor. Run it beside a
+ground-truth monitor under another name: `--ros-args -r __node:=railderail_onboard_monitor -p signals:=measured`.
 """
 import sys
 from dataclasses import fields
@@ -16,17 +28,46 @@ from dataclasses import fields
 from rclpy.node import Node
 
 from railderail_sim import ros_interface as m
+from railderail_sim.parameters import VEHICLE_SETS
+from railderail_sim.vehicle.layout import RUNNING_GEARS
 
-from .criteria import AlertRecord, Limits, Monitor, default_limits
+from .criteria import SEVERITY_NAMES, SIGNALS as MODES, SIGNALS_MEANING, AlertRecord, Limits, Monitor, default_limits
 
 
-def parameter_table(defaults: Limits):
-    """The node's parameters: the fields of criteria.Limits with their metadata, defaults from `defaults`.
-    All may change while running."""
-    return [m.ParameterSpec(f.name, getattr(defaults, f.name), f.metadata["meaning"] + "; " + f.metadata["source"],
-                            f.metadata["unit"], f.metadata["accepted"], f.metadata["lo_open"],
-                            f.metadata["nan_disables"])
-            for f in fields(Limits)]
+SIGNALS = m.ParameterSpec("signals", MODES[0], SIGNALS_MEANING, choices=MODES, read_only=True)
+MEASURED_SETUP = [
+    m.ParameterSpec("sensors", "shipped", "the sensor set whose topics it reads (its units and rates): shipped "
+                    "(railderail_sim/config/sensors.yaml) or the path of a sensor file", read_only=True),
+    m.ParameterSpec("vehicle_set", "hs19", "the car's parameter set: masses and suspension of the estimator, "
+                    "the defaults of the levels", choices=VEHICLE_SETS, read_only=True)]
+
+
+def parameter_table(defaults):
+    """The node's parameters in the mode of `defaults`: `signals`, for measured mode (onboard MeasuredLimits)
+    its sensor set and car, then the fields of the limits (criteria.Limits, or MeasuredLimits) with their
+    metadata, defaults from `defaults`; the limits may change while running."""
+    setup = [] if isinstance(defaults, Limits) else MEASURED_SETUP
+    return [SIGNALS] + setup + [
+        m.ParameterSpec(f.name, getattr(defaults, f.name), f.metadata["meaning"] + "; " + f.metadata["source"],
+                        f.metadata["unit"], f.metadata["accepted"], f.metadata["lo_open"], f.metadata["nan_disables"])
+        for f in fields(defaults)]
+
+
+def measured_alert_message(alert, speed):
+    """The Alert message of an on-board monitor's alert (`onboard.measured.MeasuredAlert`) at the odometer's
+    speed (m/s)."""
+    message = m.Alert()
+    m.stamp(message, alert.time_s)
+    message.header.frame_id = alert.place
+    bogie = next((j for j, g in enumerate(("bogie_front", "bogie_rear")) if alert.place.startswith(g)), None)
+    message.wheelset = -1 if bogie is None else RUNNING_GEARS[bogie][0]
+    message.wheel_side = next((side for side in ("left", "right") if alert.place.endswith(side)), "")
+    message.sample, message.criterion, message.severity = alert.sample, alert.criterion, alert.severity
+    message.value, message.threshold = alert.value, alert.threshold
+    message.track_position, message.speed = alert.track_position, speed
+    message.message = (f"measured {SEVERITY_NAMES[alert.severity]}: {alert.criterion.replace('_', ' ')} "
+                       f"{alert.value:.4g} >= {alert.threshold:.4g} at {alert.place}")
+    return message
 
 
 def alert_message(record: AlertRecord, frame_id="track"):
@@ -43,7 +84,11 @@ def alert_message(record: AlertRecord, frame_id="track"):
 class MonitorNode(Node):
     def __init__(self):
         super().__init__("railderail_monitor")
-        self.limit_values = m.declare_parameters(self, parameter_table(default_limits()),
+        self.mode = m.declare_parameters(self, [SIGNALS])["signals"]
+        if self.mode == "measured":
+            self._measured()
+            return
+        self.limit_values = m.declare_parameters(self, parameter_table(default_limits())[1:],
                                                  check=lambda values: Limits(**values).validated(),
                                                  apply=self.on_limits)
         self.monitor = Monitor(Limits(**self.limit_values))
@@ -54,6 +99,52 @@ class MonitorNode(Node):
         self.counts = {"states": [0, 0, None], "forces": [0, 0, None]}   # received, missed, last sample
         self.alerts = 0
         self.get_logger().info(f"railderail monitor: {self.monitoring()}")
+
+    def _measured(self):
+        """The measured mode: the sensor topics only, MeasuredMonitor, /railderail/onboard_alerts."""
+        from railderail_sim.parameters import vehicle_parameters
+        from railderail_sim.sensors.config import load as load_sensors
+
+        from .onboard import measured as me
+        from .onboard.monitor import MeasuredMonitor
+
+        setup = m.declare_parameters(self, MEASURED_SETUP)
+        self.sensors = load_sensors(None if setup["sensors"] == "shipped" else setup["sensors"])
+        self.vehicle = vehicle_parameters(setup["vehicle_set"])
+        self.rates = me.sample_rates(self.sensors)
+        self.limit_values = m.declare_parameters(
+            self, parameter_table(me.measured_limits(self.vehicle))[len(MEASURED_SETUP) + 1:],
+            check=lambda values: me.MeasuredLimits(**values).validated(), apply=self.on_measured_limits)
+        self.make_monitor = lambda: MeasuredMonitor(self.vehicle, me.MeasuredLimits(**self.limit_values), self.rates)
+        self.monitor = self.make_monitor()
+        self.decoder = m.SensorDecoder(self.sensors)
+        self.publisher = self.create_publisher(m.Alert, m.ONBOARD_ALERTS, m.ALERT_QOS)
+        topics = m.sensor_topics(self.sensors)
+        for topic in self.decoder.topics():
+            self.create_subscription(topics[topic][1], topic, lambda msg, topic=topic: self.on_sensor(topic, msg),
+                                     m.SENSOR_SUBSCRIBER)
+        self.received, self.alerts = 0, 0
+        levels = ", ".join(f"{c} {getattr(self.monitor.limits, c):.4g}" for c in me.CRITERIA
+                           if c in me.criteria_of(self.rates))
+        self.get_logger().info(f"railderail monitor (measured, {len(topics)} sensor topics): monitoring {levels}")
+
+    def on_measured_limits(self, changed):
+        self.monitor = self.make_monitor()
+        self.get_logger().info("thresholds changed (" + ", ".join(f"{k} {v:g}" for k, v in changed.items())
+                               + "): a new measured monitor")
+
+    def on_sensor(self, topic, msg):
+        self.received += 1
+        for unit, t, signals in self.decoder.decode(topic, msg):
+            alerts = self.monitor.feed(unit, t, **signals)
+            for alert in alerts:                   # publish first, log after: logging takes time
+                speed = float(self.monitor.odometer.speed(alert.time_s))
+                self.publisher.publish(measured_alert_message(alert, speed))
+            for alert in alerts:
+                self.alerts += 1
+                self.get_logger().warning(f"t = {alert.time_s:.3f} s, s = {alert.track_position:.1f} m: measured "
+                                          f"{alert.criterion} {alert.value:.4g} >= {alert.threshold:.4g} at "
+                                          f"{alert.place}")
 
     def monitoring(self):
         levels = ", ".join(f"{c} {'/'.join(f'{t:.4g}' for _, t in self.monitor.limits.levels(c))}"
@@ -97,6 +188,9 @@ class MonitorNode(Node):
         self.monitor.set_curvature(msg.sample, msg.curvature)
 
     def summary(self):
+        if self.mode == "measured":
+            return (f"measured: processed {self.received} sensor messages ({self.decoder.missed} air-spring stamps "
+                    f"incomplete); {self.alerts} alerts")
         (ns, ms, _), (nf, mf, _) = self.counts["states"], self.counts["forces"]
         return (f"processed {ns} wheelset states ({ms} missed) and {nf} contact forces ({mf} missed); "
                 f"{self.alerts} alerts")

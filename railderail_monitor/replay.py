@@ -7,7 +7,11 @@
   mixed with them. `--no-publish` skips ROS altogether.
 - Runs the monitor's criteria (criteria.Monitor, thresholds from the recording's metadata if the
   demo wrote them, else the defaults) over the recorded samples and prints the alerts found, with
-  their lead before the recorded derailment; `--json` prints one JSON object instead.
+  their lead before the recorded derailment; `--json` prints one JSON object instead. With
+  `--signals measured` (the default for a recording of sensor topics only, `railderail recover
+  --sensors-only`, or a user's own logger's) it runs the on-board criteria instead
+  (`review_measured`: the sensor messages decoded as the measured-mode monitor node decodes them, into
+  onboard.monitor.MeasuredMonitor), beside the measured-mode alerts the recording holds, if any.
 - `--rerun` shows the run in a Rerun viewer; `--rrd OUT.rrd` writes it to a file (headless).
 
 A missing, truncated (no footer), damaged or foreign (no railderail_msgs topics) file is refused
@@ -33,7 +37,7 @@ from railderail_sim import jsonout, ros_interface as m
 from railderail_sim.ranges import check_range
 from railderail_sim.ros_interface import ALERTS, DERAILMENT, FINAL_STATUS, FORCES, REAL_TIME_FACTOR_RANGE, STATES, STATUS
 
-from .criteria import Limits, default_limits, Monitor, lead_times
+from .criteria import Limits, default_limits, Monitor, lead_times, nanoseconds
 from .recording import MAGIC, recover_hint, schema_definitions, schema_text, split_type
 
 # what the mcap readers raise on a cut or damaged file (besides McapError)
@@ -152,11 +156,12 @@ def read_recording(path, allow_truncated=False, decode=True):
             if not allow_truncated:
                 raise RecordingError(problem + f": add --allow-truncated to use them, or make a complete copy: "
                                      f"{recover_hint(path)}")
-    ours = {topic for topic, type_name, *_ in messages if type_name.startswith("railderail_msgs/")}
+    ours = {topic for topic, type_name, *_ in messages
+            if type_name.startswith("railderail_msgs/") or topic.startswith(m.SENSORS_NS + "/")}
     if not ours:
         found = ", ".join(f"{t} ({n})" for t, (n, _) in Recording(path, messages).topics().items()) or "none"
-        raise RecordingError(f"{path} is not a railderail recording: it has no railderail_msgs topics "
-                             f"(topics: {found})")
+        raise RecordingError(f"{path} is not a railderail recording: it has no railderail_msgs topics and no "
+                             f"sensor topics under {m.SENSORS_NS}/ (topics: {found})")
     return Recording(path, messages, metadata, truncated=not complete, problem=problem)
 
 
@@ -224,6 +229,44 @@ def review(recording, limits=None, on_message=None, on_alert=None):
     return out
 
 
+def review_measured(recording, vehicle_set="hs19", sensors=None, limits=None, on_alert=None):
+    """(alerts found, alerts recorded) of the on-board criteria over a recording's sensor messages in
+    log-time order: decoded (ros_interface.SensorDecoder) into a MeasuredMonitor as the measured-mode
+    monitor node does, without its last undecided stamps (the node, fed live, never ends its streams);
+    the recorded ones are those of /railderail/onboard_alerts, as dicts. `sensors`: the sensor set
+    (sensors.config.SensorSet, default the shipped one); `limits`: MeasuredLimits (default the car's)."""
+    from railderail_sim.parameters import vehicle_parameters
+    from railderail_sim.sensors.config import default_set
+
+    from .onboard import measured as me
+    from .onboard.monitor import MeasuredMonitor
+
+    sensors = sensors or default_set()
+    vehicle = vehicle_parameters(vehicle_set)
+    monitor = MeasuredMonitor(vehicle, limits or me.measured_limits(vehicle), me.sample_rates(sensors))
+    decoder = m.SensorDecoder(sensors)
+    topics = set(decoder.topics())
+    found, recorded = [], []
+    for topic, _, _, _, msg in recording.messages:
+        if msg is None:
+            continue
+        if topic in topics:
+            for unit, t, signals in decoder.decode(topic, msg):
+                for alert in monitor.feed(unit, t, **signals):
+                    found.append(alert)
+                    if on_alert is not None:
+                        on_alert(alert)
+        elif topic == m.ONBOARD_ALERTS:
+            recorded.append(dict(m.alert_dict(msg), place=msg.header.frame_id))
+    return found, recorded
+
+
+def measured_key(alert):
+    """What a measured alert and its recorded message share: sample, criterion, place, stamp in ns."""
+    a = alert if isinstance(alert, dict) else alert.as_dict()
+    return a["sample"], a["criterion"], a["place"], nanoseconds(a["time_s"])
+
+
 # --- publishing -----------------------------------------------------------------------------------
 
 class Publisher:
@@ -239,7 +282,7 @@ class Publisher:
         qos = {**{t: q for t, (_, _, q, _) in m.TOPICS.items()}, m.CLOCK: m.CLOCK_QOS}
         self.publishers = {}
         for topic, (type_name, _) in recording.topics().items():
-            if topic == ALERTS and not include_alerts:
+            if topic in (ALERTS, m.ONBOARD_ALERTS) and not include_alerts:
                 continue
             try:
                 cls = m.message_class(type_name)
@@ -254,10 +297,13 @@ class Publisher:
         self.t0_wall = None
         if wait_for_subscribers > 0:
             deadline = time.monotonic() + 30.0
-            watched = [p for t, p in self.publishers.items() if t in (STATES, FORCES)]
+            # the state topics, or in a recording of sensors only the odometer's
+            watched = [p for t, p in self.publishers.items() if t in (STATES, FORCES)] or \
+                [p for t, p in self.publishers.items() if t == f"{m.SENSORS_NS}/odometer"]
             while min((p.get_subscription_count() for p in watched), default=0) < wait_for_subscribers:
                 if time.monotonic() > deadline:
-                    raise RecordingError(f"replay: no {wait_for_subscribers} subscribers on {STATES} after 30 s")
+                    raise RecordingError(f"replay: no {wait_for_subscribers} subscribers on "
+                                         f"{watched[0].topic_name if watched else STATES} after 30 s")
                 rclpy.spin_once(self.node, timeout_sec=0.1)
             time.sleep(0.5)
 
@@ -337,6 +383,12 @@ def command(parser: argparse.ArgumentParser):
     parser.add_argument("--json", action="store_true", help="print the alerts found as one JSON object")
     parser.add_argument("--allow-truncated", action="store_true",
                         help="replay the readable part of a truncated recording instead of refusing it")
+    parser.add_argument("--signals", choices=("ground_truth", "measured"),
+                        help="the criteria run over it: ground_truth (the wheelset states and contact forces) or "
+                        "measured (the on-board sensors' topics); default ground_truth if it holds the states")
+    parser.add_argument("--vehicle-set", default="hs19", help="measured: the car's parameter set (default hs19)")
+    parser.add_argument("--sensors", metavar="FILE.yaml",
+                        help="measured: the sensor set recorded (default the shipped railderail_sim/config/sensors.yaml)")
 
     def run(args):
         check_range("--rate", args.rate, *REAL_TIME_FACTOR_RANGE)
@@ -346,7 +398,10 @@ def command(parser: argparse.ArgumentParser):
         err = lambda text: print(text, file=sys.stderr, flush=True)  # noqa: E731
         if recording.truncated:
             err(f"railderail: warning: {recording.problem}; replaying them")
-        limits = limits_of(recording)
+        signals = args.signals or ("ground_truth" if STATES in recording.topics() else "measured")
+        if signals == "measured" and (args.rerun or args.rrd):
+            raise ValueError("--rerun and --rrd show the ground-truth topics: not with --signals measured")
+        limits = limits_of(recording) if signals == "ground_truth" else None
         callbacks = []
         publisher = None
         viewer = None
@@ -364,6 +419,8 @@ def command(parser: argparse.ArgumentParser):
         derailment = next((m.derailment_dict(msg) for topic, _, _, _, msg in recording.messages
                            if topic == DERAILMENT and msg is not None), None)
         on_alert = None if args.json else (lambda a: print(format_alert(a, derailment), flush=True))
+        if signals == "measured":
+            return _run_measured(args, recording, callbacks, publisher, err)
         try:
             result = review(recording, limits, on_message=(lambda *item: [c(*item) for c in callbacks]),
                             on_alert=on_alert)
@@ -388,3 +445,33 @@ def command(parser: argparse.ArgumentParser):
             err(f"wrote {args.rrd}")
         return 0
     return run
+
+
+def _run_measured(args, recording, callbacks, publisher, err):
+    """`railderail replay --signals measured`: publish (as the ground-truth replay does) and run the on-board
+    criteria over the sensor messages."""
+    from railderail_sim.sensors.config import load as load_sensors
+
+    sensors = load_sensors(args.sensors)
+    try:
+        for item in recording.messages:
+            for c in callbacks:
+                c(*item)
+        found, recorded = review_measured(
+            recording, args.vehicle_set, sensors,
+            on_alert=None if args.json else lambda a: print(
+                f"t = {a.time_s:8.3f} s  s = {a.track_position:7.1f} m  measured {a.criterion} {a.value:.4g} >= "
+                f"{a.threshold:.4g} at {a.place}", flush=True))
+    finally:
+        if publisher is not None:
+            publisher.close()
+    same = sorted(map(measured_key, found)) == sorted(map(measured_key, recorded))
+    if args.json:
+        print(jsonout.dumps(dict(file=str(recording.path), signals="measured", truncated=recording.truncated,
+                                 messages=len(recording.messages), duration_s=recording.duration_s,
+                                 alerts=[a.as_dict() for a in found], recorded_alerts=recorded,
+                                 same_as_recorded=same), indent=1))
+    else:
+        print(f"{len(found)} measured alerts found; the recording holds {len(recorded)} "
+              f"({'the same' if same else 'they differ'})")
+    return 0

@@ -6,7 +6,9 @@ until it re-arms (`criteria.alarm_intervals`): what an operator sees. Then:
 - **Attribution.** A channel in alarm inside a hazard's window, at the hazard's place (its running gear,
   and its side: a channel of a wheel or a side matches a hazard of that side; a channel of a whole
   wheelset, the attack angle, matches either side of its running gear), is a true warning of it; in alarm
-  anywhere else it is a false alarm, in every run, derailing or not.
+  anywhere else it is a false alarm, in every run, derailing or not. A measured criterion has no wheel: a
+  bogie frame's channel matches either side of its bogie, an estimated running-gear side its own side, and
+  the car body's channels (its floor, roll and roll rate) either side of either bogie (`MEASURED_PLACES`).
 - **Lead.** A hazard is warned when a matching channel is in alarm at some sample of its window before
   the hazard itself (the derailment, or the margin's fall); its lead is from the first such sample, so at
   most W: an alarm raised earlier and still on counts from the window's start, and its earlier part is a
@@ -26,15 +28,28 @@ import math
 
 import numpy as np
 
-from .criteria import BOGIE_PLACES, alarm_intervals
+from .criteria import BOGIE_PLACES, SIDES, alarm_intervals
 from .hazards import BOGIE_OF_WHEELSET, PLACES, useful_lead
+from .onboard import measured
 
 EPISODE_M = 1000.0         # m: one false-alarm episode at most per km of a run's track (the grid of the count)
 CONFIDENCE = 0.95
 
 
+# The places a measured criterion's channel covers (onboard.measured.PLACES): a bogie frame's mount, both
+# sides of its bogie (the frame's lateral acceleration has no side); an estimated running-gear side, itself;
+# the car body's mounts and the air springs (its roll), either side of either bogie (the body carries both).
+MEASURED_PLACES = {"bogie_front_frame": [(0, 0), (0, 1)], "bogie_rear_frame": [(1, 0), (1, 1)],
+                   **{f"bogie_{bogie}_{side}": [(b, s)] for b, bogie in enumerate(("front", "rear"))
+                      for s, side in enumerate(SIDES)},
+                   **{unit: list(PLACES) for unit in ("car_body_front", "car_body_centre", "car_body_rear",
+                                                      "air_springs")}}
+
+
 def channel_places(criterion, channels):
     """The places (bogie, side) each channel of a criterion covers."""
+    if criterion in measured.PLACES:
+        return [MEASURED_PLACES[unit] for unit in measured.PLACES[criterion]]
     if criterion == "attack_angle":
         return [[(BOGIE_OF_WHEELSET[0], 0), (BOGIE_OF_WHEELSET[0], 1)]]
     if criterion == "running_gear_unloading":

@@ -10,6 +10,17 @@ over the normal running). The runs are split by seed (odd seeds train, even test
 on the train part under their false-alarm budgets and checks them on the test part, recommending nothing
 where the exposure cannot resolve the budget or too few derailments are usefully warned.
 
+Beside the ground-truth criteria, every criterion on measured signals (`onboard.measured`: the bogie-frame
+instability rules, the car body's accelerations and roll, the roll-balance estimator's warnings), from the
+shipped sensor set with its noise on, its seed the run's seed, applied to the run's output rows
+(`sensors.measure.run_signals`), the monitor switched on after the simulation's start-up
+(`sensors.measure.START_UP_S`). Each is evaluated on its own stamps (latency included) and held onto the
+200 Hz rows for scoring: a row is in alarm when the criterion's last sample stamped at or before it is
+(`rows_in_alarm`), so the alarm starts at the first row at or after the alert's stamp. Its channels are
+mounts or running-gear sides (`scoring.channel_places`). On the test part's runs the sensors are applied
+again to the same rows with the noise, the bias and the sample rate changed (`SENSOR_VARIANTS`), and the
+measured criteria scored at their shipped levels: the sensor sensitivity table.
+
 A run's result depends only on its catalogue entry, its seed and the code: it is cached on disk under
 the hash of those (both packages' sources and the monitor's shipped parameter file included), so an
 interrupted evaluation resumes and loses no finished run. Runs go in parallel processes or on Dask.
@@ -29,11 +40,13 @@ import numpy as np
 
 from railderail_sim import jsonout
 from railderail_sim.node import PARAMETERS
+from railderail_sim.parameters import VehicleParameters
 
 from .climb_distance import climb_distance_ratio
 from .criteria import (TIMED, critical_name, debounce, default_limits, front_attack_angle, model_basis,
                        nanoseconds, running_gear_unloading, sliding_mean, unloading_ratio)
 from .hazards import Car, HazardRules, cant_deficiency, hazards, windows
+from .onboard import measured
 from .scoring import (channel_places, exposure, in_alarm, is_useful, rate_per_1000_km, resolvable_km, score,
                       share_interval)
 
@@ -48,7 +61,20 @@ THRESHOLDS = {
     "running_gear_unloading": (0.5, 0.6, 0.7, 0.8, 0.9),
     "flange_climb_distance": (0.1, 0.25, 0.5, 0.75, 1.0),
 }
-SIGNALS = {criterion: "ground_truth" for criterion in THRESHOLDS}     # what each criterion needs measured
+# the measured criteria's sweeps: multiples of the shipped level (their levels follow the car), the peak
+# counts in peaks
+MEASURED_FACTORS = (0.5, 0.7, 0.85, 1.0, 1.2, 1.5)
+MEASURED_PEAKS = (3.0, 4.0, 5.0, 6.0, 8.0, 10.0)
+COUNTS = ("bids_peak_count", "bids_peak_count_china")
+CRITERIA = tuple(THRESHOLDS) + measured.CRITERIA
+# what each criterion's signals are: the simulator's wheel forces and motions, or the on-board sensors'
+SIGNALS = {criterion: "ground_truth" for criterion in THRESHOLDS} | {c: measured.SIGNALS for c in measured.CRITERIA}
+# the sensor sensitivity: the shipped set (noise 1, bias 1, 200 Hz) and each change of one of them; the sample
+# rate cannot exceed the simulator's output rate (sensors.config.Sampling), so 500 Hz is out of reach at 200 Hz
+SENSOR_VARIANTS = (dict(noise=1.0, bias=1.0, rate_hz=200.0), dict(noise=0.0, bias=1.0, rate_hz=200.0),
+                   dict(noise=3.0, bias=1.0, rate_hz=200.0), dict(noise=1.0, bias=0.0, rate_hz=200.0),
+                   dict(noise=1.0, bias=3.0, rate_hz=200.0), dict(noise=1.0, bias=1.0, rate_hz=100.0),
+                   dict(noise=1.0, bias=1.0, rate_hz=50.0))
 RATE = next(spec.default for spec in PARAMETERS if spec.name == "publish_rate")   # Hz, as the node publishes
 BUDGETS = {"warning": 10.0, "critical": 3.0}      # false-alarm episodes per 1000 km of each level by default
 MIN_USEFUL_SHARE = 0.5     # a level is recommended only if it usefully warns at least this share of derailments
@@ -65,7 +91,69 @@ def source_hash():
         for path in sorted(package.rglob("*.py")):
             digest.update(path.read_bytes())
     digest.update((Path(__file__).parent / "config" / "monitor.yaml").read_bytes())
+    from railderail_sim.sensors.config import SHIPPED as SENSORS
+    digest.update(SENSORS.read_bytes())
     return digest.hexdigest()
+
+
+@functools.lru_cache(maxsize=1)
+def shipped_measured_limits():
+    """The measured criteria's shipped levels and settings, of the shipped car (the catalogue's)."""
+    return measured.measured_limits(VehicleParameters())
+
+
+def shipped_level(criterion, limits=None):
+    """A criterion's shipped WARNING level (the ground-truth monitor's parameter file, or the measured one's)."""
+    if SIGNALS[criterion] == measured.SIGNALS:
+        return float(getattr(shipped_measured_limits(), criterion))
+    return float(getattr(limits or default_limits(), criterion))
+
+
+def sensor_variant(sensors, variant):
+    """The sensor set with a variant's noise and bias scales and sample rate (SENSOR_VARIANTS)."""
+    return sensors.scaled(variant["noise"], variant["bias"]).resampled(variant["rate_hz"])
+
+
+def variant_name(variant):
+    return f"noise {variant['noise']:g}x, bias {variant['bias']:g}x, {variant['rate_hz']:g} Hz"
+
+
+def rows_in_alarm(sample_time, sample_alarm, row_time):
+    """(n rows,) bool: a row is in alarm when the last sample stamped at or before it is; no sample yet, no
+    alarm. The alarm of a sample stamped t (its latency included) starts at the first row at or after t."""
+    k = np.searchsorted(sample_time, row_time, "right") - 1
+    return (k >= 0) & np.asarray(sample_alarm)[np.maximum(k, 0)]
+
+
+def measured_alarms(results, row_time, sweep):
+    """{criterion: {threshold: (channels, n rows) bool}} of every measured criterion from `measured.evaluate`'s
+    results, each channel put through the monitor's alarm logic on its own stamps and odometer positions at
+    each threshold of `sweep(criterion)`, then held onto the rows (`rows_in_alarm`); a criterion the results
+    lack (its sensors missing, or a run too short) never alarms."""
+    limits = shipped_measured_limits()
+    out = {}
+    for criterion in measured.CRITERIA:
+        if criterion not in results:
+            out[criterion] = {thr: np.zeros((len(measured.PLACES[criterion]), len(row_time)), dtype=bool)
+                              for thr in sweep(criterion)}
+            continue
+        m = results[criterion]
+        values = m.value if np.ndim(m.value) == 2 else m.value[:, None]
+        out[criterion] = {thr: np.array([rows_in_alarm(m.time, in_alarm(values[:, k], m.position, thr, m.debounce,
+                                                                         limits.rearm_fraction, limits.rearm_m),
+                                                       row_time) for k in range(values.shape[1])])
+                          for thr in sweep(criterion)}
+    return out
+
+
+def measured_results(sensors, sim, arrays):
+    """`measured.evaluate` of a run seen through a sensor set, the monitor switched on after the simulation's
+    start-up (`sensors.measure.START_UP_S`: a train in service never sees it)."""
+    from railderail_sim.sensors.measure import START_UP_S, after, run_signals
+    seen = after(run_signals(sensors, sim, arrays), START_UP_S)
+    if any(len(v) < 2 for k, v in seen.items() if k.endswith("_time")):
+        return {}           # a run ending before every sensor has given the monitor two samples: nothing said
+    return measured.evaluate(seen, sim.scenario.vehicle, shipped_measured_limits(), measured.sample_rates(sensors))
 
 
 def criterion_values(arrays, limits):
@@ -84,15 +172,31 @@ def criterion_values(arrays, limits):
                                                           limits.climb_distance_scale, limits.climb_attack_angle_scale)}
 
 
-def thresholds(criterion, limits):
+def thresholds(criterion, limits=None):
     """The sweep of a criterion with its shipped levels, ascending."""
+    if SIGNALS[criterion] == measured.SIGNALS:
+        level = shipped_level(criterion)
+        sweep = MEASURED_PEAKS if criterion in COUNTS else [f * level for f in MEASURED_FACTORS]
+        return sorted({float(x) for x in sweep} | ({level} if math.isfinite(level) else set()))
+    limits = limits or default_limits()
     shipped = [getattr(limits, criterion), getattr(limits, critical_name(criterion))]
     return sorted({float(x) for x in THRESHOLDS[criterion]} | {float(x) for x in shipped if math.isfinite(x)})
 
 
-def score_run(arrays, found, limits, rules):
+def scores(alarms, arrays, found, window_s):
+    """{criterion: [{threshold, warnings, false_episodes, false_time_s, false_km}]} of alarms {criterion:
+    {threshold: (channels, n) bool}} at the window W = window_s."""
+    place_windows, label = windows(arrays["time"], found, window_s)
+    return {criterion: [dict(threshold=thr, **score(mask, channel_places(criterion, mask.shape[0]), arrays, found,
+                                                    window_s, place_windows, label))
+                        for thr, mask in by_threshold.items()]
+            for criterion, by_threshold in alarms.items()}
+
+
+def score_run(arrays, found, limits, rules, measured_found=None):
     """{window_s: {normal_km, normal_h, criteria: {criterion: [{threshold, warnings, false_episodes,
-    false_time_s, false_km}]}}} of one run's arrays and hazards, every criterion over its thresholds."""
+    false_time_s, false_km}]}}} of one run's arrays and hazards, every criterion over its thresholds; the
+    measured criteria's from `measured.evaluate`'s results `measured_found`."""
     s = arrays["position"]
     clock = nanoseconds(arrays["time"])
     alarms = {}
@@ -102,16 +206,23 @@ def score_run(arrays, found, limits, rules):
         alarms[criterion] = {thr: np.array([in_alarm(values[:, k], s, thr, held, limits.rearm_fraction,
                                                      limits.rearm_m, at) for k in range(values.shape[1])])
                              for thr in thresholds(criterion, limits)}
+    if measured_found is not None:
+        alarms.update(measured_alarms(measured_found, arrays["time"], thresholds))
     out = {}
     for w in rules.windows_s:
-        place_windows, label = windows(arrays["time"], found, w)
-        km, h = exposure(arrays, label)
-        out[str(w)] = dict(normal_km=km, normal_h=h, criteria={
-            criterion: [dict(threshold=thr, **score(mask, channel_places(criterion, mask.shape[0]), arrays, found, w,
-                                                    place_windows, label))
-                        for thr, mask in by_threshold.items()]
-            for criterion, by_threshold in alarms.items()})
+        km, h = exposure(arrays, windows(arrays["time"], found, w)[1])
+        out[str(w)] = dict(normal_km=km, normal_h=h, criteria=scores(alarms, arrays, found, w))
     return out
+
+
+def sensor_sensitivity_run(sensors, sim, arrays, found, rules, variants=SENSOR_VARIANTS[1:]):
+    """{variant name: {criterion: [its row at the shipped level]}} at the window of the recommendation: the
+    measured criteria of one run seen through each of `variants` (by default SENSOR_VARIANTS but the first,
+    the shipped set, scored with the run itself), over the same rows: no re-simulation."""
+    shipped = lambda criterion: [shipped_level(criterion)]
+    return {variant_name(v): scores(measured_alarms(measured_results(sensor_variant(sensors, v), sim, arrays),
+                                                    arrays["time"], shipped), arrays, found, rules.window_s)
+            for v in variants}
 
 
 def run_one(item, cache=None):
@@ -124,11 +235,13 @@ def run_one(item, cache=None):
         return json.loads(path.read_text())
     from dataclasses import replace
 
+    from railderail_sim.sensors.config import load as load_sensors
     from railderail_sim.vehicle.simulate import run_to_stop
 
     started = time.process_time()
     sc = replace(entry.scenario(seed), output_rate=RATE)
     sim, arrays, error = run_to_stop(sc)
+    simulated = time.process_time()
     limits, rules = default_limits(), HazardRules()     # every run swept over the same thresholds: the shipped car
     basis = model_basis(sim.model)
     car = Car(basis["flange_height"], basis["max_contact_angle"], basis["static_wheel_load"], entry.friction)
@@ -136,6 +249,8 @@ def run_one(item, cache=None):
     found = hazards(arrays, event, car, rules)
     deficiency = cant_deficiency(arrays, sc.track.rail_spacing)
     s, t = arrays["position"], arrays["time"]
+    sensors = replace(load_sensors(), seed=seed)          # the shipped sensor set, its noise from the run's seed
+    sensed = measured_results(sensors, sim, arrays)
     result = dict(scenario=entry.name, family=entry.family, seed=seed, part=entry.part_of(seed),
                   derailed=event is not None, diverged=error, derailment=None if event is None else dict(
                       time_s=event["time_s"], position_m=event["car_body_position_m"], speed_kmh=event["speed_kmh"],
@@ -143,9 +258,17 @@ def run_one(item, cache=None):
                   km=float(s[-1] - s[0]) / 1000.0, hours=float(t[-1] - t[0]) / 3600.0,
                   cant_deficiency_mm_max=float(np.max(deficiency, initial=0.0)) * 1e3,
                   hazards=[{**h, "places": [list(p) for p in h["places"]]} for h in found],
-                  peaks={c: float(np.max(v, initial=0.0)) for c, v in criterion_values(arrays, limits).items()},
-                  windows=score_run(arrays, found, limits, rules))
-    result["cpu_s"] = time.process_time() - started
+                  peaks={c: float(np.max(v, initial=0.0)) for c, v in criterion_values(arrays, limits).items()}
+                  | {c: float(np.max(np.nan_to_num(m.value, nan=0.0), initial=0.0)) for c, m in sensed.items()},
+                  windows=score_run(arrays, found, limits, rules, sensed))
+    scored = time.process_time()
+    result["sensor_variants"] = (sensor_sensitivity_run(sensors, sim, arrays, found, rules)
+                                 if result["part"] == "test" else None)
+    done = time.process_time()
+    # process time of the simulation, the sensors with every criterion scored, and the sensor variants
+    result["cpu_s"], result["cpu_split_s"] = done - started, dict(simulation=simulated - started,
+                                                                  scoring=scored - simulated,
+                                                                  sensor_variants=done - scored)
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
         jsonout.write(path, result)
@@ -170,15 +293,15 @@ def _rows(run, window, criterion):
     return run["windows"][str(window)]["criteria"][criterion]
 
 
-def summarize(runs, window, rules, reduction=None, signals=SIGNALS):
-    """Per criterion and threshold over `runs` at the window W: derailments usefully warned (share and
-    interval), warned, the median lead, near misses warned, false-alarm episodes per 1000 km and per hour
-    (interval), and the share of normal time in false alarm."""
+def summarize(runs, window, rules, reduction=None, criteria=CRITERIA, sweep=thresholds):
+    """Per criterion and threshold (of `sweep(criterion)`, the runs' rows in its order) over `runs` at the
+    window W: derailments usefully warned (share and interval), warned, the median lead, near misses warned,
+    false-alarm episodes per 1000 km and per hour (interval), and the share of normal time in false alarm."""
     km = sum(r["windows"][str(window)]["normal_km"] for r in runs)
     hours = sum(r["windows"][str(window)]["normal_h"] for r in runs)
-    table, limits = [], default_limits()
-    for criterion in THRESHOLDS:
-        for i, thr in enumerate(thresholds(criterion, limits)):
+    table = []
+    for criterion in criteria:
+        for i, thr in enumerate(sweep(criterion)):
             derail, near, episodes, alarm_s, family = [], [], 0, 0.0, {}
             for r in runs:
                 row = _rows(r, window, criterion)[i]
@@ -194,7 +317,7 @@ def summarize(runs, window, rules, reduction=None, signals=SIGNALS):
             useful = sum(is_useful(w, rules, reduction) for w in derail)
             rate, ci = rate_per_1000_km(episodes, km)
             table.append(dict(
-                criterion=criterion, threshold=thr, signals=signals[criterion], derailments=len(derail),
+                criterion=criterion, threshold=thr, signals=SIGNALS[criterion], derailments=len(derail),
                 warned=len(warned), usefully_warned=useful, usefully_warned_ci95=share_interval(useful, len(derail)),
                 usefully_warned_by_family=family,
                 lead_s_median=statistics.median(w[0] for w in warned) if warned else math.nan,
@@ -227,18 +350,19 @@ def _choice(rows, budget, km, above, min_share):
 def recommend(runs, rules, budgets=BUDGETS, min_share=MIN_USEFUL_SHARE):
     """Per criterion and level: the threshold chosen on the train part and confirmed on the test part, or
     null with the reason. A criterion's CRITICAL level is chosen above its WARNING level; no level depends on
-    another criterion's."""
+    another criterion's. A measured criterion has a WARNING level only (an on-board unit's alarm,
+    onboard.measured)."""
     train, test = split(runs)
     w = rules.window_s
     train_km = sum(r["windows"][str(w)]["normal_km"] for r in train)
     test_km = sum(r["windows"][str(w)]["normal_km"] for r in test)
     train_rows, test_rows = summarize(train, w, rules), summarize(test, w, rules)
     out = []
-    for criterion in THRESHOLDS:
+    for criterion in CRITERIA:
         mine = [r for r in train_rows if r["criterion"] == criterion]
         held_out = {r["threshold"]: r for r in test_rows if r["criterion"] == criterion}
         above = -math.inf
-        for level in ("warning", "critical"):
+        for level in ("warning",) if SIGNALS[criterion] == measured.SIGNALS else ("warning", "critical"):
             budget = budgets[level]
             threshold, reason = _choice(mine, budget, train_km, above, min_share)
             if threshold is not None:
@@ -255,7 +379,8 @@ def recommend(runs, rules, budgets=BUDGETS, min_share=MIN_USEFUL_SHARE):
                                                f"{check['usefully_warned']} of {check['derailments']} derailments of "
                                                "the test part")
             test_row = held_out.get(threshold) if threshold is not None else None
-            out.append(dict(criterion=criterion, level=level, threshold=threshold, reason=reason or None,
+            out.append(dict(criterion=criterion, signals=SIGNALS[criterion], level=level, threshold=threshold,
+                            reason=reason or None,
                             budget_per_1000_km=budget, test=None if test_row is None else {
                                 k: test_row[k] for k in ("usefully_warned", "derailments", "usefully_warned_ci95",
                                                          "false_alarms_per_1000_km", "false_alarms_per_1000_km_ci95")}))
@@ -269,8 +394,8 @@ def first_true_alerts(run, limits, rules):
     level, in the window of the recommendation (the derailment if it warned it, else the first near miss)."""
     out = {}
     order = sorted(range(len(run["hazards"])), key=lambda i: run["hazards"][i]["kind"] != "derailment")
-    for criterion in THRESHOLDS:
-        level = getattr(limits, criterion)
+    for criterion in CRITERIA:
+        level = shipped_level(criterion, limits)
         rows = [r for r in _rows(run, rules.window_s, criterion) if r["threshold"] == level]
         hits = [rows[0]["warnings"][i] for i in order if rows and rows[0]["warnings"][i] is not None
                 and rows[0]["warnings"][i][0] > 0.0]
@@ -298,16 +423,41 @@ def evaluate(entries, cache=None, workers=None, scheduler=None, progress=True, b
                       test_km=sum(r["windows"][str(w)]["normal_km"] for r in test)),
         split=dict(how=SPLIT, train=sorted({r["scenario"] for r in train}), test=sorted({r["scenario"] for r in test})),
         criteria=summarize(test, w, rules),
+        shipped_levels={c: shipped_level(c, limits) for c in CRITERIA},
         recommended=recommend(runs, rules, budgets, min_share),
         budgets_per_1000_km=dict(budgets), min_useful_share=min_share,
         rules=[dict(name=n, value=v, unit=u, meaning=m, source=s, sure=c) for n, v, u, m, s, c in rules.table()],
         sensitivity=sensitivity(test, limits, rules),
+        sensor_sensitivity=sensor_sensitivity(test, rules),
         runs=[dict(scenario=r["scenario"], family=r["family"], seed=r["seed"], part=r["part"], km=r["km"],
                    hazard=hazard_of(r), mechanism=mechanism_of(r), derailment=r["derailment"],
                    cant_deficiency_mm_max=r["cant_deficiency_mm_max"], diverged=r["diverged"], peaks=r["peaks"],
                    first_true_alert=first_true_alerts(r, limits, rules)) for r in runs],
         throughput=dict(wall_s=wall, cpu_s=sum(r["cpu_s"] for r in runs), km=sum(r["km"] for r in runs),
+                        cpu_split_s={k: sum(r["cpu_split_s"][k] for r in runs) for k in runs[0]["cpu_split_s"]},
                         cores=os.cpu_count() if not scheduler else None))
+
+
+def sensor_sensitivity(runs, rules):
+    """Per sensor variant (SENSOR_VARIANTS) and measured criterion at its shipped level, over `runs` (the test
+    part: only its runs carry the variants) at the recommendation's window: derailments usefully warned,
+    warned, the median lead, false alarms per 1000 km and the time in alarm, from the same simulated rows."""
+    shipped = lambda criterion: [shipped_level(criterion)]
+    out = []
+    for v in SENSOR_VARIANTS:
+        name = variant_name(v)
+        if v == SENSOR_VARIANTS[0]:
+            table = [r for r in summarize(runs, rules.window_s, rules, criteria=measured.CRITERIA)
+                     if r["threshold"] == shipped_level(r["criterion"])]
+        else:
+            seen = [{**r, "windows": {str(rules.window_s): {**r["windows"][str(rules.window_s)],
+                                                            "criteria": r["sensor_variants"][name]}}} for r in runs]
+            table = summarize(seen, rules.window_s, rules, criteria=measured.CRITERIA, sweep=shipped)
+        out += [dict(variant=name, **v, **{k: row[k] for k in (
+            "criterion", "threshold", "derailments", "warned", "usefully_warned", "usefully_warned_ci95",
+            "lead_s_median", "false_alarm_episodes", "false_alarms_per_1000_km", "false_alarms_per_1000_km_ci95",
+            "time_in_alarm_share")}) for row in table]
+    return out
 
 
 SENSITIVITY_REDUCTIONS = (0.05, 0.10, 0.20, 1.0)
@@ -319,13 +469,14 @@ def sensitivity(runs, limits, rules):
     tables = {(w, reduction): summarize(runs, w, rules, reduction)      # every criterion's rows at once
               for w in rules.windows_s for reduction in SENSITIVITY_REDUCTIONS}
     out = []
-    for criterion in THRESHOLDS:
-        level = getattr(limits, criterion)
+    for criterion in CRITERIA:
+        level = shipped_level(criterion, limits)
         for w in rules.windows_s:
             for reduction in SENSITIVITY_REDUCTIONS:
                 row = next(r for r in tables[w, reduction] if r["criterion"] == criterion
                            and r["threshold"] == level)
-                out.append(dict(criterion=criterion, threshold=level, window_s=w, safe_speed_reduction=reduction,
+                out.append(dict(criterion=criterion, signals=SIGNALS[criterion], threshold=level, window_s=w,
+                                safe_speed_reduction=reduction,
                                 derailments=row["derailments"], warned=row["warned"],
                                 usefully_warned=row["usefully_warned"],
                                 false_alarms_per_1000_km=row["false_alarms_per_1000_km"]))
@@ -337,7 +488,7 @@ def recommended_limits(result):
     disabled (NaN); (Limits, the levels disabled)."""
     from dataclasses import replace
     changes, disabled = {}, []
-    for row in result["recommended"]:
+    for row in (r for r in result["recommended"] if r["signals"] == "ground_truth"):
         name = row["criterion"] if row["level"] == "warning" else critical_name(row["criterion"])
         changes[name] = math.nan if row["threshold"] is None else row["threshold"]
         if row["threshold"] is None:

@@ -1,14 +1,14 @@
 """The warning evaluation as Markdown (`warning_catalogue.write`, docs/report/warnings-catalogue.md): what it
-found, what the catalogue can and cannot resolve, the paper's 0.06 rad criterion judged, the recommended
-levels with their reasons, the sensitivity to the window and to the braking rule, the runs and every
-criterion over its thresholds."""
+found, the ground-truth and the measured criteria side by side, what the catalogue can and cannot resolve,
+the paper's 0.06 rad criterion judged, the recommended levels with their reasons, the sensitivity to the
+window and to the braking rule, the measured criteria's sensitivity to the sensors' noise, bias and sample
+rate, the runs and every criterion over its thresholds."""
 from __future__ import annotations
 
 import math
 import statistics
 from collections import Counter
 
-from .criteria import default_limits
 from .scoring import count_interval, resolvable_km, share_interval
 
 
@@ -29,8 +29,7 @@ def _number(x, fmt=".2f"):
 
 def shipped_rows(result):
     """The criteria rows at each criterion's shipped WARNING level."""
-    limits = default_limits()
-    return [r for r in result["criteria"] if r["threshold"] == getattr(limits, r["criterion"])]
+    return [r for r in result["criteria"] if r["threshold"] == result["shipped_levels"][r["criterion"]]]
 
 
 def findings(result):
@@ -52,15 +51,22 @@ def findings(result):
                      + ", ".join(f"{m.replace('_', ' ')} ({n})" for m, n in shown.most_common()) + " |")
     rows = shipped_rows(result)
     lines += ["", "### Each criterion at its shipped level, on the test part", "",
+              "The ground-truth criteria (signals `ground_truth`: the simulator's wheel forces and motions) and "
+              "beside them the criteria an on-board unit computes from its sensors (`measured`: the shipped sensor "
+              "set, noise on; the bogie frames' instability rules, the car body's accelerations and roll, the "
+              "roll-balance estimator's warnings), each on its own samples, held onto the run's rows from the "
+              "sample's stamp on (latency included). A measured channel has no wheel: a frame's alarm is true in a "
+              "hazard window of its bogie, an estimated side's at its side, the car body's at either bogie.", "",
               f"Derailments usefully warned (the lead covers reaction, brake build-up and braking off "
               f"{_rule(result, 'safe_speed_reduction'):.0%} of the speed, `hazards.useful_lead`), with the Clopper-Pearson "
               "95 % interval; warned at all (a lead above 0 within the window); the median lead of those warned; "
               "false-alarm episodes (km of a run with a false alarm) per 1000 km of normal running with the exact "
               "Poisson 95 % interval, per hour, and the share of normal running time in false alarm.", "",
-              "| criterion | level | usefully warned | warned | median lead (s) | near misses warned | false alarms / "
-              "1000 km (95 %) | per hour | time in alarm |", "|---|---|---|---|---|---|---|---|---|"]
+              "| criterion | signals | level | usefully warned | warned | median lead (s) | near misses warned | "
+              "false alarms / 1000 km (95 %) | per hour | time in alarm |", "|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
-        lines.append(f"| {r['criterion']} | {r['threshold']:.4g} | {_share(r['usefully_warned'], r['derailments'], r['usefully_warned_ci95'])} | "
+        lines.append(f"| {r['criterion']} | {r['signals']} | {r['threshold']:.4g} | "
+                     f"{_share(r['usefully_warned'], r['derailments'], r['usefully_warned_ci95'])} | "
                      f"{r['warned']}/{r['derailments']} | {_number(r['lead_s_median'])} | "
                      f"{r['near_misses_warned']}/{r['near_misses']} | {_rate(r)} | {_number(r['false_alarms_per_hour'])} | "
                      f"{100 * r['time_in_alarm_share']:.2f} % |")
@@ -121,6 +127,26 @@ def paper_criterion(result):
     return lines
 
 
+def sensor_sensitivity(result):
+    """Lines: the measured criteria at their shipped levels as the sensors' noise, bias and rate change."""
+    sens = result["sensor_sensitivity"]
+    variants = list(dict.fromkeys(s["variant"] for s in sens))
+    lines = ["### Sensitivity of the measured criteria to the sensors", "",
+             "Test part, shipped levels, W = " f"{result['derailment_window_s']:g} s: the same simulated rows seen "
+             "through the shipped sensor set with its white-noise densities, its biases (the constant bias, its "
+             "random walk and the odometer's radius error) scaled, or every mount sampled at a lower rate (the air "
+             "springs and the odometer at the lower of theirs and it; no rate above the simulator's 200 Hz output "
+             "rate). Each cell: derailments usefully warned / warned of all, false alarms per 1000 km, time in "
+             "alarm.", "",
+             "| criterion | " + " | ".join(variants) + " |", "|---" * (len(variants) + 1) + "|"]
+    for criterion in dict.fromkeys(s["criterion"] for s in sens):
+        cells = {s["variant"]: s for s in sens if s["criterion"] == criterion}
+        lines.append(f"| {criterion} | " + " | ".join(
+            f"{c['usefully_warned']}/{c['warned']}/{c['derailments']}, {_number(c['false_alarms_per_1000_km'], '.1f')}, "
+            f"{100 * c['time_in_alarm_share']:.2f} %" for c in (cells[v] for v in variants)) + " |")
+    return lines
+
+
 def markdown(result):
     """The whole evaluation as Markdown."""
     budgets = result["budgets_per_1000_km"]
@@ -150,6 +176,7 @@ def markdown(result):
         cells = {(s["window_s"], s["safe_speed_reduction"]): s for s in sens if s["criterion"] == criterion}
         lines.append(f"| {criterion} | " + " | ".join(f"{cells[k]['usefully_warned']}/{cells[k]['derailments']}"
                                                     for k in keys) + " |")
+    lines += ["", *sensor_sensitivity(result)]
     lines += ["", "### The labelling rule and the braking model", "", "| name | value | unit | meaning | source | sure |",
               "|---|---|---|---|---|---|"]
     lines += [f"| {r['name']} | {r['value']} | {r['unit']} | {r['meaning']} | {r['source']} | {r['sure']} |"
@@ -164,10 +191,11 @@ def markdown(result):
                      f"{r['cant_deficiency_mm_max']:.0f} | {r['hazard'].replace('_', ' ')} | {r['mechanism'].replace('_', ' ')} | "
                      f"{firsts} |")
     lines += ["", "### Every criterion over its thresholds (test part)", "",
-              "| criterion | threshold | usefully warned | warned | median lead (s) | near misses warned | false-alarm "
-              "episodes | false alarms / 1000 km (95 %) | per hour | time in alarm |", "|---|---|---|---|---|---|---|---|---|---|"]
+              "| criterion | signals | threshold | usefully warned | warned | median lead (s) | near misses warned | "
+              "false-alarm episodes | false alarms / 1000 km (95 %) | per hour | time in alarm |",
+              "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in result["criteria"]:
-        lines.append(f"| {r['criterion']} | {r['threshold']:.4g} | "
+        lines.append(f"| {r['criterion']} | {r['signals']} | {r['threshold']:.4g} | "
                      f"{_share(r['usefully_warned'], r['derailments'], r['usefully_warned_ci95'])} | {r['warned']} | "
                      f"{_number(r['lead_s_median'])} | {r['near_misses_warned']}/{r['near_misses']} | "
                      f"{r['false_alarm_episodes']} | {_rate(r)} | {_number(r['false_alarms_per_hour'])} | "

@@ -295,7 +295,8 @@ def warning_quality_figure(criteria, runs, path, marked=("attack_angle", 0.06)):
     """Warning quality over a catalogue: per criterion the share of derailments usefully warned (filled) and
     warned at all (open) against the false alarms per 1000 km as its threshold moves (each point labelled
     with its threshold; `marked` = (criterion, threshold) circled), and the leads of each criterion's first
-    true alert at its shipped level over the runs (a hazard warned: a derailment or a near miss)."""
+    true alert at its shipped level over the runs (a hazard warned: a derailment or a near miss). The criteria
+    on measured signals (rows with signals 'measured') are drawn dashed with square markers."""
     with figure(path, (11.0, 4.8)) as fig:
         roc, leads = fig.subplots(1, 2)
         names = list(dict.fromkeys(row["criterion"] for row in criteria))
@@ -304,8 +305,9 @@ def warning_quality_figure(criteria, runs, path, marked=("attack_angle", 0.06)):
             x = [max(r["false_alarms_per_1000_km"], 0.1) for r in rows]      # 0 drawn at the axis' floor
             useful = [r["usefully_warned"] / max(r["derailments"], 1) for r in rows]
             warned = [r["warned"] / max(r["derailments"], 1) for r in rows]
-            line, = roc.plot(x, useful, "o-", label=name.replace("_", " "))
-            roc.plot(x, warned, "o:", mfc="none", color=line.get_color())
+            marker = "s" if rows[0].get("signals") == "measured" else "o"
+            line, = roc.plot(x, useful, marker + ("--" if marker == "s" else "-"), label=name.replace("_", " "))
+            roc.plot(x, warned, marker + ":", mfc="none", color=line.get_color())
             for r, xi, yi in zip(rows, x, useful):
                 roc.annotate(f"{r['threshold']:g}", (xi, yi), fontsize=6, xytext=(2, 2), textcoords="offset points",
                              color=line.get_color())
@@ -316,7 +318,7 @@ def warning_quality_figure(criteria, runs, path, marked=("attack_angle", 0.06)):
         roc.set_xscale("log")
         roc.set_xlabel("false-alarm episodes per 1000 km of normal running (0 drawn at 0.1)")
         roc.set_ylabel("share of derailments usefully warned (open: warned)")
-        roc.legend(fontsize=7)
+        roc.legend(fontsize=6, ncol=2)
         data = [[r["first_true_alert"][name]["lead_s"] for r in runs if r["first_true_alert"].get(name)]
                 for name in names]
         shown = [(n, d) for n, d in zip(names, data) if d]

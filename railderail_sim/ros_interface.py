@@ -14,6 +14,7 @@ railderail_sim never imports railderail_monitor. Topics (all under /railderail/ 
 | /railderail/final_status         | railderail_msgs/VehicleStatus    | reliable, transient local, depth 1     |
 | /railderail/derailment           | railderail_msgs/DerailmentEvent  | reliable, transient local, depth 1     |
 | /railderail/alerts               | railderail_msgs/Alert            | reliable, transient local, depth 1000  |
+| /railderail/onboard_alerts       | railderail_msgs/Alert            | the same (the monitor in measured mode)|
 | /clock                           | rosgraph_msgs/Clock              | clock QoS (best effort, depth 1); only |
 |                                  |                                  | when not running at real time          |
 
@@ -72,6 +73,9 @@ STATUS = f"{NS}/vehicle_status"
 FINAL_STATUS = f"{NS}/final_status"
 DERAILMENT = f"{NS}/derailment"
 ALERTS = f"{NS}/alerts"
+# the measured-mode monitor's alerts (from the on-board sensors only): a topic of their own, so that what reads
+# /railderail/alerts as the ground-truth criteria's (the replay's review, the warning quality) sees only those
+ONBOARD_ALERTS = f"{NS}/onboard_alerts"
 CLOCK = "/clock"
 
 SENSOR = qos_profile_sensor_data
@@ -95,6 +99,7 @@ TOPICS = {
     ALERTS: ("railderail_msgs/msg/Alert", Alert, ALERT_QOS, ALERT_QOS),
 }
 CLOCK_TOPIC = ("rosgraph_msgs/msg/Clock", Clock, CLOCK_QOS, CLOCK_QOS)
+ONBOARD_ALERTS_TOPIC = ("railderail_msgs/msg/Alert", Alert, ALERT_QOS, ALERT_QOS)
 
 
 SENSORS_NS = f"{NS}/sensors"
@@ -274,6 +279,57 @@ class SensorRecord:
             out[f"sensor_{unit}_time"] = signals["stamp"] / 1e9
             out.update({f"sensor_{unit}_{name}": v for name, v in signals.items() if name != "stamp"})
         return out
+
+
+class SensorDecoder:
+    """The samples of sensor messages (`SensorConverter`'s, or another source's on the same topics), as
+    `sensors.measure.SensorStream.process` gives them: `decode(topic, message)` returns [(unit, stamp s,
+    {signal: values})], the mount's acceleration (and angular_rate if it has a gyro), the air springs' four
+    deflections (the spring's height less the Range) and pressures once all eight messages of a stamp are
+    in, the odometer's speed. `missed` counts the air springs' stamps given up incomplete (a later stamp
+    completed first: best-effort transport lost a message)."""
+
+    def __init__(self, sensors):
+        from railderail_sim.sensors.config import AIR_SPRINGS, ODOMETER
+        self.springs, self.odometer = AIR_SPRINGS, ODOMETER
+        self.mounts = {f"{SENSORS_NS}/{mount.name}/imu": mount for mount in sensors.mounts}
+        self.spring_topics = {}
+        if sensors.air_springs is not None:
+            self.spring_height = sensors.air_springs.height_m
+            for j, spring in enumerate(AIR_SPRINGS):
+                self.spring_topics[f"{SENSORS_NS}/{spring}/pressure"] = (j, 1)
+                self.spring_topics[f"{SENSORS_NS}/{spring}/height"] = (j, 0)
+        self.odometer_topic = f"{SENSORS_NS}/{ODOMETER}" if sensors.odometer is not None else None
+        self.pending = {}               # stamp (ns) -> [[deflection, pressure] of each spring]
+        self.missed = 0
+
+    def topics(self):
+        return [*self.mounts, *self.spring_topics] + ([self.odometer_topic] if self.odometer_topic else [])
+
+    def decode(self, topic, message):
+        t = seconds(message.header.stamp)
+        mount = self.mounts.get(topic)
+        if mount is not None:
+            a = message.linear_acceleration
+            signals = {"acceleration": np.array([a.x, a.y, a.z])}
+            if mount.gyro is not None:
+                w = message.angular_velocity
+                signals["angular_rate"] = np.array([w.x, w.y, w.z])
+            return [(mount.name, t, signals)]
+        if topic == self.odometer_topic:
+            return [(self.odometer, t, {"speed": np.array(message.twist.twist.linear.x)})]
+        j, kind = self.spring_topics[topic]
+        ns = message.header.stamp.sec * 1_000_000_000 + message.header.stamp.nanosec
+        values = self.pending.setdefault(ns, [[None, None] for _ in self.springs])
+        values[j][kind] = self.spring_height - message.range if kind == 0 else message.fluid_pressure
+        if any(v is None for pair in values for v in pair):
+            return []
+        for older in [k for k in self.pending if k < ns]:
+            del self.pending[older]
+            self.missed += 1
+        del self.pending[ns]
+        d, p = np.array(values).T
+        return [("air_springs", t, {"deflection": d, "pressure": p})]
 
 
 def count_as_subscriber(node):

@@ -13,11 +13,14 @@ import yaml
 
 from railderail_monitor.criteria import default_limits
 from railderail_monitor.node import parameter_table
+from railderail_monitor.onboard.measured import measured_limits
 from railderail_sim.node import PARAMETERS
+from railderail_sim.parameters import vehicle_parameters
 
 ROOT = Path(__file__).resolve().parents[1]
 LAUNCH = ROOT / "launch" / "demo.launch.py"
 TABLES = {"railderail_simulator": PARAMETERS, "railderail_monitor": parameter_table(default_limits()),
+          "railderail_onboard_monitor": parameter_table(measured_limits(vehicle_parameters("hs19"))),
           "railderail_recorder": ()}
 FILES = {"simulator.yaml": ROOT / "railderail_sim" / "config" / "simulator.yaml",
          "monitor.yaml": ROOT / "railderail_monitor" / "config" / "monitor.yaml"}
@@ -58,7 +61,7 @@ def named(items, kind):
     return [item for item in items if type(item).__name__ == kind]
 
 
-def test_the_launch_file_starts_the_three_nodes_with_declared_parameters(launched):
+def test_the_launch_file_starts_the_four_nodes_with_declared_parameters(launched):
     items = launched.args[0]
     arguments = {a.args[0] if a.args else a.kwargs["name"]: a.kwargs["default_value"]
                  for a in named(items, "DeclareLaunchArgument")}

@@ -199,8 +199,17 @@ def test_demo_command(tmp_path):
     summary = json.loads((out / "summary.json").read_text())
     assert summary["derailment"] is not None and summary["alerts"]
     assert (out / "demo.mcap").stat().st_size > 0 and (out / "demo.rrd").stat().st_size > 0
-    assert {p.name for p in (out / "logs").iterdir()} == {"recorder.log", "monitor.log", "simulator.log"}
+    assert {p.name for p in (out / "logs").iterdir()} == {"recorder.log", "monitor.log", "onboard.log",
+                                                          "simulator.log"}
     assert keys(review(read_recording(out / "demo.mcap")).recorded_alerts) == keys(summary["alerts"])
+    # the measured-mode monitor beside it: its alerts marked, recorded, and the same from the sensor topics alone
+    assert all(a["signals"] == "measured" for a in summary["onboard_alerts"]) and "[measured]" in done.stdout
+    assert all(a["signals"] == "ground_truth" for a in summary["alerts"])
+    from railderail_monitor.recover import recover, sensors_only
+    from railderail_monitor.replay import measured_key, review_measured
+    recover(out / "demo.mcap", out / "sensors.mcap", keep=sensors_only)
+    found, recorded = review_measured(read_recording(out / "sensors.mcap"))
+    assert recorded == [] and sorted(map(measured_key, found)) == sorted(map(measured_key, summary["onboard_alerts"]))
 
 
 DIVERGING_SIMULATOR = """

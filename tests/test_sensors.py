@@ -195,6 +195,32 @@ def test_latency_shifts_the_stamps_and_dropouts_lose_their_share_of_samples():
     assert 10001 - len(stamps) == pytest.approx(2000, abs=120)
 
 
+def test_the_frame_over_each_wheelset_reads_the_frame_s_yaw_acceleration_times_half_the_wheelbase():
+    """EN 14363 reads the bogie frame over each wheelset: a frame turning at yaw acceleration alpha reads
+    +-a alpha laterally there (a the half wheelbase, + over the leading wheelset) and -alpha b_p forward
+    (over the left axle box, b_p to the left of the centre line), nothing at its centre."""
+    from railderail_sim.parameters import VehicleParameters
+    vp = VehicleParameters()
+    alpha = {Body.front_bogie: 0.8, Body.rear_bogie: -1.7}              # rad/s^2
+    a = _synthetic(400, 200.0)
+    for body, value in alpha.items():
+        a["body_motion"][:, body, BodyMotion.angular_acceleration + 2] = value
+    frames = [m for m in config.default_set().quiet().mounts if "frame" in m.name]
+    assert [m.name for m in frames] == ["bogie_front_frame", "bogie_rear_frame"] + [f"bogie_frame_{w}" for w in range(4)]
+    sensors = SensorSet(mounts=tuple(frames), instruments=config.default_set().quiet().instruments)
+    out = SensorStream(sensors, replace(Scenario(), output_rate=200.0)).process(a)
+    for name, body, x in (("bogie_frame_0", Body.front_bogie, 1.0), ("bogie_frame_1", Body.front_bogie, -1.0),
+                          ("bogie_frame_2", Body.rear_bogie, 1.0), ("bogie_frame_3", Body.rear_bogie, -1.0),
+                          ("bogie_front_frame", Body.front_bogie, 0.0), ("bogie_rear_frame", Body.rear_bogie, 0.0)):
+        reading = out[name]["acceleration"]
+        lsb = frames[0].accelerometer.resolution
+        assert np.allclose(reading[:, 1], x * vp.wheelbase_semi * alpha[body], atol=lsb), name
+        forward = 0.0 if x == 0.0 else -alpha[body] * vp.primary_semi_spacing
+        assert np.allclose(reading[:, 0], forward, atol=lsb), name
+        assert np.allclose(reading[:, 2], G, atol=lsb), name
+    assert "angular_rate" not in out["bogie_frame_0"] and "angular_rate" in out["bogie_front_frame"]
+
+
 def test_the_shipped_sensor_file_is_the_default_set_written_out():
     assert config.SHIPPED.read_text() == config.file_text(config.default_set())
     assert config.load() == config.default_set()

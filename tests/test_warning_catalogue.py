@@ -10,6 +10,7 @@ import pytest
 
 from railderail_monitor import catalogue, warning_catalogue as wc
 from railderail_monitor.hazards import HazardRules
+from railderail_monitor.onboard import measured
 
 ROOT = Path(__file__).resolve().parents[1]
 SHIPPED_RESULT = ROOT / "docs" / "report" / "warnings-catalogue.json"
@@ -86,7 +87,8 @@ def test_the_criteria_table_is_the_test_part_s_and_counts_per_km_and_hour(small)
         assert row["false_alarms_per_1000_km"] == pytest.approx(expected)
         lo, hi = row["false_alarms_per_1000_km_ci95"]
         assert lo <= row["false_alarms_per_1000_km"] <= hi
-        assert row["signals"] == "ground_truth"
+        assert row["signals"] == ("measured" if row["criterion"] in measured.CRITERIA else "ground_truth")
+    assert {r["criterion"] for r in result["criteria"] if r["signals"] == "measured"} == set(measured.CRITERIA)
 
 
 def test_a_second_evaluation_reads_every_run_from_the_cache(small, monkeypatch):
@@ -101,6 +103,122 @@ def test_a_second_evaluation_reads_every_run_from_the_cache(small, monkeypatch):
     # a cache entry's file written whole: a killed evaluation leaves the others readable
     for path in (folder / "cache").rglob("*.json"):
         json.loads(path.read_text())
+
+
+def test_a_measured_alarm_holds_from_the_first_row_at_or_after_its_sample_s_stamp():
+    import numpy as np
+    rows = np.arange(10) * 0.005                        # 200 Hz rows
+    stamps = np.array([0.002, 0.012, 0.022, 0.032])      # 100 Hz samples, 2 ms late
+    alarm = np.array([False, True, True, False])
+    # the sample stamped 0.012 s alarms the rows from 0.015 s, the one at 0.032 s re-arms from 0.035 s
+    assert wc.rows_in_alarm(stamps, alarm, rows).tolist() == [False] * 3 + [True] * 4 + [False] * 3
+
+
+def _hunting_front_bogie(seconds=30.0, rate=200.0, speed=80.0, start_s=8.0):
+    """Output arrays of a car at speed on level track whose front bogie frame oscillates laterally at 4 Hz,
+    12 m/s^2, from start_s on (a hunting bogie), the rest at rest; and their sensors' signals (the shipped set
+    but the air springs, with its noise)."""
+    from dataclasses import replace
+
+    import numpy as np
+    from railderail_sim.parameters import GRAVITY
+    from railderail_sim.sensors import config
+    from railderail_sim.sensors.measure import named, SensorStream
+    from railderail_sim.vehicle.layout import N_BODY, Body, BodyMotion
+    from railderail_sim.vehicle.simulate import Scenario
+    n = int(seconds * rate)
+    t = np.arange(n) / rate
+    motion = np.zeros((n, N_BODY, BodyMotion.size()))
+    motion[:, :, BodyMotion.specific_force + 2] = GRAVITY
+    motion[:, Body.front_bogie, BodyMotion.specific_force + 1] = 12.0 * np.sin(2 * np.pi * 4.0 * t) * (t >= start_s)
+    arrays = dict(time=t, position=speed * t, speed=np.full(n, speed), body_motion=motion,
+                  body_states=np.zeros((n, N_BODY, 5)))
+    sensors = replace(config.default_set(), air_springs=None, seed=3)
+    return arrays, named(SensorStream(sensors, replace(Scenario(), output_rate=rate)).process(arrays)), sensors
+
+
+def test_a_hunting_front_frame_warns_a_hazard_of_its_bogie_only_and_from_its_stamps():
+    """The measured scoring path on synthetic rows: the frame rules of the hunting front bogie alarm, held onto
+    the rows from their stamps, and are true warnings of a hazard at the front bogie (either side) in its
+    window and false for one at the rear bogie; the car body's channels (at rest here) never alarm."""
+    import numpy as np
+    from railderail_sim.parameters import VehicleParameters
+    from railderail_sim.sensors.measure import START_UP_S, after
+    arrays, signals, sensors = _hunting_front_bogie()
+    results = measured.evaluate(after(signals, START_UP_S), VehicleParameters(), wc.shipped_measured_limits(),
+                                measured.sample_rates(sensors))
+    alarms = wc.measured_alarms(results, arrays["time"], lambda c: [wc.shipped_level(c)])
+    peak = alarms["bogie_peak"][wc.shipped_level("bogie_peak")]
+    assert peak.shape == (2, len(arrays["time"])) and peak[0].any() and not peak[1].any()
+    first = np.flatnonzero(peak[0])[0]
+    m, limits = results["bogie_peak"], wc.shipped_measured_limits()
+    raised = m.time[m.channel_intervals(None, limits.rearm_fraction, limits.rearm_m)[0][0][0]]   # its alert
+    assert arrays["time"][first - 1] < raised <= arrays["time"][first]       # the first row at or after the stamp
+    assert not any(a.any() for c in ("car_body_lateral", "car_body_roll_rate")
+                   for a in alarms[c].values())
+
+    def hazard(bogie):
+        return dict(kind="derailment", margin="wheel_unloading", time_s=20.0, end_s=20.0, speed_m_s=80.0,
+                    position_m=1600.0, places=[(bogie, 1)])
+    front, rear = (wc.scores(alarms, arrays, [hazard(b)], 20.0) for b in (0, 1))
+    for rule in ("bogie_rms", "bogie_peak", "bids_peak_count"):
+        (row,) = front[rule]
+        assert row["warnings"][0] is not None and 10.0 < row["warnings"][0][0] <= 12.0, rule
+        assert rear[rule][0]["warnings"] == [None]
+        assert rear[rule][0]["false_episodes"] > front[rule][0]["false_episodes"] > 0
+
+
+def test_the_measured_scores_follow_the_sensors_noise():
+    """The same synthetic rows seen through the sensors with 3000 times their noise (2 m/s^2 r.m.s. on the
+    car body's floor in EN 14363's 0.4-10 Hz band): the car body at rest raises false alarms it does not raise
+    with the data sheets' noise."""
+    import types
+    from dataclasses import replace
+    from railderail_sim.vehicle.simulate import Scenario
+    arrays, _, sensors = _hunting_front_bogie()
+    sim = types.SimpleNamespace(scenario=replace(Scenario(), output_rate=200.0), model=None, speed_table=None)
+    rules = HazardRules()
+    found = [dict(kind="derailment", margin="wheel_unloading", time_s=29.0, end_s=29.0, speed_m_s=80.0,
+                  position_m=2320.0, places=[(0, 1)])]
+    shipped, noisy = (dict(noise=x, bias=1.0, rate_hz=200.0) for x in (1.0, 3000.0))
+    rows = wc.sensor_sensitivity_run(sensors, sim, arrays, found, rules, (shipped, noisy))
+    (calm,), (loud,) = (rows[wc.variant_name(v)]["car_body_lateral"] for v in (shipped, noisy))
+    assert calm["false_episodes"] == 0 and calm["warnings"] == [None]
+    assert loud["false_episodes"] >= 1 and loud["false_time_s"] > 0.0
+
+
+def test_measured_criteria_warn_the_rollover_from_the_sensors_alone(small):
+    """The roll-balance estimate of the running gear's unloading, on the sensors with their noise, warns the
+    over-speed rollover at the derailed side, ahead of it; it has no channel for a wheel's flange climb."""
+    _, _, result = small
+    for run in (r for r in result["runs"] if r["scenario"] == "overspeed"):
+        first = run["first_true_alert"]["estimated_running_gear_unloading"]
+        assert first is not None and 0.5 < first["lead_s"] < 10.0
+        assert run["peaks"]["estimated_running_gear_unloading"] > 0.9
+
+
+def test_the_measured_criteria_s_scores_move_with_the_sensors(small):
+    """The sensor sensitivity is the test part's measured criteria seen through each sensor variant over the
+    same rows: the shipped set's rows are the criteria table's, and without noise or with three times the
+    bias some score differs."""
+    _, _, result = small
+    sens = result["sensor_sensitivity"]
+    assert {s["variant"] for s in sens} == {wc.variant_name(v) for v in wc.SENSOR_VARIANTS}
+    base = {s["criterion"]: s for s in sens if s["variant"] == wc.variant_name(wc.SENSOR_VARIANTS[0])}
+    table = {r["criterion"]: r for r in result["criteria"]
+             if r["threshold"] == result["shipped_levels"][r["criterion"]] and r["signals"] == "measured"}
+    assert set(base) == set(table) == set(measured.CRITERIA)
+    keys = ("derailments", "warned", "usefully_warned", "lead_s_median", "false_alarm_episodes", "time_in_alarm_share")
+    for c in base:
+        assert [base[c][k] for k in keys] == pytest.approx([table[c][k] for k in keys], nan_ok=True)
+    for v in wc.SENSOR_VARIANTS[1:]:
+        assert all(s["derailments"] == 2 for s in sens if s["variant"] == wc.variant_name(v))
+
+    def scores(variant):
+        return [s[k] for s in sens if s["variant"] == wc.variant_name(variant) for k in keys]
+    # the roll-balance estimate reads the air springs' pressures: their bias moves its scores
+    biased = dict(noise=1.0, bias=3.0, rate_hz=200.0)
+    assert scores(biased) != pytest.approx(scores(wc.SENSOR_VARIANTS[0]), nan_ok=True)
 
 
 @pytest.mark.parametrize("text, message", [
@@ -188,7 +306,8 @@ def test_the_recommended_file_keeps_its_budgets_when_read_back_and_scored_again(
     test = [r for r in _raw(small) if r["part"] == "test"]
     rescored = wc.summarize(test, rules.window_s, rules)
     enabled = 0
-    for row in result["recommended"]:
+    assert {r["criterion"] for r in result["recommended"] if r["signals"] == "measured"} == set(measured.CRITERIA)
+    for row in (r for r in result["recommended"] if r["signals"] == "ground_truth"):
         name = row["criterion"] if row["level"] == "warning" else critical_name(row["criterion"])
         level = getattr(limits, name)
         if row["threshold"] is None:
@@ -217,7 +336,7 @@ def test_the_shipped_results_false_alarms_cannot_fall_as_a_threshold_falls():
     the time in alarm and the derailments usefully warned of a higher one; every recommended level keeps its
     budget on the test part."""
     result = json.loads(SHIPPED_RESULT.read_text())
-    for criterion in wc.THRESHOLDS:
+    for criterion in dict.fromkeys(r["criterion"] for r in result["criteria"]):      # the measured ones too
         rows = sorted((r for r in result["criteria"] if r["criterion"] == criterion), key=lambda r: r["threshold"])
         assert len(rows) >= 2
         for low, high in zip(rows, rows[1:]):

@@ -33,60 +33,90 @@ from scipy import signal as sps
 from railderail_sim.sensors.instruments import INSTRUMENTS
 from railderail_sim.vehicle.layout import RUNNING_GEARS
 
+from .criteria import SosFilter
+
 # m: half the distance of the rolling circles, the wheel loads' lever arm (TB449: 1493 mm, parameters.SOURCES)
 CONTACT_SEMI_DISTANCE = 0.7465
 BOGIES = ("front", "rear")
 
 
+AXLE_BOXES = tuple(tuple(f"axle_box_{w}_{side}" for w in gear for side in ("left", "right")) for gear in RUNNING_GEARS)
+# the sensor units the balance reads: the air springs, the floors over the bogies, the frames, the axle boxes
+INPUTS = (("air_springs",) + tuple(f"car_body_{g}" for g in BOGIES) + tuple(f"bogie_{g}_frame" for g in BOGIES)
+          + sum(AXLE_BOXES, ()))
+TIME_BASE = "car_body_centre"
+
+
 def hold(source_time, values, time):
-    """The last sample of a stream at or before each time (a zero-order hold: causal), its first before."""
-    k = np.clip(np.searchsorted(source_time, time, "right") - 1, 0, len(source_time) - 1)
-    return np.asarray(values)[k]
+    """The last sample of a stream at or before each time (a zero-order hold: causal; each time at or after
+    the stream's first sample)."""
+    return np.asarray(values)[np.searchsorted(source_time, time, "right") - 1]
 
 
-def _track_lateral(reading, roll):
-    """A reading's lateral component in the track plane: y cos(phi) - z sin(phi) (body axes rolled by phi)."""
-    return reading[:, 1] * np.cos(roll) - reading[:, 2] * np.sin(roll)
+def held_inputs(a, time):
+    """{unit: its signals held at `time`} of INPUTS from `sensor_*` arrays: the air springs' (deflection,
+    pressure), the others' acceleration (n, 3)."""
+    springs_t = a["sensor_air_springs_time"]
+    out = {"air_springs": (hold(springs_t, a["sensor_air_springs_deflection"], time),
+                           hold(springs_t, a["sensor_air_springs_pressure"], time))}
+    for unit in INPUTS[1:]:
+        out[unit] = hold(a[f"sensor_{unit}_time"], a[f"sensor_{unit}_acceleration"], time)
+    return out
 
 
-def estimate(a, vehicle, effective_area, axle_box_corner_hz=INSTRUMENTS["iepe_axle_box"].high_pass_hz):
+class RollBalance:
+    """The balance over the inputs held at successive stamps of a stream at rate_hz, fed in chunks: the
+    axle boxes' complementary filter carries its state (the same output whatever the chunks). Both bogies
+    at once, as columns [front, rear]: half the array calls of a loop over them (a stamp at a time, the
+    calls are its cost)."""
+
+    def __init__(self, vehicle, effective_area, axle_box_corner_hz=INSTRUMENTS["iepe_axle_box"].high_pass_hz,
+                 rate_hz=200.0):
+        self.vehicle, self.effective_area = vehicle, effective_area
+        self.low = SosFilter(sps.butter(1, axle_box_corner_hz, fs=rate_hz, output="sos"))
+
+    def __call__(self, h):
+        """{side_load (n, 4) N [front left, front right, rear left, rear right], unloading (n, 4),
+        lateral_force (n, 2) N, derailment_coefficient (n, 4)} from `held_inputs` at n stamps."""
+        vp = self.vehicle
+        d, pressure = h["air_springs"]
+        force = pressure * self.effective_area
+        force = force + vp.air_spring_emergency_stiffness * np.maximum(d - vp.air_spring_emergency_clearance, 0.0)
+        left, right = force[:, 0::2], force[:, 1::2]                  # (n, 2): [front, rear]
+        b_s, l = vp.air_spring_semi_spacing, vp.bogie_semi_distance
+        roll = (d[:, 1::2] - d[:, 0::2]) / (2.0 * b_s)
+        floor = np.stack([h[f"car_body_{g}"] for g in BOGIES], axis=1)             # (n, 2, 3)
+        floor = floor[:, :, 1] * np.cos(roll) - floor[:, :, 2] * np.sin(roll)    # the track plane's lateral
+        mean = 0.5 * (floor[:, 0] + floor[:, 1])
+        turn = vp.car_body_yaw_inertia * (floor[:, 0] - floor[:, 1]) / (4.0 * l * l)
+        body = np.stack([0.5 * vp.car_body_mass * mean + turn, 0.5 * vp.car_body_mass * mean - turn], axis=1)
+        m_f, m_w, p0 = vp.bogie_frame_mass, vp.wheelset_mass, vp.static_wheel_load
+        frame = np.stack([h[f"bogie_{g}_frame"] for g in BOGIES], axis=1)          # (n, 2, 3)
+        fy = frame[:, :, 1]
+        boxes = [np.stack([h[gear[k]][:, 1] for gear in AXLE_BOXES], axis=1) for k in range(4)]
+        wheelset = self.low(fy) + (boxes[0] + boxes[1] + boxes[2] + boxes[3]) / 4.0
+        lateral = m_f * fy + 2.0 * m_w * wheelset + body
+        total = left + right + (m_f + 2.0 * m_w) * frame[:, :, 2]
+        moment = (b_s * (left - right) - vp.secondary_height * body - vp.anti_roll_stiffness * roll
+                  - vp.bogie_frame_cog_height * m_f * fy - 2.0 * vp.rolling_radius * m_w * wheelset)
+        diff = moment / CONTACT_SEMI_DISTANCE
+        side_load = np.stack([0.5 * (total + diff), 0.5 * (total - diff)], axis=2).reshape(len(fy), 4)
+        return dict(side_load=side_load, unloading=1.0 - side_load / (2.0 * p0), lateral_force=lateral,
+                    derailment_coefficient=side_ratios(lateral, side_load))
+
+
+def estimate(a, vehicle, effective_area, axle_box_corner_hz=INSTRUMENTS["iepe_axle_box"].high_pass_hz, rate_hz=None):
     """{time (n,), side_load (n, 4) N [front left, front right, rear left, rear right], unloading (n, 4) the
     mean dP/P0 of a running gear's two wheels on one side, lateral_force (n, 2) N of the rails on each bogie's
     wheels (+ left), derailment_coefficient (n, 4): the gear's lateral force toward a side's field side over
-    that side's load} from the `sensor_*` arrays of a run (docs/output-format.md)."""
-    vp = vehicle
-    t = np.asarray(a["sensor_car_body_centre_time"], dtype=float)
-    rate = 1.0 / float(np.median(np.diff(t)))
-    springs_t = a["sensor_air_springs_time"]
-    d = hold(springs_t, a["sensor_air_springs_deflection"], t)
-    force = hold(springs_t, a["sensor_air_springs_pressure"], t) * effective_area
-    force = force + vp.air_spring_emergency_stiffness * np.maximum(d - vp.air_spring_emergency_clearance, 0.0)
-    b_s, l = vp.air_spring_semi_spacing, vp.bogie_semi_distance
-    roll = np.stack([(d[:, 1] - d[:, 0]), (d[:, 3] - d[:, 2])], axis=1) / (2.0 * b_s)
-    floor = [_track_lateral(hold(a[f"sensor_car_body_{g}_time"], a[f"sensor_car_body_{g}_acceleration"], t),
-                            roll[:, j]) for j, g in enumerate(BOGIES)]
-    mean, turn = 0.5 * (floor[0] + floor[1]), vp.car_body_yaw_inertia * (floor[0] - floor[1]) / (4.0 * l * l)
-    body = [0.5 * vp.car_body_mass * mean + turn, 0.5 * vp.car_body_mass * mean - turn]
-    low = sps.butter(1, axle_box_corner_hz, fs=rate, output="sos")
-    m_f, m_w, p0 = vp.bogie_frame_mass, vp.wheelset_mass, vp.static_wheel_load
-    side_load, lateral = [], []
-    for j, g in enumerate(BOGIES):
-        frame = hold(a[f"sensor_bogie_{g}_frame_time"], a[f"sensor_bogie_{g}_frame_acceleration"], t)
-        boxes = [hold(a[f"sensor_axle_box_{w}_{s}_time"], a[f"sensor_axle_box_{w}_{s}_acceleration"], t)[:, 1]
-                 for w in RUNNING_GEARS[j] for s in ("left", "right")]
-        fy = frame[:, 1]
-        wheelset = sps.sosfilt(low, fy, zi=sps.sosfilt_zi(low) * fy[0])[0] + np.mean(boxes, axis=0)
-        y = m_f * fy + 2.0 * m_w * wheelset + body[j]
-        total = force[:, 2 * j] + force[:, 2 * j + 1] + (m_f + 2.0 * m_w) * frame[:, 2]
-        moment = (b_s * (force[:, 2 * j] - force[:, 2 * j + 1]) - vp.secondary_height * body[j]
-                  - vp.anti_roll_stiffness * roll[:, j] - vp.bogie_frame_cog_height * m_f * fy
-                  - 2.0 * vp.rolling_radius * m_w * wheelset)
-        diff = moment / CONTACT_SEMI_DISTANCE
-        side_load += [0.5 * (total + diff), 0.5 * (total - diff)]
-        lateral.append(y)
-    side_load, lateral = np.stack(side_load, axis=1), np.stack(lateral, axis=1)
-    return dict(time=t, side_load=side_load, unloading=1.0 - side_load / (2.0 * p0), lateral_force=lateral,
-                derailment_coefficient=side_ratios(lateral, side_load))
+    that side's load} from the `sensor_*` arrays of a run (docs/output-format.md), at the car-body centre's
+    stamps from the first at which every input has a sample; rate_hz: that sensor's sample rate (default:
+    from its stamps)."""
+    t = np.asarray(a[f"sensor_{TIME_BASE}_time"], dtype=float)
+    rate = rate_hz or 1.0 / float(np.median(np.diff(t)))
+    t = t[t >= max(a[f"sensor_{unit}_time"][0] for unit in INPUTS)]
+    out = RollBalance(vehicle, effective_area, axle_box_corner_hz, rate)(held_inputs(a, t))
+    return dict(time=t, **out)
 
 
 def side_ratios(lateral, side_load):

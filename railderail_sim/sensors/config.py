@@ -4,7 +4,9 @@ from and written to a YAML file (the shipped one: railderail_sim/config/sensors.
 
 Mounts (`MOUNTS`), each a point of a body, x forward, y left, z up from the body's reference point:
 car_body_front, car_body_centre, car_body_rear on the car-body floor above each bogie centre and at the
-middle; bogie_front_frame, bogie_rear_frame at each frame's centre; axle_box_<wheelset>_<left|right> on
+middle; bogie_front_frame, bogie_rear_frame at each frame's centre; bogie_frame_<wheelset> on the frame
+above that wheelset's left axle box (where EN 14363 and the on-board instability detectors read the frame:
+over each wheelset, the frame's yaw adding to its centre's lateral acceleration); axle_box_<wheelset>_<left|right> on
 each axle box (at the primary spring, on the axle's height; it turns with the wheelset's roll and yaw,
 not with its spin). Each mount holds a three-axis accelerometer and, optionally, a three-axis gyro in the
 body's axes.
@@ -17,12 +19,13 @@ import yaml
 
 from ..parameters import VehicleParameters
 from ..ranges import check_range
-from ..vehicle.layout import N_WHEELSET, Body
+from ..vehicle.layout import N_WHEELSET, RUNNING_GEARS, Body
 from .instruments import INSTRUMENT_FIELDS, INSTRUMENT_SOURCES, INSTRUMENTS, Instrument, with_changes
 
 SHIPPED = Path(__file__).resolve().parents[1] / "config" / "sensors.yaml"
 SIDES = ("left", "right")
 MOUNTS = (("car_body_front", "car_body_centre", "car_body_rear", "bogie_front_frame", "bogie_rear_frame")
+          + tuple(f"bogie_frame_{w}" for w in range(N_WHEELSET))
           + tuple(f"axle_box_{w}_{side}" for w in range(N_WHEELSET) for side in SIDES))
 AIR_SPRINGS = tuple(f"air_spring_{bogie}_{side}" for bogie in ("front", "rear") for side in SIDES)
 ODOMETER = "odometer"
@@ -47,6 +50,12 @@ def mount_point(name, vp: VehicleParameters):
         return Body.car_body, (x, 0.0, car_floor)
     if name in ("bogie_front_frame", "bogie_rear_frame"):
         return Body[name.replace("_frame", "").replace("bogie_", "") + "_bogie"], (0.0, 0.0, 0.0)
+    if name.startswith("bogie_frame_"):
+        wheelset = int(name[len("bogie_frame_"):])
+        gear = next(g for g, ws in enumerate(RUNNING_GEARS) if wheelset in ws)
+        leading = wheelset == RUNNING_GEARS[gear][0]
+        return (Body.front_bogie if gear == 0 else Body.rear_bogie,
+                (vp.wheelbase_semi if leading else -vp.wheelbase_semi, vp.primary_semi_spacing, 0.0))
     _, _, wheelset, side = name.split("_")
     return Body[f"wheelset_{wheelset}"], (0.0, vp.primary_semi_spacing * (1.0 if side == "left" else -1.0), 0.0)
 
@@ -149,6 +158,36 @@ class SensorSet:
                                                               sampling=sampling(self.odometer.sampling))
         return replace(self, mounts=mounts, air_springs=springs, odometer=odometer, instruments=calm)
 
+    def scaled(self, noise=1.0, bias=1.0):
+        """The same set with every instrument's white noise density times `noise`, its constant bias and the
+        bias's random walk times `bias`, the odometer's radius error times `bias` (a sensitivity study over
+        the same run: `measure.run_signals`)."""
+        check_range("noise scale", noise, 0.0, 1.0e4)
+        check_range("bias scale", bias, 0.0, 1.0e4)
+        changed = {name: replace(inst, noise_density=noise * inst.noise_density, bias=bias * inst.bias,
+                                 bias_random_walk=bias * inst.bias_random_walk)
+                   for name, inst in self.instruments.items()}
+        mounts = tuple(replace(m, accelerometer=changed[m.accelerometer.name],
+                               gyro=None if m.gyro is None else changed[m.gyro.name]) for m in self.mounts)
+        springs = None if self.air_springs is None else replace(
+            self.air_springs, deflection=changed[self.air_springs.deflection.name],
+            pressure=changed[self.air_springs.pressure.name])
+        odometer = None if self.odometer is None else replace(self.odometer,
+                                                              radius_error=bias * self.odometer.radius_error)
+        return replace(self, mounts=mounts, air_springs=springs, odometer=odometer, instruments=changed)
+
+    def resampled(self, rate_hz):
+        """The same set with every mount sampled at rate_hz, the air springs and the odometer at the lower of
+        their own rate and it (each instrument's anti-alias filter follows its rate)."""
+        check_range("sample rate", rate_hz, 0.0, 1.0e5, "Hz", lo_open=True)
+        at = lambda s: replace(s, sample_rate_hz=rate_hz)
+        low = lambda s: replace(s, sample_rate_hz=min(s.sample_rate_hz, rate_hz))
+        return replace(self, mounts=tuple(replace(m, sampling=at(m.sampling)) for m in self.mounts),
+                       air_springs=None if self.air_springs is None else replace(
+                           self.air_springs, sampling=low(self.air_springs.sampling)),
+                       odometer=None if self.odometer is None else replace(self.odometer,
+                                                                           sampling=low(self.odometer.sampling)))
+
 
 # --- the file -------------------------------------------------------------------------------------
 
@@ -242,9 +281,11 @@ def load(path=None, output_rate=None):
 def default_set():
     """The shipped sensor set, built here (config/sensors.yaml is this written out by `file_text`): every
     mount at 200 Hz, MEMS accelerometers (ADXL355 on the car body, ADXL357 on the bogie frames) and IEPE ones
-    on the axle boxes, a MEMS gyro at every mount; the air springs at 50 Hz; the odometer at 10 Hz."""
+    on the axle boxes, a MEMS gyro at every mount but those over the wheelsets on the frames (a frame is one
+    rigid body: its centre's gyro reads its rates); the air springs at 50 Hz; the odometer at 10 Hz."""
     accelerometer = {"car": "adxl355", "bog": "adxl357", "axl": "iepe_axle_box"}
-    mounts = tuple(Mount(name=name, accelerometer=INSTRUMENTS[accelerometer[name[:3]]], gyro=INSTRUMENTS["adis16470"],
+    mounts = tuple(Mount(name=name, accelerometer=INSTRUMENTS[accelerometer[name[:3]]],
+                         gyro=None if name.startswith("bogie_frame_") else INSTRUMENTS["adis16470"],
                          sampling=Sampling(200.0)) for name in MOUNTS)
     return SensorSet(seed=0, mounts=mounts,
                      air_springs=AirSpringSensors(deflection=INSTRUMENTS["air_spring_height"],

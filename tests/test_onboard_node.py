@@ -1,0 +1,97 @@
+"""The monitor node in measured mode (`signals:=measured`): it subscribes to the sensor topics and nothing
+else (rclpy's graph API), and the alerts it publishes are MeasuredMonitor's on the same messages; the
+sensor messages decode back to the samples they were made from (ros_interface.SensorDecoder)."""
+import numpy as np
+import pytest
+import rclpy
+from rclpy.serialization import deserialize_message, serialize_message
+from rclpy.signals import SignalHandlerOptions
+
+from railderail_sim import ros_interface as m
+from railderail_sim.parameters import vehicle_parameters
+from railderail_sim.sensors.config import load as load_sensors
+from railderail_monitor.onboard import measured as me
+from railderail_monitor.onboard.monitor import MeasuredMonitor
+from test_onboard_measured import LOW, _record
+
+GROUND_TRUTH_TOPICS = {m.STATES, m.FORCES, m.STATUS, m.FINAL_STATUS, m.DERAILMENT, m.ALERTS}
+
+
+@pytest.fixture
+def node_of():
+    made = []
+
+    def make(*parameters):
+        from railderail_monitor.node import MonitorNode
+        rclpy.init(args=["--ros-args", *[a for p in parameters for a in ("-p", p)]],
+                   signal_handler_options=SignalHandlerOptions.NO)
+        made.append(MonitorNode())
+        return made[-1]
+    yield make
+    for node in made:
+        node.destroy_node()
+    rclpy.try_shutdown()
+
+
+def _subscribed(node):
+    return {topic for topic, _ in node.get_subscriber_names_and_types_by_node(node.get_name(), node.get_namespace())}
+
+
+def test_measured_mode_subscribes_to_the_sensor_topics_only(node_of):
+    node = node_of("signals:=measured")
+    subscribed = _subscribed(node)
+    assert subscribed == set(m.sensor_topics(load_sensors()))
+    assert not subscribed & GROUND_TRUTH_TOPICS
+    published = {t for t, _ in node.get_publisher_names_and_types_by_node(node.get_name(), node.get_namespace())}
+    assert m.ONBOARD_ALERTS in published and m.ALERTS not in published
+
+
+def test_ground_truth_mode_subscribes_to_the_simulator_s_topics(node_of):
+    assert {m.STATES, m.FORCES, m.STATUS} <= _subscribed(node_of())
+
+
+def _messages(record):
+    """(stamp, topic, message) of a record's samples as the simulator node publishes them, through CDR."""
+    sensors = load_sensors()
+    convert = m.SensorConverter(sensors, 1000.0, vehicle_parameters("hs19").rolling_radius)
+    return [(t, topic, deserialize_message(serialize_message(msg), type(msg)))
+            for t, topic, msg in convert.messages(me.units_of(record))]
+
+
+def test_the_decoder_gives_back_the_samples():
+    record = _record(1.0)
+    decoder = m.SensorDecoder(load_sensors())
+    got = {}
+    for _, topic, msg in _messages(record):
+        for unit, t, signals in decoder.decode(topic, msg):
+            got.setdefault(unit, []).append((t, signals))
+    frame = got["bogie_front_frame"]
+    assert np.allclose([t for t, _ in frame], record["sensor_bogie_front_frame_time"], rtol=0, atol=1e-9)
+    assert np.array_equal([s["acceleration"] for _, s in frame], record["sensor_bogie_front_frame_acceleration"])
+    springs = got["air_springs"]
+    assert len(springs) == len(record["sensor_air_springs_time"]) and decoder.missed == 0
+    # the height travels as a float32 Range
+    assert np.allclose([s["deflection"] for _, s in springs], record["sensor_air_springs_deflection"], atol=1e-7)
+    assert np.array_equal([s["pressure"] for _, s in springs], record["sensor_air_springs_pressure"])
+    assert np.array_equal([float(s["speed"]) for _, s in got["odometer"]], record["sensor_odometer_speed"])
+
+
+def test_the_node_publishes_the_monitor_s_alerts(node_of):
+    vp = vehicle_parameters("hs19")
+    node = node_of("signals:=measured", *[f"{k}:={v!r}" for k, v in LOW.items()])
+    published = []
+    node.publisher.publish = published.append
+    decoder = m.SensorDecoder(load_sensors())
+    reference, found = MeasuredMonitor(vp, me.measured_limits(vp, **LOW)), []
+    for _, topic, msg in _messages(_record()):
+        node.on_sensor(topic, msg)
+        for unit, t, signals in decoder.decode(topic, msg):
+            found += reference.feed(unit, t, **signals)
+    assert len(found) > 10 and len(published) == len(found)
+    for msg, alert in zip(published, found):
+        assert (msg.sample, msg.criterion, msg.value, msg.header.frame_id) == \
+               (alert.sample, alert.criterion, alert.value, alert.place)
+        assert m.seconds(msg.header.stamp) == pytest.approx(alert.time_s, abs=1e-9)
+        assert msg.message.startswith("measured warning")
+    gear = next(msg for msg in published if msg.criterion == "estimated_side_ratio")
+    assert gear.wheelset in (0, 2) and gear.wheel_side in ("left", "right")
