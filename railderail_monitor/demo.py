@@ -47,6 +47,28 @@ ONBOARD_NODE = "railderail_onboard_monitor"
 ONBOARD_ARGS = ["--ros-args", "-r", f"__node:={ONBOARD_NODE}", "-p", "signals:=measured"]
 
 
+def cpu_ticks(pid):
+    """A process's user and system CPU time so far, in clock ticks (/proc/PID/stat); None once it is gone."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except OSError:
+        return None
+    return int(fields[11]) + int(fields[12])
+
+
+def wait_idle(pid, quiet_s=0.5, timeout=120.0):
+    """Wait until a process used no CPU for `quiet_s` (a node that worked through its queue), at most `timeout`."""
+    deadline = time.monotonic() + timeout
+    last, since = cpu_ticks(pid), time.monotonic()
+    while last is not None and time.monotonic() < deadline:
+        time.sleep(0.1)
+        now = cpu_ticks(pid)
+        if now != last:
+            last, since = now, time.monotonic()
+        elif time.monotonic() - since >= quiet_s:
+            return
+
+
 def _child_setup():
     """In the child: default SIGINT (a background job may inherit it ignored) and SIGTERM when the
     demo dies, so that no node outlives it."""
@@ -77,26 +99,6 @@ class Node:
             self.lines.append(line)
             if echo is not None:
                 echo(line)
-
-    def cpu_ticks(self):
-        """The process's user and system CPU time so far, in clock ticks (/proc/PID/stat); None once gone."""
-        try:
-            fields = Path(f"/proc/{self.process.pid}/stat").read_text().rsplit(")", 1)[1].split()
-        except OSError:
-            return None
-        return int(fields[11]) + int(fields[12])
-
-    def wait_idle(self, quiet_s=0.5, timeout=120.0):
-        """Wait until the process used no CPU for `quiet_s` (it worked through its queue), at most `timeout`."""
-        deadline = time.monotonic() + timeout
-        last, since = self.cpu_ticks(), time.monotonic()
-        while last is not None and time.monotonic() < deadline:
-            time.sleep(0.1)
-            now = self.cpu_ticks()
-            if now != last:
-                last, since = now, time.monotonic()
-            elif time.monotonic() - since >= quiet_s:
-                return
 
     def stop(self, timeout=15.0):
         """SIGINT, then SIGKILL after `timeout`; returns the exit status."""
@@ -314,7 +316,7 @@ def run_demo(args, say=print):
         if "onboard" in nodes:
             # a Python node behind a simulator faster than real time may still be working through the sensor
             # messages in its queue: stopping it now would lose them
-            nodes["onboard"].wait_idle()
+            wait_idle(nodes["onboard"].process.pid)
         codes = {name: nodes.pop(name).stop() for name in ("monitor", "onboard", "recorder") if name in nodes}
         if any(codes.values()):
             raise RuntimeError("exit status " + ", ".join(f"{k} {v}" for k, v in codes.items())

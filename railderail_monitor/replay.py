@@ -34,6 +34,7 @@ from rclpy.serialization import deserialize_message
 from rosidl_adapter.parser import InvalidSpecification, InvalidValue
 
 from railderail_sim import jsonout, ros_interface as m
+from railderail_sim.parameters import VEHICLE_SETS
 from railderail_sim.ranges import check_range
 from railderail_sim.ros_interface import ALERTS, DERAILMENT, FINAL_STATUS, FORCES, REAL_TIME_FACTOR_RANGE, STATES, STATUS
 
@@ -386,7 +387,8 @@ def command(parser: argparse.ArgumentParser):
     parser.add_argument("--signals", choices=("ground_truth", "measured"),
                         help="the criteria run over it: ground_truth (the wheelset states and contact forces) or "
                         "measured (the on-board sensors' topics); default ground_truth if it holds the states")
-    parser.add_argument("--vehicle-set", default="hs19", help="measured: the car's parameter set (default hs19)")
+    parser.add_argument("--vehicle-set", default="hs19", choices=VEHICLE_SETS,
+                        help="measured: the car's parameter set (default hs19)")
     parser.add_argument("--sensors", metavar="FILE.yaml",
                         help="measured: the sensor set recorded (default the shipped railderail_sim/config/sensors.yaml)")
 

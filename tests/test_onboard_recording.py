@@ -11,7 +11,6 @@ from railderail_sim.cli import main
 from railderail_sim.parameters import vehicle_parameters
 from railderail_sim.sensors.config import load as load_sensors
 from railderail_monitor.node import measured_alert_message
-from railderail_monitor.onboard import measured as me
 from railderail_monitor.onboard.monitor import MeasuredMonitor
 from railderail_monitor.recording import McapRecording
 from railderail_monitor.recover import recover, sensors_only

@@ -70,15 +70,21 @@ class SosFilter:
     sensors.measure: a monitor switched on does not see a step): the same output whatever the chunks."""
 
     def __init__(self, sos):
-        self.sos, self.zi = np.asarray(sos, dtype=float), None
+        self.sos = np.asarray(sos, dtype=float)
+        self.sections = self.sos.tolist()
+        self.zi = None              # the state as scipy holds it (sections, 2, ...) or, between short chunks,
+        self.state = None           # as Python floats [section][0 or 1][channel]
 
     def __call__(self, x):
         x = np.asarray(x, dtype=float)
         if not len(x):
             return x.copy()
-        if self.zi is None:
+        if self.zi is None and self.state is None:
             self.zi = sps.sosfilt_zi(self.sos).reshape((self.sos.shape[0], 2) + (1,) * (x.ndim - 1)) * x[0]
         if len(x) > SHORT_CHUNK:
+            if self.zi is None:
+                self.zi = np.array(self.state).reshape((self.sos.shape[0], 2) + x.shape[1:])
+                self.state = None
             y, self.zi = sps.sosfilt(self.sos, x, axis=0, zi=self.zi)
             return y
         return self._short(x)
@@ -86,21 +92,20 @@ class SosFilter:
     def _short(self, x):
         """sosfilt's recursion (scipy/signal/_sosfilt.pyx) in Python floats, the same operations in the same
         order (so the same numbers), without its call's overhead, which dominates for a sample or two."""
-        flat = x.reshape(len(x), -1)
-        zi = self.zi.reshape(self.sos.shape[0], 2, -1)
-        state = zi.tolist()
-        sections = self.sos.tolist()
-        out = np.empty(flat.shape)
-        for n, row in enumerate(flat.tolist()):
+        if self.state is None:
+            self.state = self.zi.reshape(self.sos.shape[0], 2, -1).tolist()
+            self.zi = None
+        state = self.state
+        rows = x.reshape(len(x), -1).tolist()
+        for row in rows:
             for c, value in enumerate(row):
-                for z, (b0, b1, b2, _, a1, a2) in zip(state, sections):
+                for z, (b0, b1, b2, _, a1, a2) in zip(state, self.sections):
                     y = b0 * value + z[0][c]
                     z[0][c] = b1 * value - a1 * y + z[1][c]
                     z[1][c] = b2 * value - a2 * y
                     value = y
-                out[n, c] = value
-        self.zi = np.array(state).reshape(self.zi.shape)
-        return out.reshape(x.shape)
+                row[c] = value
+        return np.array(rows).reshape(x.shape)
 
 
 class CausalFilter(SosFilter):
@@ -134,6 +139,7 @@ class Odometer:
     def __init__(self):
         self.t, self.v, self.s = np.zeros(0), np.zeros(0), np.zeros(0)
         self.started = False
+        self.last_query = None          # (time, samples kept, position) of the last single stamp asked
 
     def add(self, time, speed):
         t, v = np.asarray(time, dtype=float), np.asarray(speed, dtype=float)
@@ -151,8 +157,12 @@ class Odometer:
     def position(self, at_time):
         at = np.asarray(at_time, dtype=float)
         if at.size == 1 and len(self.t):          # one stamp: the same operations without array calls
-            k = int(self.t.searchsorted(at.item(), "right")) - 1
-            value = float(self.s[k]) + float(self.v[k]) * (at.item() - float(self.t[k])) if k >= 0 else 0.0
+            x = at.item()
+            if self.last_query is not None and self.last_query[0] == x and self.last_query[1] == len(self.t):
+                return np.full(at.shape, self.last_query[2])     # the units of one instant ask alike
+            k = int(self.t.searchsorted(x, "right")) - 1
+            value = float(self.s[k]) + float(self.v[k]) * (x - float(self.t[k])) if k >= 0 else 0.0
+            self.last_query = (x, len(self.t), value)
             return np.full(at.shape, value)
         k = np.searchsorted(self.t, at, "right") - 1
         kk = np.maximum(k, 0)
@@ -169,6 +179,7 @@ class Odometer:
         """Drop the samples no time at or after `before` needs (all but the last at or before it)."""
         keep = max(int(np.searchsorted(self.t, before, "right")) - 1, 0)
         self.t, self.v, self.s = self.t[keep:], self.v[keep:], self.s[keep:]
+        self.last_query = None
 
 
 def odometer_distance(odometer_time, odometer_speed, at_time):

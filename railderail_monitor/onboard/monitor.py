@@ -117,6 +117,11 @@ class _Input:
         t = self.t
         return slice(int(t.searchsorted(done, "right")), int(t.searchsorted(bound, "left")))
 
+    def rows(self, cut):
+        """{signal: its values} of a slice of the kept samples."""
+        a, b = self.begin + cut.start, self.begin + cut.stop
+        return {name: values[a:b] for name, values in self._signals.items()}
+
     def forget(self, before):
         """Drop all but the last sample at or before `before` and those after it."""
         self.begin += max(int(self.t.searchsorted(before, "right")) - 1, 0)
@@ -135,8 +140,7 @@ class _Channel:
         if cut.start >= cut.stop:
             return
         t = source.t[cut]
-        v = self.processor(self.read({name: values[cut] for name, values in source.signals.items()}),
-                           odometer.position(t))
+        v = self.processor(self.read(source.rows(cut)), odometer.position(t))
         self.t = np.concatenate([self.t, t])
         self.v = v if self.v is None else np.concatenate([self.v, v])
         self.done = float(t[-1])
@@ -226,9 +230,16 @@ class _Estimator:
                 return []
             self.start = max(inputs[u].first for u in est.INPUTS)
             self.sources = [inputs[u] for u in me.ESTIMATOR_UNITS]
+            self.slowest = None
         start = self.start
         base = inputs[est.TIME_BASE]
-        bound = min(min(source.watermark for source in self.sources), odometer_watermark)
+        if not base.last > self.done:
+            return []
+        # the inputs' watermark only moves when the slowest one's does
+        if self.slowest is None or self.slowest.watermark != self.slowest_mark:
+            self.slowest = min(self.sources, key=lambda source: source.watermark)
+            self.slowest_mark = self.slowest.watermark
+        bound = min(self.slowest_mark, odometer_watermark)
         if not base.last > self.done or not bound > self.done:
             return []
         stamps = base.t[base.after(max(self.done, np.nextafter(start, -math.inf)), bound)]
@@ -292,8 +303,12 @@ class MeasuredMonitor:
         """The alerts decided by the samples added since the last call."""
         waiting = self.waiting
         unit = next(iter(waiting)) if waiting is not None and len(waiting) == 1 else None
-        found = self._advance(None if waiting is None else [c for c in self.all if c in self.consumers_of(waiting)],
-                              unit)
+        if waiting is None:
+            consumers = None
+        else:
+            chosen = self.consumers_of(waiting)
+            consumers = [c for c in self.all if c in chosen]
+        found = self._advance(consumers, unit)
         self.waiting = set()
         if self.feeds - self.pruned >= PRUNE_EVERY:
             self._forget()
