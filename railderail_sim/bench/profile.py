@@ -24,7 +24,8 @@ contact candidates its last full search left. Parts:
     aerodynamics_us                `loads.aerodynamics.aerodynamic_load` (returns at once in still air)
     step_us                        wall time per integration step of the window's run (accepted + rejected)
     integrator_us                  step_us less the five tracked and one full right-hand sides of a step:
-                                   the stage sums, the error norm, the output rows and the checks
+                                   the stage sums, the error norm, the output rows (each with one more
+                                   full right-hand side at its interpolated state) and the checks
 
 Steps: accepted and rejected per simulated second over the window; the floor that the largest step
 (`simulate.MAX_STEP`) sets (the steps run past the output instants: dense output); the
