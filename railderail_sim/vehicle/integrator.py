@@ -1,13 +1,20 @@
-"""Adaptive Dormand-Prince 5(4) stepper with outputs, derailment detection and divergence guard (numba).
+"""Adaptive Dormand-Prince 5(4) stepper with dense output, derailment detection and divergence guard (numba).
 
 Why this integrator: the stiffest motions are the bounce and roll of a wheelset on its elastic Hertzian
 contacts (about 200 Hz on the rigid track, damped by the contact's Hunt-Crossley term) and the flange
 impacts; the motions that matter (hunting, curving, climbing) are below 20 Hz. An explicit embedded
-Runge-Kutta pair with error control takes long steps (up to the stability limit, ~2 ms) in steady
+Runge-Kutta pair with error control takes long steps (up to the stability limit, ~1.8 ms) in steady
 running and short ones through impacts and contact changes, with the local error held below the
 tolerances per state (docs/vehicle-model.md shows the tolerance study). It needs no Jacobian, and the
-algorithm is deterministic: the same inputs give bit-identical outputs. Steps are shortened to land on
-every output instant, so the simulator node can advance the core by exactly one publication period.
+algorithm is deterministic: the same inputs give bit-identical outputs.
+
+The steps do not stop at the output instants: each output row is the state of Dormand-Prince's continuous
+extension (the 4th-order interpolant of the step's stage derivatives, `_DENSE`) at its instant, and the
+right-hand side is evaluated there once more (full contact search, buffers of its own) for the row's forces,
+contact records and accelerations and for the derailment check, which stays on the output instants. The
+step sequence therefore depends neither on the output rate nor on how a run is cut into calls: the
+stepper's own time and the last step's interpolant live in the Workspace between calls, and the state x
+is the stepper's (at or up to one step past the last output instant).
 
 `advance` is the one stepper: the batch API runs it to the end of the line, the ROS node calls it once
 per publication period with the same buffers.
@@ -63,6 +70,22 @@ class Stepper(Record):
     step = "s", "the step size to try next"
     accepted = "-", "steps accepted"
     rejected = "-", "steps rejected"
+    time = "s", "the stepper's own time, where the state x is (at or past the last output instant)"
+    last_step = "s", "the last accepted step, the one `Workspace.dense` interpolates (0: none yet)"
+
+
+class Dense(Record):
+    """The rows of `Workspace.dense` (each N_STATE long): the last accepted step's continuous extension,
+    x(t_old + theta h) = y0 + theta (dy + (1 - theta) (c3 + theta (c4 + (1 - theta) c5))) (Hairer, Norsett
+    and Wanner, Solving Ordinary Differential Equations I, 2nd ed., II.6, the DOPRI5 code's CONTD5),
+    and the state and rates at an output instant."""
+    y0 = "-", "the state at the step's start"
+    dy = "-", "the step's change of the state"
+    c3 = "-", "h k1 - dy"
+    c4 = "-", "dy - h k7 - c3"
+    c5 = "-", "h (d1 k1 + d3 k3 + ... + d7 k7)"
+    state = "-", "the interpolated state at the output instant"
+    rate = "-", "its rate, from the right-hand side at that state"
 
 
 EV_SIZE = Event.size()
@@ -80,8 +103,11 @@ LIMIT_SPIN = 1000.0            # rad/s, a wheelset's spin (about 240 rad/s at 40
 
 # the stepper's buffers: the right-hand side's (dynamics.RhsBuffers), the seven stage derivatives, the
 # trial state, the contact candidates saved before a step (restored when it is rejected), the Event, the
-# Stepper record and, per wheel, its LastContact
-Workspace = namedtuple("Workspace", "rhs stages trial cand_save event stepper last_contact")
+# Stepper record and, per wheel, its LastContact; for the output instants: the last step's continuous
+# extension (Dense), the right-hand side's own buffers (the stepper's contact candidates stay untouched)
+# and each wheel's LastContact as of the instant
+Workspace = namedtuple("Workspace", "rhs stages trial cand_save event stepper last_contact dense out_rhs "
+                                    "out_contact")
 # error control and the stopping rules
 StepControl = namedtuple("StepControl", "atol rtol h_min h_max s_end stop_on_derailment")
 
@@ -90,11 +116,15 @@ def workspace(cg):
     """Preallocated buffers of `advance` (reused between calls)."""
     stepper = np.zeros(Stepper.size())
     stepper[Stepper.step] = 1e-4
-    buffers = dyn.RhsBuffers(kin=np.zeros((N_BODY, dyn.K_COLS)), contact=ws.contact_scratch(cg),
+    scratch = ws.contact_scratch(cg)
+    buffers = dyn.RhsBuffers(kin=np.zeros((N_BODY, dyn.K_COLS)), contact=scratch,
                              cands=ws.candidates(N_WHEEL), recs=np.zeros((N_WHEEL, W_SIZE)))
+    out_buffers = dyn.RhsBuffers(kin=np.zeros((N_BODY, dyn.K_COLS)), contact=scratch,
+                                 cands=ws.candidates(N_WHEEL), recs=np.zeros((N_WHEEL, W_SIZE)))
     return Workspace(rhs=buffers, stages=np.zeros((7, N_STATE)), trial=np.zeros(N_STATE),
                      cand_save=ws.candidates(N_WHEEL), event=np.zeros(EV_SIZE), stepper=stepper,
-                     last_contact=np.zeros((N_WHEEL, LastContact.size())))
+                     last_contact=np.zeros((N_WHEEL, LastContact.size())), dense=np.zeros((Dense.size(), N_STATE)),
+                     out_rhs=out_buffers, out_contact=np.zeros((N_WHEEL, LastContact.size())))
 
 
 @core
@@ -313,29 +343,73 @@ _A = np.array([
     [35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0]])
 _E = np.array([71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0, 22.0 / 525.0,
                -1.0 / 40.0])
+# the continuous extension's last term (Dense.c5; Hairer, Norsett and Wanner, II.6; Shampine, Math. Comp. 46
+# (1986) 135-150): 4th order at every theta in the step
+_DENSE = np.array([-12715105075.0 / 11282082432.0, 0.0, 87487479700.0 / 32700410799.0,
+                   -10690763975.0 / 1880347072.0, 701980252875.0 / 199316789632.0,
+                   -1453857185.0 / 822651844.0, 69997945.0 / 29380423.0])
+
+
+@core
+def _output_row(row, t, theta, n, model, sp, work):
+    """The output row at time t, theta of the way through the last accepted step (Dense), and the
+    derailment check there: the state from the continuous extension, the right-hand side at it (full
+    contact search, `work.out_rhs`) for the row's forces and contact records, and each wheel's last contact
+    as of t (`work.out_contact`: the stepper's as of the step's start, followed through the step's output
+    instants up to t; nothing after t). Returns (True if derailed, the interpolated state's track
+    position)."""
+    dense = work.dense
+    xo, dxo = dense[Dense.state], dense[Dense.rate]
+    t1 = 1.0 - theta
+    for i in range(n):
+        xo[i] = dense[Dense.y0, i] + theta * (dense[Dense.dy, i] + t1 * (dense[Dense.c3, i] + theta * (
+            dense[Dense.c4, i] + t1 * dense[Dense.c5, i])))
+    return _row_at(row, t, xo, dxo, model, sp, work)
+
+
+@core
+def _row_at(row, t, xo, dxo, model, sp, work):
+    """The output row of state xo at time t and the derailment check there (`_output_row`)."""
+    buffers = work.out_rhs
+    v = dyn.rhs(xo, dxo, model, sp, buffers, False)
+    fill_row(row, t, xo, dxo, v, model, sp, buffers)
+    _follow_contact(buffers.recs, model.vp, work.out_contact)
+    return _check_derailment(xo, v, t, model, buffers.recs, work.out_contact, work.event), xo[State.s]
+
+
+@core
+def _copy_rows(source, target):
+    for k in range(source.shape[0]):
+        for q in range(source.shape[1]):
+            target[k, q] = source[k, q]
 
 
 @core
 def advance(x, t, duration, out_dt, first_row, model, sp, control, work, out):
-    """Advance x in place over `duration` s from time t (a multiple of out_dt) with Dormand-Prince 5(4).
+    """Advance the run over `duration` s from the output instant t (a multiple of out_dt) with
+    Dormand-Prince 5(4), writing a row per output instant.
 
     `model`: the dynamics.ModelArrays; sp: the speed table; `control`: the StepControl; `work`: the
-    Workspace. Adaptive steps under the error control (atol per state, rtol) land exactly on every
-    output instant; a row is written after every output interval, and at the start if `first_row` (the
-    state and wheel records of that instant). The last stage of each step (FSAL) searches the wheel-rail
-    contact in full at the new state; the inner stages follow the contacts found there
-    (`geometry.track_patches`). work.stepper keeps the step size between calls and counts the accepted
-    and rejected steps. Stops early at END_OF_LINE, DERAILED (if control.stop_on_derailment) or DIVERGED
-    (state out of bounds, not finite, or step below h_min); work.event says when, where, what.
-    Returns (status, rows_written, t).
+    Workspace. x is the stepper's state at its own time (work.stepper's `time`, at or up to one step past
+    t; at the start both are t). Adaptive steps under the error control (atol per state, rtol) run past the
+    output instants; a row is written at every output instant after t (from the continuous extension,
+    `_output_row`), and at t if `first_row` (x itself). The last stage of each step (FSAL) searches the
+    wheel-rail contact in full at the new state; the inner stages follow the contacts found there
+    (`geometry.track_patches`). work.stepper keeps the step size, the time and the last step between
+    calls and counts the accepted and rejected steps. Stops early at END_OF_LINE or DERAILED (if
+    control.stop_on_derailment; both judged at the output instants) or DIVERGED (a step's state out of
+    bounds, not finite, or the step below h_min); work.event says when, where, what.
+    Returns (status, rows_written, t): t the last output instant written.
     """
     atol, rtol, h_min, h_max = control.atol, control.rtol, control.h_min, control.h_max
     ks, xt, cand_save, event, stepper = work.stages, work.trial, work.cand_save, work.event, work.stepper
+    dense = work.dense
     buffers = work.rhs
     cands, recs = buffers.cands, buffers.recs
     # the RMS error counts the states that move: a frozen state (the rigid track's rails) has atol = inf.
-    # The stages, the error and the update run over the states up to the last that moves (n): the frozen
-    # ones after it keep their values (rigid track: the 48 rail states, 38 % of the state vector)
+    # The stages, the error, the update and the interpolation run over the states up to the last that
+    # moves (n): the frozen ones after it keep their values (rigid track: the 48 rail states, 38 % of the
+    # state vector)
     counted = 0
     n = 0
     for i in range(x.shape[0]):
@@ -344,82 +418,101 @@ def advance(x, t, duration, out_dt, first_row, model, sp, control, work, out):
             n = i + 1
     for i in range(n, x.shape[0]):
         xt[i] = x[i]
+        dense[Dense.state, i] = x[i]
     rows = 0
-    nout = out.shape[0]
     k0 = ks[0]
-    v = dyn.rhs(x, k0, model, sp, buffers, False)
-    n_intervals = int(round(duration / out_dt))
+    dyn.rhs(x, k0, model, sp, buffers, False)
+    # as many output intervals as `out` holds rows for
+    n_intervals = min(int(round(duration / out_dt)), out.shape[0] - (1 if first_row else 0))
     h_prop = stepper[Stepper.step]
+    t_step = stepper[Stepper.time]
     for interval in range(n_intervals + 1):
-        if (interval > 0 or first_row) and rows < nout:
-            fill_row(out[rows], t, x, k0, v, model, sp, buffers)
-            rows += 1
-        if control.stop_on_derailment and _check_derailment(x, v, t, model, recs, work.last_contact, event):
-            stepper[Stepper.step] = h_prop
-            return DERAILED, rows, t
-        if x[State.s] >= control.s_end:
-            stepper[Stepper.step] = h_prop
-            return END_OF_LINE, rows, t
-        if interval == n_intervals:
-            break
-        t_target = t + out_dt
-        while t < t_target - 1e-12:
-            clipped = t + h_prop >= t_target - 1e-12
-            h = t_target - t if clipped else h_prop
-            for i in range(cands.shape[0]):
-                for j in range(cands.shape[1]):
-                    cand_save[i, j] = cands[i, j]
-            for st in range(1, 7):
-                # the stage sum of each state in the order j = 0.. (as one sum per state), row by row so
-                # that the loops run along contiguous rows
-                for i in range(n):
-                    xt[i] = 0.0
-                for j in range(st):
-                    a = _A[st, j]
-                    kj = ks[j]
-                    for i in range(n):
-                        xt[i] += a * kj[i]
-                for i in range(n):
-                    xt[i] = x[i] + h * xt[i]
-                full = st == 6
-                vt = dyn.rhs(xt, ks[st], model, sp, buffers, not full)
-            # xt holds the 5th-order solution (stage 7 is evaluated there: FSAL)
-            err = 0.0
-            for i in range(n):
-                e = 0.0
-                for j in range(7):
-                    e += _E[j] * ks[j, i]
-                sc = atol[i] + rtol * max(abs(x[i]), abs(xt[i]))
-                r = h * e / sc
-                err += r * r
-            err = math.sqrt(err / counted)
-            if err <= 1.0 and math.isfinite(err):
-                stepper[Stepper.accepted] += 1.0
-                for i in range(n):
-                    x[i] = xt[i]
-                    k0[i] = ks[6, i]
-                t = t_target if clipped else t + h
-                v = vt
-                _follow_contact(recs, model.vp, work.last_contact)
-                if _check_divergence(x, t, event):
-                    stepper[Stepper.step] = h_prop
-                    return DIVERGED, rows, t
-                fac = 5.0 if err < 1e-10 else min(5.0, 0.9 * err ** -0.2)
-                # a step shortened to land on the output instant says nothing against the longer one
-                h_prop = min(h_max, max(h * fac, h_prop) if clipped else h * fac)
-            else:
-                stepper[Stepper.rejected] += 1.0
+        if interval == 0:
+            if not first_row:
+                continue
+            # the start: the row of x itself (the stepper is there)
+            _copy_rows(work.last_contact, work.out_contact)
+            derailed, s_out = _row_at(out[0], t, x, dense[Dense.rate], model, sp, work)
+        else:
+            t_out = t + out_dt
+            while t_step < t_out - 1e-12:
+                h = h_prop
                 for i in range(cands.shape[0]):
                     for j in range(cands.shape[1]):
-                        cands[i, j] = cand_save[i, j]
-                fac = 0.2 if not math.isfinite(err) else max(0.2, 0.9 * err ** -0.2)
-                h_prop = h * fac
-                if h_prop < h_min:
-                    event[Event.time] = t
-                    event[Event.position] = x[State.s]
-                    event[Event.state_index] = -1
-                    event[Event.state_value] = h_prop
-                    stepper[Stepper.step] = h_prop
-                    return DIVERGED, rows, t
+                        cand_save[i, j] = cands[i, j]
+                for st in range(1, 7):
+                    # the stage sum of each state in the order j = 0.. (as one sum per state), row by row so
+                    # that the loops run along contiguous rows
+                    for i in range(n):
+                        xt[i] = 0.0
+                    for j in range(st):
+                        a = _A[st, j]
+                        kj = ks[j]
+                        for i in range(n):
+                            xt[i] += a * kj[i]
+                    for i in range(n):
+                        xt[i] = x[i] + h * xt[i]
+                    full = st == 6
+                    dyn.rhs(xt, ks[st], model, sp, buffers, not full)
+                # xt holds the 5th-order solution (stage 7 is evaluated there: FSAL)
+                err = 0.0
+                for i in range(n):
+                    e = 0.0
+                    for j in range(7):
+                        e += _E[j] * ks[j, i]
+                    sc = atol[i] + rtol * max(abs(x[i]), abs(xt[i]))
+                    r = h * e / sc
+                    err += r * r
+                err = math.sqrt(err / counted)
+                if err <= 1.0 and math.isfinite(err):
+                    stepper[Stepper.accepted] += 1.0
+                    for i in range(n):
+                        dy = xt[i] - x[i]
+                        c3 = h * ks[0, i] - dy
+                        dense[Dense.y0, i] = x[i]
+                        dense[Dense.dy, i] = dy
+                        dense[Dense.c3, i] = c3
+                        dense[Dense.c4, i] = dy - h * ks[6, i] - c3
+                        c5 = 0.0
+                        for j in range(7):
+                            c5 += _DENSE[j] * ks[j, i]
+                        dense[Dense.c5, i] = h * c5
+                        x[i] = xt[i]
+                        k0[i] = ks[6, i]
+                    t_step += h
+                    stepper[Stepper.time] = t_step
+                    stepper[Stepper.last_step] = h
+                    _copy_rows(work.last_contact, work.out_contact)
+                    _follow_contact(recs, model.vp, work.last_contact)
+                    if _check_divergence(x, t_step, event):
+                        stepper[Stepper.step] = h_prop
+                        return DIVERGED, rows, t
+                    fac = 5.0 if err < 1e-10 else min(5.0, 0.9 * err ** -0.2)
+                    h_prop = min(h_max, h * fac)
+                else:
+                    stepper[Stepper.rejected] += 1.0
+                    for i in range(cands.shape[0]):
+                        for j in range(cands.shape[1]):
+                            cands[i, j] = cand_save[i, j]
+                    fac = 0.2 if not math.isfinite(err) else max(0.2, 0.9 * err ** -0.2)
+                    h_prop = h * fac
+                    if h_prop < h_min:
+                        event[Event.time] = t_step
+                        event[Event.position] = x[State.s]
+                        event[Event.state_index] = -1
+                        event[Event.state_value] = h_prop
+                        stepper[Stepper.step] = h_prop
+                        return DIVERGED, rows, t
+            h_last = stepper[Stepper.last_step]
+            theta = 1.0 - (t_step - t_out) / h_last
+            t = t_out
+            derailed, s_out = _output_row(out[rows], t, theta, n, model, sp, work)
+        rows += 1
+        if control.stop_on_derailment and derailed:
+            stepper[Stepper.step] = h_prop
+            return DERAILED, rows, t
+        if s_out >= control.s_end:
+            stepper[Stepper.step] = h_prop
+            return END_OF_LINE, rows, t
     stepper[Stepper.step] = h_prop
     return RUNNING, rows, t

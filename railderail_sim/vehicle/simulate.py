@@ -191,7 +191,9 @@ def on_the_elastic_track(x, model):
 
 
 class Simulation:
-    """The stepper over the numba core; holds the state and all preallocated buffers."""
+    """The stepper over the numba core; holds the state and all preallocated buffers. `t` is the last
+    output instant; `x` the stepper's state at its own time (`Stepper.time`: at t or up to one step past
+    it, the output rows being interpolated)."""
 
     def __init__(self, sc: Scenario, model=None):
         self.scenario = sc.validated()
