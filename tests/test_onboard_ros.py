@@ -37,8 +37,8 @@ def _offline_alerts():
     decoder = m.SensorDecoder(sensors)
     vp = vehicle_parameters("hs19")
     monitor = MeasuredMonitor(vp, me.measured_limits(vp, **MEASURED_LEVELS), me.sample_rates(sensors))
-    # the node publishes a message once the simulated time reaches its stamp: those stamped after the last row never
-    found, messages = [], [item for item in convert.messages(samples) if item[0] <= arrays["time"][-1] + 1e-9]
+    # the node publishes a message once the simulated time reaches its stamp, and at the end of the run the rest
+    found, messages = [], convert.messages(samples)
     for _, topic, msg in messages:
         for unit, t, signals in decoder.decode(topic, deserialize_message(serialize_message(msg), type(msg))):
             found += monitor.feed(unit, t, **signals)
