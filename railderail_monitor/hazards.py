@@ -37,6 +37,7 @@ from railderail_sim.parameters import ContactParameters
 from railderail_sim.vehicle.layout import RUNNING_GEARS
 
 from .criteria import sliding_mean, unloading_ratio
+from .onboard.criteria import sample_rate
 
 FOOT = 0.3048                        # m
 NORMAL, NEAR_MISS, DERAILMENT = 0, 1, 2
@@ -173,7 +174,7 @@ def filtered_forces(arrays, rules):
     vertical, lateral = (np.asarray(arrays[k], dtype=float) for k in ("vertical_force", "lateral_force"))
     if not rules.low_pass_forces or len(t) < 2:
         return vertical, lateral
-    rate = 1.0 / float(np.median(np.diff(t)))
+    rate = sample_rate(t)
     return tuple(settled(force_low_pass(), x, rate) for x in (vertical, lateral))
 
 
@@ -189,21 +190,15 @@ def stability_band(arrays, lateral):
     """Each wheelset's sum Y (n, 4), N, band-passed f0 +- 2 Hz (`assessment.filters.stability_band_pass`)
     about the run's instability frequency f0: the Welch peak of the four sums in EN 14363's search band
     (`en14363.INSTABILITY_BAND_HZ`); zeros for a record too short to have a spectrum."""
-    from scipy import signal
-
-    from railderail_sim.assessment.en14363 import INSTABILITY_BAND_HZ
+    from railderail_sim.assessment.en14363 import spectral_peak
     from railderail_sim.assessment.filters import stability_band_pass
-    t = np.asarray(arrays["time"], dtype=float)
-    sum_y = np.asarray(lateral, dtype=float)[:, 0::2] - np.asarray(lateral, dtype=float)[:, 1::2]
-    if len(t) < 2:
+    lateral = np.asarray(lateral, dtype=float)
+    sum_y = lateral[:, 0::2] - lateral[:, 1::2]
+    if len(sum_y) < 2:
         return np.zeros_like(sum_y)
-    rate = 1.0 / float(np.median(np.diff(t)))
-    f, p = signal.welch(sum_y - sum_y.mean(axis=0), fs=rate, nperseg=min(len(t), int(round(4.0 * rate))), axis=0)
-    band = (f >= INSTABILITY_BAND_HZ[0]) & (f <= INSTABILITY_BAND_HZ[1])
-    if not band.any():
-        return np.zeros_like(sum_y)
-    f0 = float(f[band][np.argmax(p[band].sum(axis=1))])
-    return settled(stability_band_pass(f0), sum_y, rate)
+    rate = sample_rate(arrays["time"])
+    f0 = spectral_peak(sum_y, rate)
+    return np.zeros_like(sum_y) if f0 is None else settled(stability_band_pass(f0), sum_y, rate)
 
 
 def margins(arrays, car, rules):

@@ -301,11 +301,11 @@ def bogie_limits(bogie_mass):
 def hunting_frequency(time, frame_lateral):
     """f0 (Hz): the peak of the Welch spectrum of the frame's lateral acceleration in EN 14363's search
     band (en14363.INSTABILITY_BAND_HZ), for a record whose instability frequency is not known beforehand."""
-    rate = sample_rate(time)
-    x = np.asarray(frame_lateral, dtype=float)
-    f, p = sps.welch(x - x.mean(), fs=rate, nperseg=min(len(x), int(round(4.0 * rate))))
-    band = (f >= en14363.INSTABILITY_BAND_HZ[0]) & (f <= en14363.INSTABILITY_BAND_HZ[1])
-    return float(f[band][np.argmax(p[band])])
+    f0 = en14363.spectral_peak(frame_lateral, sample_rate(time))
+    if f0 is None:
+        raise ValueError(f"a record of {len(time)} samples is too short for a spectrum in "
+                         f"{en14363.INSTABILITY_BAND_HZ[0]:g}-{en14363.INSTABILITY_BAND_HZ[1]:g} Hz")
+    return f0
 
 
 def bogie_rms(time, frame_lateral, position, bogie_mass, f0_hz, rate_hz=None, window_m=en14363.RMS_WINDOW_M,

@@ -176,17 +176,27 @@ def extreme(values):
     return np.where(np.abs(hi) >= np.abs(lo), hi, lo)
 
 
+def spectral_peak(x, rate):
+    """The frequency (Hz) of the peak in INSTABILITY_BAND_HZ of the Welch spectrum (4 s segments) of the
+    record x (n,) or (n, channels), the channels' spectra summed; None when no frequency of the spectrum
+    lies in the band (a record too short)."""
+    x = np.asarray(x, dtype=float)
+    nper = min(len(x), int(round(4.0 * rate)))
+    f, p = sps.welch(x - x.mean(axis=0), fs=rate, nperseg=nper, axis=0)
+    band = (f >= INSTABILITY_BAND_HZ[0]) & (f <= INSTABILITY_BAND_HZ[1])
+    if not band.any():
+        return None
+    power = p[band] if p.ndim == 1 else p[band].sum(axis=1)
+    return float(f[band][np.argmax(power)])
+
+
 def instability_frequency(sig):
     """f0 (Hz): the peak of the Welch spectrum in INSTABILITY_BAND_HZ of the bogie frames' lateral
     accelerations (summed over the four places), or of the wheelsets' sum Y without them."""
     x = sig.bogie_frame if sig.bogie_frame is not None else \
         sig.lateral_force[:, 0::2] + sig.lateral_force[:, 1::2]
-    nper = min(len(x), int(round(4.0 * sig.rate)))
-    f, p = sps.welch(x - x.mean(axis=0), fs=sig.rate, nperseg=nper, axis=0)
-    band = (f >= INSTABILITY_BAND_HZ[0]) & (f <= INSTABILITY_BAND_HZ[1])
-    if not band.any():
-        return 0.5 * sum(INSTABILITY_BAND_HZ)
-    return float(f[band][np.argmax(p[band].sum(axis=1))])
+    f0 = spectral_peak(x, sig.rate)
+    return 0.5 * sum(INSTABILITY_BAND_HZ) if f0 is None else f0
 
 
 @dataclass(frozen=True)
