@@ -235,9 +235,10 @@ def entry(item, where, folder):
                              f"{permitted * 1e3:.0f} mm; at {e.speed_kmh:g} km/h it is "
                              f"{e.cant_deficiency_m() * 1e3:.0f} mm (give it another family, or a lower speed)")
         from railderail_sim.track.irregularity import permitted_speed_kmh
-        if e.speed_kmh > permitted_speed_kmh(e.irregularity) + 1e-9:
+        top = permitted_speed_kmh(e.irregularity)
+        if e.speed_kmh > top + 1e-9:
             raise ValueError(f"{where}: an ordinary run on {e.irregularity} track must be within its class's "
-                             f"permitted {permitted_speed_kmh(e.irregularity):.0f} km/h (49 CFR 213.9 / 213.307); "
+                             f"permitted {top:.0f} km/h (49 CFR 213.9 / 213.307); "
                              f"{e.speed_kmh:g} km/h given (give it another family, a lower speed or better track)")
     return e
 

@@ -180,11 +180,9 @@ def erri_psd(component, omega, level):
 
 
 def permitted_speed_kmh(spectrum):
-    """The highest speed (km/h) a passenger train may run on the track a spectrum (a name of SPECTRA)
-    describes, where its source gives one (the FRA classes: FRA["passenger_speed"]); inf for the others."""
-    if spectrum.startswith("fra-") and spectrum[4:].isdigit() and int(spectrum[4:]) in FRA_CLASSES:
-        return FRA["passenger_speed"].value[FRA_CLASSES.index(int(spectrum[4:]))] * MPH_KMH
-    return math.inf
+    """The highest speed (km/h) a passenger train may run on the track a spectrum (a name of SPECTRA, or
+    any other source: inf) describes (`Spectrum.permitted_speed_kmh`)."""
+    return SPECTRA[spectrum].permitted_speed_kmh if spectrum in SPECTRA else math.inf
 
 
 def fra_psd(component, omega, track_class):
@@ -221,12 +219,15 @@ def tbt3352_psd(component, omega):
 class Spectrum:
     """A named spectrum: `psd(component, omega)` in m^2/(rad/m) with the cross-level as the height
     difference c; `band_m` its default band (shortest, longest wavelength in m); `validity_m` the
-    wavelengths outside which it is undefined (None: the formula holds for every wavelength)."""
+    wavelengths outside which it is undefined (None: the formula holds for every wavelength);
+    `permitted_speed_kmh` the highest passenger speed on the track it describes, where its source gives one
+    (the FRA classes: FRA["passenger_speed"]), else inf."""
     name: str
     title: str
     band_m: tuple
     validity_m: tuple | None
     psd: Callable
+    permitted_speed_kmh: float = math.inf
 
 
 def _erri_rail_psd(component, omega, level):
@@ -238,7 +239,8 @@ def _spectra():
     table = {f"erri-{level}": Spectrum(f"erri-{level}", f"ERRI B176, {level} level", ERRI["band"].value, None,
                                        partial(_erri_rail_psd, level=level)) for level in ERRI_LEVELS}
     table.update({f"fra-{c}": Spectrum(f"fra-{c}", f"FRA track class {c}", FRA["band"].value, None,
-                                       partial(fra_psd, track_class=c)) for c in FRA_CLASSES})
+                                       partial(fra_psd, track_class=c), mph * MPH_KMH)
+                  for c, mph in zip(FRA_CLASSES, FRA["passenger_speed"].value)})
     lo, hi = TBT3352["frequencies"].value
     table["china-hsr"] = Spectrum("china-hsr", "TB/T 3352-2014, ballastless high-speed track", (1 / hi, 1 / lo),
                                   (1 / hi, 1 / lo), tbt3352_psd)
