@@ -76,6 +76,7 @@ def _measured_figures():
     from rclpy.signals import SignalHandlerOptions
 
     from railderail_sim import ros_interface as m
+    from railderail_sim import sensor_messages as sm
     from railderail_sim.sensors.config import load as load_sensors
 
     env = _isolated_env()
@@ -98,7 +99,7 @@ def _measured_figures():
         last_of_stamp[sec * 1_000_000_000 + nanosec] = clock()
         count[0] += 1
 
-    for topic, (_, cls, _, qos) in m.sensor_topics(load_sensors()).items():
+    for topic, (_, cls, _, qos) in sm.sensor_topics(load_sensors()).items():
         node.create_subscription(cls, topic, on_sensor, qos, raw=True)
     node.create_subscription(m.Alert, m.ONBOARD_ALERTS, lambda msg: alerts.append(
         (clock(), msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec)), m.ALERT_QOS)

@@ -13,7 +13,7 @@ samples it processed and how many the sample counters say it missed.
 
 Measured (`signals:=measured`): subscribes to the topics of its sensor set (parameter `sensors`: the shipped
 railderail_sim/config/sensors.yaml or a sensor file: which units, at which rates; /railderail/sensors/*,
-ros_interface.sensor_topics) and to nothing else, decodes them (ros_interface.SensorDecoder) into
+sensor_messages.sensor_topics) and to nothing else, decodes them (sensor_messages.SensorDecoder) into
 `onboard.monitor.MeasuredMonitor` and publishes its alerts on /railderail/onboard_alerts (a topic of their
 own: what reads /railderail/alerts takes them for the ground truth's), each with header.frame_id the place
 of the channel that raised it (the mount, air_springs, or the running-gear side), wheelset its bogie's
@@ -29,6 +29,7 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 from railderail_sim import ros_interface as m
+from railderail_sim import sensor_messages as sm
 from railderail_sim.parameters import VEHICLE_SETS
 from railderail_sim.vehicle.layout import RUNNING_GEARS
 
@@ -124,9 +125,9 @@ class MonitorNode(Node):
             check=lambda values: me.MeasuredLimits(**values).validated(), apply=self.on_measured_limits)
         self.make_monitor = lambda: MeasuredMonitor(self.vehicle, me.MeasuredLimits(**self.limit_values), self.rates)
         self.monitor = self.make_monitor()
-        self.decoder = m.SensorDecoder(self.sensors)
+        self.decoder = sm.SensorDecoder(self.sensors)
         self.publisher = self.create_publisher(m.Alert, m.ONBOARD_ALERTS, m.ALERT_QOS)
-        topics = m.sensor_topics(self.sensors)
+        topics = sm.sensor_topics(self.sensors)
         for topic in self.decoder.topics():
             self.create_subscription(topics[topic][1], topic, lambda msg, topic=topic: self.on_sensor(topic, msg),
                                      SENSOR_BACKLOG)

@@ -43,6 +43,7 @@ from rclpy.utilities import remove_ros_args
 from rosidl_adapter.parser import parse_message_string
 
 from railderail_sim import ros_interface as m
+from railderail_sim import sensor_messages as sm
 from railderail_sim.sensors.config import load as load_sensors
 
 from .bag import bag_file, write_bag_metadata
@@ -288,9 +289,9 @@ def record_run(path, result, limits=None, metadata=None, sensor_log=None):
         sensor_messages = []
         if sensor_log is not None:
             sc = result.scenario
-            sensor_messages = m.SensorConverter(sensor_log.sensors, sc.output_rate, sc.vehicle.rolling_radius
-                                                ).arrays_messages(sensor_log.arrays())
-            for topic, (type_name, _, offered, _) in m.sensor_topics(sensor_log.sensors).items():
+            sensor_messages = sm.SensorConverter(sensor_log.sensors, sc.output_rate, sc.vehicle.rolling_radius
+                                                 ).arrays_messages(sensor_log.arrays())
+            for topic, (type_name, _, offered, _) in sm.sensor_topics(sensor_log.sensors).items():
                 rec.add_topic(topic, type_name, offered)
         sent = 0
         n = len(result.time)
@@ -334,7 +335,7 @@ class RecorderNode(Node):
         self.recording = McapRecording(path, metadata=metadata, flush_period_s=flush_period_s)
         self.subscriptions_by_topic = {}
         # the shipped sensor set's topics from the start too (another set's are discovered within a second)
-        shipped_sensors = m.sensor_topics(load_sensors())
+        shipped_sensors = sm.sensor_topics(load_sensors())
         for topic, (type_name, _, pub_qos, sub_qos) in {**m.TOPICS, **shipped_sensors,
                                                         m.CLOCK: m.CLOCK_TOPIC}.items():
             self.subscribe(topic, type_name, sub_qos, pub_qos)

@@ -34,6 +34,7 @@ from rclpy.serialization import deserialize_message
 from rosidl_adapter.parser import InvalidSpecification, InvalidValue
 
 from railderail_sim import jsonout, ros_interface as m
+from railderail_sim import sensor_messages as sm
 from railderail_sim.parameters import VEHICLE_SETS
 from railderail_sim.ranges import check_range
 from railderail_sim.ros_interface import ALERTS, DERAILMENT, FINAL_STATUS, FORCES, REAL_TIME_FACTOR_RANGE, STATES, STATUS
@@ -232,7 +233,7 @@ def review(recording, limits=None, on_message=None, on_alert=None):
 
 def review_measured(recording, vehicle_set="hs19", sensors=None, limits=None, on_alert=None):
     """(alerts found, alerts recorded) of the on-board criteria over a recording's sensor messages in
-    log-time order: decoded (ros_interface.SensorDecoder) into a MeasuredMonitor as the measured-mode
+    log-time order: decoded (sensor_messages.SensorDecoder) into a MeasuredMonitor as the measured-mode
     monitor node does, without its last undecided stamps (the node, fed live, never ends its streams);
     the recorded ones are those of /railderail/onboard_alerts, as dicts. `sensors`: the sensor set
     (sensors.config.SensorSet, default the shipped one); `limits`: MeasuredLimits (default the car's)."""
@@ -245,7 +246,7 @@ def review_measured(recording, vehicle_set="hs19", sensors=None, limits=None, on
     sensors = sensors or default_set()
     vehicle = vehicle_parameters(vehicle_set)
     monitor = MeasuredMonitor(vehicle, limits or me.measured_limits(vehicle), me.sample_rates(sensors))
-    decoder = m.SensorDecoder(sensors)
+    decoder = sm.SensorDecoder(sensors)
     topics = set(decoder.topics())
     found, recorded = [], []
     for topic, _, _, _, msg in recording.messages:

@@ -47,6 +47,7 @@ import rerun.blueprint as rrb
 from rclpy.node import Node
 
 from railderail_sim import ros_interface as m
+from railderail_sim import sensor_messages as sm
 from railderail_sim.assessment import en14363
 from railderail_sim.parameters import TrackParameters, VehicleParameters
 from railderail_sim.ros_interface import seconds
@@ -140,7 +141,7 @@ class RunViewer:
         self.limits = limits or default_limits()
         # the sensors' tab: the vehicle and air springs of the estimator and the rules' levels
         self.vehicle, self.effective_area, self.estimate_period = vehicle or _CAR, effective_area, estimate_period
-        self.sensors = m.SensorRecord(air_spring_height)
+        self.sensors = sm.SensorRecord(air_spring_height)
         self.sensor_levels = sensor_levels(self.vehicle)
         self.sensor_series = set()       # entities whose series styles have been logged
         self.wheel_loads = ([], [], [])  # time, vertical and lateral forces of the ground truth's unloading
@@ -380,7 +381,7 @@ class RunViewer:
 
     # --- sensors ----------------------------------------------------------------------------
     def on_sensor(self, topic, msg):
-        """A message of a sensor topic (/railderail/sensors/..., ros_interface.sensor_topics): an IMU's
+        """A message of a sensor topic (/railderail/sensors/..., sensor_messages.sensor_topics): an IMU's
         acceleration and roll rate into its group's plots; every one kept for the estimator. The first
         one adds the sensors' tab to the blueprint."""
         first = not self.sensors.messages
@@ -574,7 +575,7 @@ class ViewerNode(Node):
         for topic, (_, cls, _, qos) in m.TOPICS.items():
             self.create_subscription(cls, topic, handlers[topic], qos)
         # every mount's, the air springs' and the odometer's topics: those of a smaller set never publish
-        for topic, (_, cls, _, qos) in m.sensor_topics(default_set()).items():
+        for topic, (_, cls, _, qos) in sm.sensor_topics(default_set()).items():
             self.create_subscription(cls, topic, lambda msg, topic=topic: viewer.on_sensor(topic, msg), qos)
         self.get_logger().info("showing /railderail in Rerun" + (f" (saving {saving})" if saving else ""))
 

@@ -24,6 +24,7 @@ from rclpy.node import Node
 from rclpy.task import Future
 
 from railderail_sim import ros_interface as m
+from railderail_sim import sensor_messages as sm
 from railderail_sim.loads.wind import DIRECTION_RANGE_DEG, GUSTS, WIND_SPEED_RANGE, Wind
 from railderail_sim.parameters import CANT_RANGE_MM, FRICTION_RANGE, TRACK_MODELS
 from railderail_sim.ros_interface import REAL_TIME_FACTOR_RANGE, ParameterSpec as P
@@ -141,10 +142,10 @@ class SimulatorNode(Node):
         if self.sensors is not None:
             from railderail_sim.sensors.measure import SensorStream
             self.sensor_stream = SensorStream(self.sensors, self.scenario, self.sim.model, self.sim.speed_table)
-            self.sensor_messages = m.SensorConverter(self.sensors, self.p["publish_rate"],
-                                                     self.scenario.vehicle.rolling_radius)
+            self.sensor_messages = sm.SensorConverter(self.sensors, self.p["publish_rate"],
+                                                      self.scenario.vehicle.rolling_radius)
             self.pubs.update({topic: self.create_publisher(cls, topic, qos)
-                              for topic, (_, cls, qos, _) in m.sensor_topics(self.sensors).items()})
+                              for topic, (_, cls, qos, _) in sm.sensor_topics(self.sensors).items()})
             self.sensor_queue = []      # (stamp, topic, message) not yet due: a sample's latency after its instant
         self.clock_pub = None
         self.sample = 0

@@ -15,6 +15,7 @@ from railderail_monitor.bag import bag_file
 from railderail_sim.sensors.config import load as load_sensors
 from railderail_monitor.recording import msg_file
 from railderail_sim import ros_interface as m
+from railderail_sim import sensor_messages as sm
 from test_recording import PUBLISHER, flushed
 from test_replay import error_line
 
@@ -52,7 +53,7 @@ def test_recorder_writes_a_rosbag2_bag_that_rosbags_reads(spawn, read_until, tmp
     assert info["relative_file_paths"] == ["run1_0.mcap"] and set(info["files"][0]) == FILE_KEYS
     assert info["custom_data"]["case"] == "bag" and info["ros_distro"] == "jazzy"
     topics = {t["topic_metadata"]["name"]: t for t in info["topics_with_message_count"]}
-    assert set(topics) == {*m.TOPICS, *m.sensor_topics(load_sensors()), m.CLOCK}   # the shipped sensors' too
+    assert set(topics) == {*m.TOPICS, *sm.sensor_topics(load_sensors()), m.CLOCK}   # the shipped sensors' too
     for topic in topics.values():
         assert set(topic["topic_metadata"]) == TOPIC_KEYS and topic["topic_metadata"]["serialization_format"] == "cdr"
         (qos,) = topic["topic_metadata"]["offered_qos_profiles"]

@@ -13,6 +13,7 @@ from railderail_monitor.criteria import default_limits
 from railderail_monitor.recording import msg_file
 from railderail_monitor.viewer import SENSOR_GROUPS, WHEELSET_COLORS, sensor_group, sensor_levels
 from railderail_sim import ros_interface as m
+from railderail_sim import sensor_messages as sm
 from railderail_sim.parameters import VehicleParameters
 from railderail_sim.sensors.config import MOUNTS, default_set
 
@@ -21,7 +22,7 @@ LAYOUT = json.loads((ROOT / "foxglove" / "railderail-layout.json").read_text())
 NUMERIC = {"bool", "byte", "char", "int8", "uint8", "int16", "uint16", "int32", "uint32", "int64", "uint64",
            "float32", "float64"}
 STEP = re.compile(r"^(\w+)(?:\[(\d+)\])?$")
-TOPICS = {**m.TOPICS, **m.sensor_topics(default_set()), m.CLOCK: m.CLOCK_TOPIC}
+TOPICS = {**m.TOPICS, **sm.sensor_topics(default_set()), m.CLOCK: m.CLOCK_TOPIC}
 
 
 def definition(package, name):

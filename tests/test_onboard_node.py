@@ -1,6 +1,6 @@
 """The monitor node in measured mode (`signals:=measured`): it subscribes to the sensor topics and nothing
 else (rclpy's graph API), and the alerts it publishes are MeasuredMonitor's on the same messages; the
-sensor messages decode back to the samples they were made from (ros_interface.SensorDecoder)."""
+sensor messages decode back to the samples they were made from (sensor_messages.SensorDecoder)."""
 import numpy as np
 import pytest
 import rclpy
@@ -8,6 +8,7 @@ from rclpy.serialization import deserialize_message, serialize_message
 from rclpy.signals import SignalHandlerOptions
 
 from railderail_sim import ros_interface as m
+from railderail_sim import sensor_messages as sm
 from railderail_sim.parameters import vehicle_parameters
 from railderail_sim.sensors.config import load as load_sensors
 from railderail_monitor.onboard import measured as me
@@ -40,7 +41,7 @@ def _subscribed(node):
 def test_measured_mode_subscribes_to_the_sensor_topics_only(node_of):
     node = node_of("signals:=measured")
     subscribed = _subscribed(node)
-    assert subscribed == set(m.sensor_topics(load_sensors()))
+    assert subscribed == set(sm.sensor_topics(load_sensors()))
     assert not subscribed & GROUND_TRUTH_TOPICS
     published = {t for t, _ in node.get_publisher_names_and_types_by_node(node.get_name(), node.get_namespace())}
     assert m.ONBOARD_ALERTS in published and m.ALERTS not in published
@@ -53,14 +54,14 @@ def test_ground_truth_mode_subscribes_to_the_simulator_s_topics(node_of):
 def _messages(record):
     """(stamp, topic, message) of a record's samples as the simulator node publishes them, through CDR."""
     sensors = load_sensors()
-    convert = m.SensorConverter(sensors, 1000.0, vehicle_parameters("hs19").rolling_radius)
+    convert = sm.SensorConverter(sensors, 1000.0, vehicle_parameters("hs19").rolling_radius)
     return [(t, topic, deserialize_message(serialize_message(msg), type(msg)))
             for t, topic, msg in convert.messages(me.units_of(record))]
 
 
 def test_the_decoder_gives_back_the_samples():
     record = _record(1.0)
-    decoder = m.SensorDecoder(load_sensors())
+    decoder = sm.SensorDecoder(load_sensors())
     got = {}
     for _, topic, msg in _messages(record):
         for unit, t, signals in decoder.decode(topic, msg):
@@ -81,7 +82,7 @@ def test_the_node_publishes_the_monitor_s_alerts(node_of):
     node = node_of("signals:=measured", *[f"{k}:={v!r}" for k, v in LOW.items()])
     published = []
     node.publisher.publish = published.append
-    decoder = m.SensorDecoder(load_sensors())
+    decoder = sm.SensorDecoder(load_sensors())
     reference, found = MeasuredMonitor(vp, me.measured_limits(vp, **LOW)), []
     for _, topic, msg in _messages(_record()):
         node.on_sensor(topic, msg)

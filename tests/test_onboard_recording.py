@@ -7,6 +7,7 @@ import pytest
 from rclpy.serialization import serialize_message
 
 from railderail_sim import ros_interface as m
+from railderail_sim import sensor_messages as sm
 from railderail_sim.cli import main
 from railderail_sim.parameters import vehicle_parameters
 from railderail_sim.sensors.config import load as load_sensors
@@ -27,10 +28,10 @@ def live_recording(tmp_path_factory):
     path = tmp_path_factory.mktemp("live") / "demo.mcap"
     vp = vehicle_parameters("hs19")
     live = MeasuredMonitor(vp)
-    decoder = m.SensorDecoder(load_sensors())
+    decoder = sm.SensorDecoder(load_sensors())
     alerts = []
     with McapRecording(path) as rec:
-        for topic, (type_name, *_) in {**m.sensor_topics(load_sensors()), m.STATUS: m.TOPICS[m.STATUS],
+        for topic, (type_name, *_) in {**sm.sensor_topics(load_sensors()), m.STATUS: m.TOPICS[m.STATUS],
                                        m.ONBOARD_ALERTS: m.ONBOARD_ALERTS_TOPIC}.items():
             rec.add_topic(topic, type_name)
         status = m.VehicleStatus()
@@ -48,7 +49,7 @@ def test_the_sensor_topics_alone_replay_to_the_live_alerts(live_recording, tmp_p
     (full, live), sensors = live_recording, tmp_path / "sensors.mcap"
     assert {a.criterion for a in live} >= {"bids_peak_count_china", "bogie_rms"}
     done = recover(full, sensors, keep=sensors_only)
-    assert done.complete and done.channels == len(m.sensor_topics(load_sensors()))
+    assert done.complete and done.channels == len(sm.sensor_topics(load_sensors()))
     copy = read_recording(sensors)
     # every sensor topic the original holds messages on, and nothing else
     assert set(copy.topics()) == {t for t in read_recording(full).topics() if t.startswith(m.SENSORS_NS + "/")}

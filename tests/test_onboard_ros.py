@@ -10,6 +10,7 @@ from rclpy.serialization import deserialize_message, serialize_message
 
 from railderail_sim import node as sim_node
 from railderail_sim import ros_interface as m
+from railderail_sim import sensor_messages as sm
 from railderail_sim.parameters import vehicle_parameters
 from railderail_sim.sensors.measure import SensorStream
 from railderail_sim.vehicle.simulate import run_to_stop
@@ -33,8 +34,8 @@ def _offline_alerts():
     assert not error
     sensors = sim_node.sensor_set(p)
     samples = SensorStream(sensors, sc, sim.model, sim.speed_table).process(arrays)
-    convert = m.SensorConverter(sensors, p["publish_rate"], sc.vehicle.rolling_radius)
-    decoder = m.SensorDecoder(sensors)
+    convert = sm.SensorConverter(sensors, p["publish_rate"], sc.vehicle.rolling_radius)
+    decoder = sm.SensorDecoder(sensors)
     vp = vehicle_parameters("hs19")
     monitor = MeasuredMonitor(vp, me.measured_limits(vp, **MEASURED_LEVELS), me.sample_rates(sensors))
     # the node publishes a message once the simulated time reaches its stamp, and at the end of the run the rest

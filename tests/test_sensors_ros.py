@@ -13,6 +13,7 @@ from rosbags.highlevel import AnyReader
 from rosbags.typesys import Stores, get_typestore
 
 from railderail_sim import ros_interface as m
+from railderail_sim import sensor_messages as sm
 from railderail_sim.cli import main
 from railderail_sim.parameters import GRAVITY
 from railderail_sim.sensors.config import AIR_SPRING_EFFECTIVE_AREA, AIR_SPRINGS, load
@@ -68,7 +69,7 @@ def test_the_simulator_publishes_the_sensors_on_standard_messages_that_rosbags_d
     assert recorder.wait(timeout=30) == 0
 
     sensors = load()
-    topics = m.sensor_topics(sensors)
+    topics = sm.sensor_topics(sensors)
     messages = {}
     with AnyReader([folder], default_typestore=get_typestore(Stores.ROS2_JAZZY)) as reader:
         for connection, _, raw in reader.messages():

@@ -156,6 +156,7 @@ def test_the_sensors_tab_comes_with_the_first_sensor_message_and_not_without():
 
     from railderail_monitor.viewer import RunViewer
     from railderail_sim import ros_interface as m
+    from railderail_sim import sensor_messages as sm
     from railderail_sim.sensors.config import default_set
 
     viewer = RunViewer(flush_every=10**6)
@@ -165,7 +166,7 @@ def test_the_sensors_tab_comes_with_the_first_sensor_message_and_not_without():
     assert isinstance(viewer.blueprint().root_container, rrb.Vertical)
     assert not any(entity.startswith("/sensors") for entity in viewer.buffers)
     viewer.flush()                                             # and no estimate to make
-    imu = m.SensorConverter(default_set(), 200.0, 0.46).messages(
+    imu = sm.SensorConverter(default_set(), 200.0, 0.46).messages(
         {"bogie_rear_frame": dict(time=np.array([0.007, 0.012]), acceleration=np.array([[0.1, -9.0, 9.8]] * 2),
                                   angular_rate=np.zeros((2, 3)))})
     for _, topic, msg in imu:
@@ -228,10 +229,10 @@ def test_rrd_has_the_sensors_views_and_the_estimate_beside_the_truth(run):
 def test_sensor_topics_decode_back_into_the_run_s_sensor_arrays(run):
     import numpy as np
 
-    from railderail_sim import ros_interface as m
+    from railderail_sim import sensor_messages as sm
 
     path, _, log, _ = run
-    record = m.SensorRecord()
+    record = sm.SensorRecord()
     for topic, _, _, _, msg in read_recording(path.with_suffix(".mcap")).messages:
         if msg is not None:
             record.add(topic, msg)
