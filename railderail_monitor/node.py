@@ -78,6 +78,20 @@ def measured_alert_message(alert, speed):
     return message
 
 
+def estimate_messages(stamps, estimates):
+    """The OnboardEstimate messages of the estimator's values at stamps (estimator.RollBalance's dict)."""
+    out = []
+    for k, t in enumerate(stamps):
+        message = m.stamp(m.OnboardEstimate(), float(t))
+        message.header.frame_id = "car_body"
+        message.wheel_load = 0.5 * estimates["side_load"][k]
+        message.unloading = estimates["unloading"][k]
+        message.lateral_force = estimates["lateral_force"][k]
+        message.derailment_coefficient = estimates["derailment_coefficient"][k]
+        out.append(message)
+    return out
+
+
 def alert_message(record: AlertRecord, frame_id="track"):
     """The Alert message of an alert the monitor raised (stamped with the sample's time)."""
     message = m.Alert()
@@ -123,10 +137,13 @@ class MonitorNode(Node):
         self.limit_values = m.declare_parameters(
             self, parameter_table(me.measured_limits(self.vehicle))[len(MEASURED_SETUP) + 1:],
             check=lambda values: me.MeasuredLimits(**values).validated(), apply=self.on_measured_limits)
-        self.make_monitor = lambda: MeasuredMonitor(self.vehicle, me.MeasuredLimits(**self.limit_values), self.rates)
+        self.estimates = []            # the estimator's (stamps, values) decided by a sensor message
+        self.make_monitor = lambda: MeasuredMonitor(self.vehicle, me.MeasuredLimits(**self.limit_values), self.rates,
+                                                    on_estimate=lambda *decided: self.estimates.append(decided))
         self.monitor = self.make_monitor()
         self.decoder = sm.SensorDecoder(self.sensors)
         self.publisher = self.create_publisher(m.Alert, m.ONBOARD_ALERTS, m.ALERT_QOS)
+        self.estimate_publisher = self.create_publisher(m.OnboardEstimate, m.ONBOARD_ESTIMATES, m.SENSOR)
         topics = sm.sensor_topics(self.sensors)
         for topic in self.decoder.topics():
             self.create_subscription(topics[topic][1], topic, lambda msg, topic=topic: self.on_sensor(topic, msg),
@@ -148,6 +165,10 @@ class MonitorNode(Node):
             for alert in alerts:                   # publish first, log after: logging takes time
                 speed = float(self.monitor.odometer.speed(alert.time_s))
                 self.publisher.publish(measured_alert_message(alert, speed))
+            for decided in self.estimates:         # after the alerts, which are the hurry
+                for message in estimate_messages(*decided):
+                    self.estimate_publisher.publish(message)
+            self.estimates.clear()
             for alert in alerts:
                 self.alerts += 1
                 self.get_logger().warning(f"t = {alert.time_s:.3f} s, s = {alert.track_position:.1f} m: measured "

@@ -15,6 +15,7 @@ railderail_sim never imports railderail_monitor. Topics (all under /railderail/ 
 | /railderail/derailment           | railderail_msgs/DerailmentEvent  | reliable, transient local, depth 1     |
 | /railderail/alerts               | railderail_msgs/Alert            | reliable, transient local, depth 1000  |
 | /railderail/onboard_alerts       | railderail_msgs/Alert            | the same (the monitor in measured mode)|
+| /railderail/onboard_estimates    | railderail_msgs/OnboardEstimate  | sensor data (its estimator's)          |
 | /clock                           | rosgraph_msgs/Clock              | clock QoS (best effort, depth 1); only |
 |                                  |                                  | when not running at real time          |
 
@@ -43,7 +44,7 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from rosgraph_msgs.msg import Clock
 
 import railderail_msgs.msg as msgs
-from railderail_msgs.msg import Alert, ContactForces, DerailmentEvent, VehicleStatus, WheelsetStates
+from railderail_msgs.msg import Alert, ContactForces, DerailmentEvent, OnboardEstimate, VehicleStatus, WheelsetStates
 
 from railderail_sim.vehicle.layout import BOGIES, WHEELSETS, Body, Dof
 
@@ -59,6 +60,8 @@ ALERTS = f"{NS}/alerts"
 # the measured-mode monitor's alerts (from the on-board sensors only): a topic of their own, so that what reads
 # /railderail/alerts as the ground-truth criteria's (the replay's review, the warning quality) sees only those
 ONBOARD_ALERTS = f"{NS}/onboard_alerts"
+# its estimator's running-gear loads, unloading and Q/P from the sensors (one message per decided stamp)
+ONBOARD_ESTIMATES = f"{NS}/onboard_estimates"
 CLOCK = "/clock"
 
 SENSOR = qos_profile_sensor_data
@@ -83,6 +86,7 @@ TOPICS = {
 }
 CLOCK_TOPIC = ("rosgraph_msgs/msg/Clock", Clock, CLOCK_QOS, CLOCK_QOS)
 ONBOARD_ALERTS_TOPIC = ("railderail_msgs/msg/Alert", Alert, ALERT_QOS, ALERT_QOS)
+ONBOARD_ESTIMATES_TOPIC = ("railderail_msgs/msg/OnboardEstimate", OnboardEstimate, SENSOR, SENSOR_SUBSCRIBER)
 
 
 SENSORS_NS = f"{NS}/sensors"

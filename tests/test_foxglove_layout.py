@@ -10,6 +10,7 @@ import pytest
 from rosidl_adapter.parser import parse_message_file
 
 from railderail_monitor.criteria import default_limits
+from railderail_monitor.onboard.measured import measured_limits
 from railderail_monitor.recording import msg_file
 from railderail_monitor.viewer import SENSOR_GROUPS, WHEELSET_COLORS, sensor_group, sensor_levels
 from railderail_sim import ros_interface as m
@@ -22,7 +23,8 @@ LAYOUT = json.loads((ROOT / "foxglove" / "railderail-layout.json").read_text())
 NUMERIC = {"bool", "byte", "char", "int8", "uint8", "int16", "uint16", "int32", "uint32", "int64", "uint64",
            "float32", "float64"}
 STEP = re.compile(r"^(\w+)(?:\[(\d+)\])?$")
-TOPICS = {**m.TOPICS, **sm.sensor_topics(default_set()), m.CLOCK: m.CLOCK_TOPIC}
+TOPICS = {**m.TOPICS, **sm.sensor_topics(default_set()), m.CLOCK: m.CLOCK_TOPIC,
+          m.ONBOARD_ESTIMATES: m.ONBOARD_ESTIMATES_TOPIC}
 
 
 def definition(package, name):
@@ -84,9 +86,10 @@ def test_every_path_exists_in_the_message_definitions():
                 assert field_type.is_primitive_type() and field_type.type in NUMERIC and not (
                     field_type.is_array and "[" not in value.rsplit(".", 1)[1]), f"{panel}: {value} is not a number"
             checked += 1
-    # 4 wheelsets, 3 x 8 wheels, speed and acceleration, 2 timelines, 3 whole topics; the sensors' tab: 13
-    # mounts' lateral and vertical acceleration, the car body's 3 roll rates
-    assert checked == 35 + 2 * len(MOUNTS) + 3
+    # 4 wheelsets, 3 x 8 wheels, speed and acceleration, 2 timelines, 3 whole topics; the sensors' tab: the
+    # mounts' lateral and vertical acceleration, the car body's 3 roll rates, the estimator's 4 sides' unloading
+    # and Q/P, and per bogie its 2 sides' loads beside its 4 wheels' P
+    assert checked == 35 + 2 * len(MOUNTS) + 3 + 2 * 4 + 2 * (2 + 4)
 
 
 def thresholds(panel):
@@ -108,7 +111,9 @@ def test_the_same_wheel_has_the_same_colour_in_every_plot():
     colours = {}
     for config in LAYOUT["configById"].values():
         for series in config.get("paths", []):
-            match = re.search(r"\.(wheel_lift|derailment_coefficient|vertical_force)\[(\d)\]$", series["value"])
+            # a wheel's (the estimates' arrays are running-gear sides')
+            match = re.fullmatch(r"/railderail/(?:wheelset_states|contact_forces)\.(wheel_lift|derailment_coefficient|"
+                                 r"vertical_force)\[(\d)\]", series["value"])
             if match:
                 colours.setdefault(match.group(2), set()).add(series["color"])
     assert len(colours) == 8 and all(len(c) == 1 for c in colours.values())
@@ -131,6 +136,19 @@ def test_the_sensors_tab_plots_every_mount_with_the_rules_levels_of_the_rerun_vi
             assert thresholds(f"Plot!sensors_{group}_{plot}") == expected
     roll = levels[("car_body", "roll_rate")][0][1]
     assert thresholds("Plot!sensors_car_body_roll_rate") == [-roll, roll]
+
+
+def test_the_estimator_plots_are_the_measured_monitor_s_beside_each_bogie_s_wheels():
+    limits, P0 = measured_limits(VehicleParameters()), VehicleParameters().static_wheel_load
+    assert thresholds("Plot!sensors_estimator_unloading") == [limits.estimated_running_gear_unloading]
+    assert thresholds("Plot!sensors_estimator_ratio") == [limits.estimated_side_ratio]
+    for j, bogie in enumerate(("front", "rear")):
+        config = LAYOUT["configById"][f"Plot!sensors_estimator_{bogie}_loads"]
+        shown = [s["value"] for s in config["paths"] if s["value"].startswith("/")]
+        assert shown == [f"{m.ONBOARD_ESTIMATES}.wheel_load[{2 * j}]", f"{m.ONBOARD_ESTIMATES}.wheel_load[{2 * j + 1}]",
+                         *(f"{m.FORCES}.vertical_force[{k}]" for k in range(4 * j, 4 * j + 4))]
+        assert thresholds(f"Plot!sensors_estimator_{bogie}_loads") == pytest.approx(
+            [(1 - limits.estimated_running_gear_unloading) * P0, P0], rel=1e-12)
 
 
 def test_the_sensors_tab_is_the_one_railderail_monitor_foxglove_writes():

@@ -75,6 +75,13 @@ SAMPLES = {
         "wheel_lift": 0.031,
         "lateral_displacement": -0.0089,
     },
+    "OnboardEstimate": {
+        "header": {**HEADER, "frame_id": "car_body"},
+        "wheel_load": [48e3, 74e3, 50e3, 72e3],
+        "unloading": [0.31, -0.06, 0.28, -0.03],
+        "lateral_force": [41e3, 12e3],
+        "derailment_coefficient": [-0.43, 0.28, -0.12, 0.08],
+    },
 }
 
 # Runs in the child process: publishes the messages of SAMPLES (argv[1], JSON) every 0.1 s on

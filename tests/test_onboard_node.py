@@ -96,3 +96,25 @@ def test_the_node_publishes_the_monitor_s_alerts(node_of):
         assert msg.message.startswith("measured warning")
     gear = next(msg for msg in published if msg.criterion == "estimated_side_ratio")
     assert gear.wheelset in (0, 2) and gear.wheel_side in ("left", "right")
+
+
+def test_the_node_publishes_the_estimator_s_values_at_its_stamps(node_of):
+    from railderail_monitor.onboard import estimator as est
+    vp = vehicle_parameters("hs19")
+    node = node_of("signals:=measured")
+    published = []
+    node.estimate_publisher.publish = published.append
+    record = _record(2.0)
+    for _, topic, msg in _messages(record):
+        node.on_sensor(topic, msg)
+    batch = est.estimate(record, vp, me.measured_limits(vp).air_spring_effective_area, rate_hz=200.0)
+    # decided as the samples come, so all but the last few of the record's stamps, once each, in order
+    assert len(batch["time"]) - 5 < len(published) <= len(batch["time"])
+    n = len(published)
+    assert np.allclose([m.seconds(msg.header.stamp) for msg in published], batch["time"][:n], rtol=0, atol=1e-9)
+    assert {msg.header.frame_id for msg in published} == {"car_body"}
+    # the air springs' heights travel as float32 Ranges: 1e-7 m of deflection, a few N of load
+    assert np.allclose([msg.wheel_load for msg in published], 0.5 * batch["side_load"][:n], rtol=0, atol=20.0)
+    for name in ("unloading", "lateral_force", "derailment_coefficient"):
+        got = np.array([getattr(msg, name) for msg in published])
+        assert np.allclose(got, batch[name][:n], rtol=1e-6, atol=1e-3 if name != "lateral_force" else 20.0), name

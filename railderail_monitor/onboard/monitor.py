@@ -216,13 +216,15 @@ class _Criterion:
 
 
 class _Estimator:
-    """The roll balance at the time base's stamps from the first at which every input has a sample."""
+    """The roll balance at the time base's stamps from the first at which every input has a sample;
+    `on_estimate(stamps, estimates)` gets each batch of decided stamps (RollBalance's dict), if given."""
 
-    def __init__(self, limits, vehicle, rates):
+    def __init__(self, limits, vehicle, rates, on_estimate=None):
         self.balance = est.RollBalance(vehicle, limits.air_spring_effective_area, limits.axle_box_corner,
                                        rates[est.TIME_BASE])
         self.alarms = [_Alarms(c, limits) for c in me.ESTIMATED]
         self.done, self.start = -math.inf, None
+        self.on_estimate = on_estimate
 
     def advance(self, inputs, odometer, odometer_watermark, unit=None):
         if self.start is None:
@@ -249,6 +251,8 @@ class _Estimator:
         arrays.update({f"sensor_{u}_time": inputs[u].t for u in est.INPUTS})
         e = self.balance(est.held_inputs(arrays, stamps))
         self.done = float(stamps[-1])
+        if self.on_estimate is not None:
+            self.on_estimate(stamps, e)
         positions = odometer.position(stamps)
         return sum((a.update(stamps, e[key], positions) for a, key in zip(self.alarms, me.ESTIMATED.values())), [])
 
@@ -259,17 +263,20 @@ class MeasuredMonitor:
 
     `rates`: {unit: Hz} of the sensor set (`measured.sample_rates`, default the shipped set's): the units
     fed, and the criteria run (those whose units, and the odometer, are all there). `jitter_s`: how much
-    earlier than a period after its previous one a unit's stamp may come (at most half a period is used)."""
+    earlier than a period after its previous one a unit's stamp may come (at most half a period is used).
+    `on_estimate(stamps, estimates)`: called with the estimator's values (estimator.RollBalance's dict) at
+    each batch of stamps it decides, in stamp order (the node publishes them)."""
 
-    def __init__(self, vehicle, limits: me.MeasuredLimits = None, rates=None, jitter_s=STAMP_JITTER):
+    def __init__(self, vehicle, limits: me.MeasuredLimits = None, rates=None, jitter_s=STAMP_JITTER,
+                 on_estimate=None):
         self.limits = (limits or me.measured_limits(vehicle)).validated()
         rates = me.sample_rates() if rates is None else dict(rates)
         check_range("stamp jitter", jitter_s, 0.0, 1.0, "s")
         self.inputs = {u: _Input(u, r, jitter_s) for u, r in rates.items()}
         found = me.criteria_of(self.inputs)
         self.criteria = [_Criterion(c, self.limits, vehicle, rates) for c in found if c in me.CHANNELS]
-        self.estimator = (_Estimator(self.limits, vehicle, rates) if any(c in me.ESTIMATED for c in found)
-                          else None)
+        self.estimator = (_Estimator(self.limits, vehicle, rates, on_estimate)
+                          if any(c in me.ESTIMATED for c in found) else None)
         self.odometer = oc.Odometer()
         self.feeds = self.pruned = 0
         self.all = self.criteria + ([self.estimator] if self.estimator is not None else [])
