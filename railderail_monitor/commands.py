@@ -11,7 +11,7 @@ COMMANDS = (
      "sensor topics only",
      "railderail_monitor.recover:command"),
     ("view", "show the live /railderail topics in Rerun (--rrd FILE for a file)",
-     "railderail_monitor.viewer:command"),
+     "railderail_monitor.viewer_node:command"),
     ("monitor-params", "the monitor's parameter file (thresholds) of a wheel, rail, friction and vehicle set",
      "railderail_monitor.monitor_params:command"),
     ("assess", "running behaviour as EN 14363 and EN 12299 define it (safety, track loading, ride, comfort) of a "

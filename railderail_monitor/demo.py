@@ -288,7 +288,7 @@ def run_demo(args, say=print):
                 listener.spin_once(0.05)
         if args.rerun or args.rerun_connect:
             sink = ["--connect", args.rerun_connect] if args.rerun_connect else ["--spawn"]
-            nodes["viewer"] = Node("viewer", [python, "-m", "railderail_monitor.viewer"] + sink, out / "logs")
+            nodes["viewer"] = Node("viewer", [python, "-m", "railderail_monitor.viewer_node"] + sink, out / "logs")
         nodes["simulator"] = Node("simulator", [python, "-m", NODES["simulator"]] + ros_args(sim_params),
                                   out / "logs", echo=echo_sim)
         deadline = time.monotonic() + args.timeout
