@@ -145,6 +145,9 @@ class SensorDecoder:
 
     def topics(self):
         """The sensor set's topics, in `sensor_topics`' order."""
+        if self.sensors is None:
+            raise ValueError("a SensorDecoder made without a sensor set decodes any sensor topic but has no list "
+                             "of them: give it the set (sensors.config.load) to subscribe by")
         return list(sensor_topics(self.sensors))
 
     def decode(self, topic, message):

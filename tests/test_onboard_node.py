@@ -118,3 +118,21 @@ def test_the_node_publishes_the_estimator_s_values_at_its_stamps(node_of):
     for name in ("unloading", "lateral_force", "derailment_coefficient"):
         got = np.array([getattr(msg, name) for msg in published])
         assert np.allclose(got, batch[name][:n], rtol=1e-6, atol=1e-3 if name != "lateral_force" else 20.0), name
+
+
+def test_a_decoder_without_the_sensor_set_reads_the_gyro_from_the_message():
+    """sensor_msgs/Imu's own marker (angular_velocity_covariance[0] = -1: no reading) says which mounts have
+    a gyro, so that a recording of another sensor set decodes without it."""
+    convert = sm.SensorConverter(load_sensors(), 200.0, vehicle_parameters("hs19").rolling_radius)
+    t, acc = np.array([0.005, 0.010]), np.array([[0.1, -0.2, 9.8]] * 2)
+    signals, decoder = {}, sm.SensorDecoder()
+    for _, topic, msg in convert.messages({"bogie_front_frame": dict(time=t, acceleration=acc,
+                                                                     angular_rate=np.zeros((2, 3))),
+                                           "bogie_frame_0": dict(time=t, acceleration=acc)}):
+        for unit, _, s in decoder.decode(topic, deserialize_message(serialize_message(msg), type(msg))):
+            signals.setdefault(unit, set(s))
+    assert signals["bogie_front_frame"] == {"acceleration", "angular_rate"}         # a gyro (shipped set)
+    assert signals["bogie_frame_0"] == {"acceleration"}                             # none
+    assert decoder.decode("/railderail/alerts", None) is None
+    with pytest.raises(ValueError, match="without a sensor set"):
+        decoder.topics()
