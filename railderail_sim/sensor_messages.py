@@ -29,7 +29,6 @@ from geometry_msgs.msg import TwistWithCovarianceStamped
 from sensor_msgs.msg import FluidPressure, Imu, Range
 
 from railderail_sim.sensors.config import AIR_SPRING_HEIGHT, AIR_SPRINGS, ODOMETER
-from railderail_sim.sensors.measure import noise_variance
 
 from .ros_interface import SENSOR, SENSOR_SUBSCRIBER, SENSORS_NS, seconds, stamp, stamp_ns
 
@@ -52,6 +51,9 @@ class SensorConverter:
     noise model (`sensors.measure.noise_variance`: the filtered white noise, the bias and the quantisation)."""
 
     def __init__(self, sensors, output_rate, rolling_radius):
+        # here, not at the top: the noise model imports the numba core, which a decoding node (the monitor,
+        # the recorder, the viewer) must not load
+        from railderail_sim.sensors.measure import noise_variance
         self.sensors, self.springs, self.odometer = sensors, AIR_SPRINGS, ODOMETER
         self.imu_covariance = {}
         for mount in sensors.mounts:
