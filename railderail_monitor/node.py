@@ -231,7 +231,7 @@ class MonitorNode(Node):
 
 
 def main(argv=None) -> int:
-    return m.run_node("railderail-monitor", MonitorNode, argv)
+    return m.run_node("railderail-monitor", MonitorNode, argv, executor_class=m.events_executor)
 
 
 if __name__ == "__main__":
