@@ -35,6 +35,7 @@ from railderail_sim.vehicle.simulate import (RADIUS_RANGE, SPEED_RANGE_KMH, Simu
                                              output_arrays)
 
 MAX_CATCH_UP = 20   # samples one late tick may publish in a row
+MATCH_WAIT_S = 5.0   # s the run waits, once its subscribers are there, for every subscription to match
 PUBLISH_RATE_RANGE = (1.0, 2000.0)        # Hz of simulated time
 
 # The scenario's parameters are read-only: the model is built from them before the run starts.
@@ -204,7 +205,14 @@ class SimulatorNode(Node):
             return False
         if self.settle_until is None:          # let the subscribers' side of the discovery settle too
             self.settle_until = time.monotonic() + 0.5
-        return time.monotonic() >= self.settle_until
+        now = time.monotonic()
+        if now < self.settle_until:
+            return False
+        # and every subscription the graph shows matched to its publisher, the sensor topics' too: a best-effort
+        # message sent before its reader matched is lost to it (a measured-mode monitor lost its first
+        # messages so); at most MATCH_WAIT_S, for a subscription whose QoS never matches
+        return now >= self.settle_until + MATCH_WAIT_S or all(
+            pub.get_subscription_count() >= self.count_subscribers(topic) for topic, pub in self.pubs.items())
 
     def tick(self):
         """Publish the samples that are due: one per tick as fast as possible, else as many as the
