@@ -46,10 +46,8 @@ def _offline_alerts():
     return found, len(messages)
 
 
-@pytest.mark.timeout(500)
-def test_the_measured_monitor_node_alerts_as_on_the_simulator_s_own_sensor_samples(spawn, read_until):
-    expected, published = _offline_alerts()
-    assert len({a.criterion for a in expected}) >= 3, "the run must exercise several criteria"
+def _live_run(spawn, read_until):
+    """(the monitor node's stderr, its alerts) over one live run of RUN."""
     listener = Listener()
     alerts = []
     listener.node.create_subscription(m.Alert, m.ONBOARD_ALERTS, alerts.append, m.ALERT_QOS)
@@ -65,11 +63,25 @@ def test_the_measured_monitor_node_alerts_as_on_the_simulator_s_own_sensor_sampl
         wait_idle(monitor.pid)                  # it may be behind: its queue holds the rest of the run
         listener.spin_for(1.0)
         assert stop(monitor) == 0
-        log = monitor.stderr.read()
+        return monitor.stderr.read(), alerts
     finally:
         listener.close()
-    processed = int(re.search(r"processed (\d+) sensor messages \(0 air-spring stamps incomplete\)", log).group(1))
-    assert processed == published, "the monitor lost sensor messages: no comparison can hold"
+
+
+@pytest.mark.timeout(900)
+def test_the_measured_monitor_node_alerts_as_on_the_simulator_s_own_sensor_samples(spawn, read_until):
+    expected, published = _offline_alerts()
+    assert len({a.criterion for a in expected}) >= 3, "the run must exercise several criteria"
+    # the comparison needs a run in which best-effort transport lost nothing; on a loaded machine (the
+    # tests' two workers) a run can lose a few messages, so one more run is allowed
+    for attempt in range(2):
+        log, alerts = _live_run(spawn, read_until)
+        found = re.search(r"processed (\d+) sensor messages \((\d+) air-spring stamps incomplete\)", log)
+        assert found, log
+        if (int(found.group(1)), int(found.group(2))) == (published, 0):
+            break
+    assert (int(found.group(1)), int(found.group(2))) == (published, 0), \
+        f"the monitor lost sensor messages in both runs ({found.group(0)} of {published}): no comparison can hold"
     got = sorted((a.sample, a.criterion, a.header.frame_id, a.header.stamp.sec * 10 ** 9 + a.header.stamp.nanosec)
                  for a in alerts)
     assert got == sorted((a.sample, a.criterion, a.place, nanoseconds(a.time_s)) for a in expected)
