@@ -72,7 +72,6 @@ def _isolated_env():
 
 def _measured_figures():
     import rclpy
-    from rclpy.experimental import EventsExecutor
     from rclpy.signals import SignalHandlerOptions
 
     from railderail_sim import ros_interface as m
@@ -90,7 +89,7 @@ def _measured_figures():
     node = rclpy.create_node("railderail_bench_measured", context=context)
     # the events executor, as the monitor's: this node takes every sensor message too, and at the
     # single-threaded executor's cost it would take a core from the two it measures
-    executor = EventsExecutor(context=context)
+    executor = m.events_executor(context)
     executor.add_node(node)
     last_of_stamp, alerts, count = {}, [], [0]
     clock = time.perf_counter

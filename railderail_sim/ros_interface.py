@@ -412,13 +412,13 @@ def spin_until(executor, until=None):
         executor.spin_once(timeout_sec=SPIN_PERIOD_S)
 
 
-def events_executor():
+def events_executor(context=None):
     """rclpy's events executor (rclpy.experimental, its dispatch in C++): about 20 us a message against
     the single-threaded executor's 120 (an empty callback on sensor_msgs/Imu, measured here), for a node
     that takes thousands of messages a second (the measured-mode monitor and the recorder: the shipped
     sensors send about 3800 a second at real time, ten times more as fast as possible)."""
     from rclpy.experimental import EventsExecutor
-    return EventsExecutor()
+    return EventsExecutor(context=context)
 
 
 def _interrupt(signum, frame):
