@@ -419,11 +419,8 @@ def command(parser: argparse.ArgumentParser):
             out = args.out
         metadata = _metadata(args.metadata)
         log = lambda text: print(text, file=sys.stderr, flush=True)  # noqa: E731
-        # the events executor: the recorder takes every message of every topic (best effort: one it is
-        # too slow to take is lost)
         return m.run_node("railderail record", lambda: RecorderNode(out, metadata, args.flush_period, log,
-                                                                    bag=args.bag_dir is not None),
-                          executor_class=m.events_executor)
+                                                                    bag=args.bag_dir is not None))
     return run
 
 

@@ -415,8 +415,9 @@ def spin_until(executor, until=None):
 def events_executor(context=None):
     """rclpy's events executor (rclpy.experimental, its dispatch in C++): about 20 us a message against
     the single-threaded executor's 120 (an empty callback on sensor_msgs/Imu, measured here), for a node
-    that takes thousands of messages a second (the measured-mode monitor and the recorder: the shipped
-    sensors send about 3800 a second at real time, ten times more as fast as possible)."""
+    that takes thousands of messages a second (the measured-mode monitor: the shipped sensors send about
+    3800 a second at real time). Not the recorder's: with its timers, a Ctrl-C just after its start
+    aborted the process (SIGABRT) once the file was written."""
     from rclpy.experimental import EventsExecutor
     return EventsExecutor(context=context)
 
