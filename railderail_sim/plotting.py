@@ -532,3 +532,30 @@ def irregularity_figure(sample, channels, psds, path):
             a.legend(loc="lower left")
         short, long_ = sample.band_m
         fig.suptitle(f"{sample.description}; seed {sample.seed}, wavelengths {short:.4g} to {long_:.4g} m")
+
+
+
+def survey_figure(result, permitted, targets, path):
+    """A survey's speed profile along the line (`methods.survey.SurveyResult`): the permitted speed
+    (`permitted`: (start m, end m, m/s) pieces), each curve's critical derailment speed (dotted where no
+    derailment came up to it) and safe speed over its extent, each defect's safe speed, and the most
+    restrictive profile (`targets`: (start m, end m, m/s, reason) pieces), against km."""
+    def stairs(ax, pieces, **style):
+        ax.stairs([p[2] * 3.6 for p in pieces], np.array([pieces[0][0]] + [p[1] for p in pieces]) / 1000.0, **style)
+
+    with figure(path, (9.0, 4.5)) as fig:
+        ax = fig.subplots()
+        stairs(ax, permitted, color="tab:green", lw=1.6, label="permitted speed")
+        for i, c in enumerate(result.curves):
+            km = np.array([c["start_m"], c["end_m"]]) / 1000.0
+            ax.plot(km, [c["critical_derailment_speed_kmh"]] * 2, color="tab:red", lw=2.0,
+                    ls="-" if c["derailed"] else ":", label="critical derailment speed" if i == 0 else None)
+            ax.plot(km, [c["safe_speed_kmh"]] * 2, color="tab:orange", lw=2.0, label="safe speed" if i == 0 else None)
+        for i, d in enumerate(result.defects):
+            ax.plot(d["position_m"] / 1000.0, d["safe_speed_kmh"], "v", color="tab:purple",
+                    label="defect: safe speed" if i == 0 else None)
+        stairs(ax, targets, color=REFERENCE_COLOUR, lw=0.8, label="most restrictive profile")
+        ax.set_xlabel("position along the line (km)")
+        ax.set_ylabel("speed (km/h)")
+        ax.set_title(f"{result.line['name']}: dotted where no derailment came up to the staircase's top")
+        ax.legend(loc="lower left")

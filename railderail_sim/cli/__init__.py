@@ -55,6 +55,9 @@ COMMANDS: tuple[Command, ...] = (
             "railderail_sim.cli.methods:trial_command"),
     Command("sweep", "progressive trial over radii and other parameters, in parallel or on Dask (--json)",
             "railderail_sim.cli.methods:sweep_command"),
+    Command("survey", "a line file's physical speed limits: each curve's critical derailment speed over frictions "
+            "and parameter sets, each defect's and wind site's limit, their sensitivities (--json, --plot)",
+            "railderail_sim.cli.survey:survey_command"),
     Command("cwc", "characteristic wind curves of EN 14067-6 under the CEN extreme gust (--json, --plot)",
             "railderail_sim.cli.methods:cwc_command"),
     Command("real-track", "the progressive trial on rigid and elastic track with irregularities, several seeds "

@@ -1,0 +1,487 @@
+"""The survey of a line's physical speed limits (`railderail survey LINE.yaml`): what a speed supervisor needs
+to supervise the car against its own limits rather than against fixed civil ones.
+
+- Each curve: its critical derailment speed by the paper's method, exactly as `railderail trial` computes it
+  (`progressive_trial`: the staircase, then the bisection over constant-speed runs), on the curve's own run
+  (`Line.scenario_for`: Table 2's 200 m straights around the curve's transitions, its arc cut to
+  `SurveyRules.simulated_arc_m`), for every friction and stand-in parameter set asked; the lowest is the
+  curve's critical derailment speed, with the spread (max - min) and the case that gave it. A curve whose
+  staircase reaches its top speed without a derailment has no critical speed below it: its limit is reported
+  as that top (`derailed: false`), a lower bound.
+- Its safe speed: the critical derailment speed less ETCS's emergency-brake-intervention margin (`SafetyMargin`,
+  SUBSET-026's dV_ebi): with the ceiling at the safe speed, a train allowed to exceed it by dV_ebi before the
+  emergency brake is commanded is still below the critical derailment speed. The sensitivity to the margin
+  (none, twice dV_ebi, 10 % of the speed) is in every curve's row.
+- Each known defect: the highest constant speed at which the car passes it with every margin intact, by
+  bisection over `SurveyRules.defect_low_kmh` .. the staircase's top. The margins are the simulator's own,
+  judged here on the run's output rows while the car-body centre is within `defect_window_m` of the defect:
+  no derailment (the core's geometric check) anywhere on the run; Q/P of every wheel, its mean over 1.524 m
+  (49 CFR 213.333's 5 ft), below Nadal's limit at the profile pair's largest contact angle and the run's
+  friction; the unloading dQ/Q0 of every wheel, its mean over 1.524 m, below 0.90; every wheel's lift below
+  half its flange height (the warning evaluation's levels, railderail_monitor/hazards.py, restated here
+  without its filters). The defect's safe speed is that speed less the same margin; lowest over the cases.
+- Each wind site: the characteristic wind curve of the track there (`cwc.characteristic_wind_speed`): the
+  CEN gust's peak at which a running gear unloads to 0.90, against the vehicle speed, on the curve the site
+  stands on (the gust at its middle) or on straight track.
+- How the live inputs move each curve's limit, at the reference case (the `--vehicle-set` and `--friction`):
+  its critical derailment speed in a steady crosswind from the inside of the curve (which adds to the
+  centrifugal unloading of the inner wheels) at a few wind speeds, and with each shipped fault; reported as
+  the change against the reference case without them.
+
+Every case is one item of `parallel.run_all` (processes or Dask), cached on disk under the SHA-256 of its
+inputs and of railderail_sim's sources, so a second survey of the same line returns at once and an
+interrupted one resumes. `survey_targets(result)` is the most restrictive speed profile along the line that
+the supervisor consumes.
+"""
+from dataclasses import asdict, dataclass, field, replace
+import functools
+import hashlib
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .. import jsonout
+from ..line.data import Line
+from ..line.file import line_as_dict, line_from_dict
+from ..loads.wind import Wind
+from ..parameters import FRICTION_RANGE, VEHICLE_SETS, parameter, vehicle_parameters
+from ..ranges import check_range
+from ..vehicle.simulate import KMH, Scenario, constant_speed, run_to_stop, straight_track
+from .parallel import run_all
+from .progressive_trial import SPEED_RANGE_KMH, Staircase, progressive_trial
+
+DEFAULT_FRICTIONS = (0.2, 0.3, 0.4, 0.6)
+DEFAULT_WIND_SPEEDS_M_S = (10.0, 20.0, 30.0)
+SHIPPED_FAULTS = ("yaw-dampers-failed@both", "air-spring-deflated@front")
+DEFAULT_CWC_SPEEDS_KMH = (200.0, 250.0, 300.0, 350.0)
+
+
+@dataclass(frozen=True)
+class SafetyMargin:
+    """ETCS's emergency-brake-intervention margin dV_ebi over a ceiling speed V (ERA SUBSET-026 Appendix A.3.1,
+    as quoted in ../shared/reference/supervision.md): dV_ebi_min up to V_ebi_min, growing linearly to
+    dV_ebi_max at V_ebi_max, dV_ebi_max above."""
+    dv_min: float = parameter(7.5 * KMH, "m/s", "ERA SUBSET-026 Appendix A.3.1, dV_ebi_min (7.5 km/h)", "A")
+    dv_max: float = parameter(15.0 * KMH, "m/s", "ERA SUBSET-026 Appendix A.3.1, dV_ebi_max (15 km/h)", "A")
+    v_min: float = parameter(110.0 * KMH, "m/s", "ERA SUBSET-026 Appendix A.3.1, V_ebi_min (110 km/h)", "A")
+    v_max: float = parameter(210.0 * KMH, "m/s", "ERA SUBSET-026 Appendix A.3.1, V_ebi_max (210 km/h)", "B",
+                             "the upper end of the ramp as quoted (140/210 km/h in the sources read)")
+
+    def dv(self, v):
+        """dV_ebi at the ceiling speed v (m/s)."""
+        slope = (self.dv_max - self.dv_min) / (self.v_max - self.v_min)
+        return min(self.dv_max, max(self.dv_min, self.dv_min + slope * (v - self.v_min)))
+
+    def safe_speed(self, critical):
+        """The ceiling V (m/s) with V + dV_ebi(V) = critical (m/s); 0 if the critical speed is below dV_ebi."""
+        slope = (self.dv_max - self.dv_min) / (self.v_max - self.v_min)
+        for v in (critical - self.dv_min, (critical - self.dv_min + slope * self.v_min) / (1.0 + slope),
+                  critical - self.dv_max):
+            if v >= 0.0 and abs(v + self.dv(v) - critical) < 1e-9:
+                return v
+        return 0.0
+
+
+@dataclass(frozen=True)
+class SurveyRules:
+    """How the survey cuts the line into runs and judges a defect."""
+    simulated_arc_m: float = parameter(1000.0, "m", "Yu2022 Table 2's arc; a modelling choice", "-",
+                                       "a longer arc is cut to this: the car settles into its steady curving "
+                                       "within a few hundred metres (its body modes are about 1 Hz), and the "
+                                       "runs near the critical speed derail in the transition or early in the arc")
+    defect_low_kmh: float = parameter(60.0, "km/h", "a modelling choice", "-",
+                                      "the lowest speed a defect is tried at; below it the defect's safe speed is 0")
+    defect_window_m: float = parameter(150.0, "m", "a modelling choice", "-",
+                                       "the car-body centre's distance before and after the defect over which "
+                                       "its margins are judged (the car is 25 m long; the wheelsets' response "
+                                       "dies out within it)")
+    defect_lead_m: float = parameter(500.0, "m", "a modelling choice", "-",
+                                     "straight run before a defect on straight track")
+    margin_window_m: float = parameter(1.524, "m", "49 CFR 213.333 (5 ft), as the warning evaluation", "B",
+                                       "track over which Q/P and dQ/Q0 are averaged")
+    unloading_level: float = parameter(0.90, "-", "49 CFR 213.333 / EN 14067-6 (as the warning evaluation)", "B")
+    lift_share: float = parameter(0.5, "-", "a modelling choice (as the warning evaluation)", "-",
+                                  "a wheel's lift at or above this share of the flange height breaks its margin")
+    defect_guard_m: float = parameter(25.0, "m", "ICE 3 end car's length (ICE3)", "B",
+                                      "a defect's speed limit holds this far before and after it (survey_targets)")
+
+
+RULES = SurveyRules()
+MARGIN = SafetyMargin()
+
+
+@dataclass(frozen=True)
+class Settings:
+    """What every case of a survey shares (the cache key holds it)."""
+    frictions: tuple = DEFAULT_FRICTIONS
+    vehicle_sets: tuple = VEHICLE_SETS
+    reference_set: str = "hs19"
+    reference_friction: float = 0.3
+    wind_speeds_m_s: tuple = DEFAULT_WIND_SPEEDS_M_S
+    faults: tuple = SHIPPED_FAULTS
+    cwc_speeds_kmh: tuple = DEFAULT_CWC_SPEEDS_KMH
+    tolerance_kmh: float = 1.0
+    cwc_tolerance_m_s: float = 0.5
+    start_kmh: float = Staircase().start_kmh
+    top_kmh: float = Staircase().top_kmh
+
+    def validated(self):
+        if not self.frictions or not self.vehicle_sets:
+            raise ValueError("the survey needs at least one friction and one vehicle parameter set")
+        for f in (*self.frictions, self.reference_friction):
+            check_range("friction coefficient", f, *FRICTION_RANGE, lo_open=True)
+        for s in (*self.vehicle_sets, self.reference_set):
+            vehicle_parameters(s)
+        for u in self.wind_speeds_m_s:
+            check_range("crosswind speed", u, 0.0, 60.0, "m/s", lo_open=True)
+        from ..vehicle.assemble import failed_elements
+        failed_elements(self.faults)
+        for v in self.cwc_speeds_kmh:
+            check_range("characteristic wind curve speed", v, 60.0, 400.0, "km/h")
+        check_range("bisection tolerance", self.tolerance_kmh, 0.0, 20.0, "km/h", lo_open=True)
+        check_range("characteristic wind speed tolerance", self.cwc_tolerance_m_s, 0.01, 5.0, "m/s")
+        check_range("staircase start speed", self.start_kmh, *SPEED_RANGE_KMH, "km/h")
+        check_range("staircase top speed", self.top_kmh, self.start_kmh, SPEED_RANGE_KMH[1], "km/h")
+        return self
+
+    @property
+    def staircase(self):
+        return Staircase(start_kmh=self.start_kmh, top_kmh=self.top_kmh)
+
+
+QUICK = dict(frictions=(0.2, 0.6), vehicle_sets=("hs19",), wind_speeds_m_s=(20.0,), cwc_speeds_kmh=(300.0,),
+             tolerance_kmh=4.0, cwc_tolerance_m_s=1.0)
+
+
+@functools.lru_cache(maxsize=1)
+def source_hash():
+    """SHA-256 of railderail_sim's Python sources: a cached case is valid for these only."""
+    digest = hashlib.sha256()
+    for path in sorted(Path(__file__).resolve().parents[1].rglob("*.py")):
+        digest.update(path.read_bytes())
+    return digest.hexdigest()
+
+
+# --- the cases -------------------------------------------------------------------------------------------
+def _case_scenario(base: Scenario, vehicle_set, friction, **changes):
+    return replace(base, vehicle=vehicle_parameters(vehicle_set),
+                   contact=replace(base.contact, friction_coefficient=friction), **changes)
+
+
+def curve_case(line: Line, index, base: Scenario, settings: Settings, vehicle_set, friction, wind_m_s=0.0,
+               fault=None):
+    """The trial of one curve in one case (as `railderail trial` on the curve's run): a dict."""
+    curve = line.curves[index]
+    wind = Wind(speed=wind_m_s, direction_deg=90.0 * curve.direction).validated() if wind_m_s > 0.0 else base.wind
+    sc = line.scenario_for(curve, _case_scenario(base, vehicle_set, friction, wind=wind,
+                                                 faults=base.faults + ((fault,) if fault else ())),
+                           arc_m=min(curve.arc_m, RULES.simulated_arc_m))
+    r = progressive_trial(sc, curve.radius_m, settings.staircase, refine=True, tolerance_kmh=settings.tolerance_kmh)
+    refined = math.isfinite(r.refined_speed_kmh)
+    derailed = math.isfinite(r.critical_derailment_speed_kmh)
+    speed = r.refined_speed_kmh if refined else (r.critical_derailment_speed_kmh if derailed else settings.top_kmh)
+    return dict(vehicle_set=vehicle_set, friction=friction, wind_speed_m_s=wind_m_s, fault=fault,
+                derailed=derailed, critical_derailment_speed_kmh=speed, staircase_speed_kmh=r.critical_derailment_speed_kmh,
+                method="bisection" if refined else ("staircase" if derailed else "not derailed up to the top"),
+                mechanism=r.refined_mechanism if refined else r.mechanism,
+                side=r.refined_side if refined else r.derailed_side,
+                wheelset=r.refined_wheelset if refined else r.derailed_wheelset,
+                section=r.refined_section, runs=r.runs)
+
+
+def defect_run(line: Line, index, base: Scenario, vehicle_set, friction, speed_kmh):
+    """One constant-speed run over a defect: (margins intact, the first margin broken or '')."""
+    from ..assessment.en14363 import sliding
+    from ..contact.conicity import max_contact_angle
+    from ..contact.nadal import nadal_limit
+
+    defect = line.defects[index]
+    curve = line.curve_at(defect.position_m)
+    if curve is None:
+        track = straight_track(rail_profile=base.track.rail_profile, straight_in=RULES.defect_lead_m)
+        at = RULES.defect_lead_m
+    else:
+        track = line.track_for(curve, base.track)
+        at = line.local_position(curve, defect.position_m)
+    end = at + (defect.end_m - defect.position_m)
+    sc = _case_scenario(base, vehicle_set, friction, track=track, irregularity=defect.irregularity(at, track),
+                        speed_table=constant_speed(speed_kmh), stop_on_derailment=True, output_rate=200.0,
+                        end_position=min(end + RULES.defect_window_m, track.line_length))
+    sim, arrays, error = run_to_stop(sc)
+    if error or sim.derailment() is not None:
+        return False, "diverged" if error else "derailment"
+    s = arrays["position"]
+    lo, hi = at - RULES.defect_window_m, end + RULES.defect_window_m
+    p0 = sc.vehicle.static_wheel_load
+    _, unloading = sliding(s, (p0 - arrays["vertical_force"]) / p0, RULES.margin_window_m, 0.25, lo, hi)
+    _, qp = sliding(s, arrays["derailment_coefficient"], RULES.margin_window_m, 0.25, lo, hi)
+    nadal = float(nadal_limit(max_contact_angle(sim.model.cg)[0], friction))
+    inside = (s >= lo) & (s <= hi)
+    for name, broken in (("flange_climb", np.any(qp >= nadal)), ("wheel_unloading", np.any(unloading >= RULES.unloading_level)),
+                         ("wheel_lift", np.any(arrays["wheel_lift"][inside] >= RULES.lift_share * sim.model.flange_height))):
+        if broken:
+            return False, name
+    return True, ""
+
+
+def defect_case(line: Line, index, base: Scenario, settings: Settings, vehicle_set, friction):
+    """The highest speed (km/h) with every margin intact over one defect in one case, by bisection."""
+    tried = {}
+
+    def passes(v):
+        tried[v] = defect_run(line, index, base, vehicle_set, friction, v)
+        return tried[v][0]
+
+    lo, hi = RULES.defect_low_kmh, settings.top_kmh
+    if passes(hi):
+        intact = hi
+    elif not passes(lo):
+        intact = 0.0
+    else:
+        while hi - lo > settings.tolerance_kmh:
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if passes(mid) else (lo, mid)
+        intact = lo
+    broken = [(v, why) for v, (ok, why) in sorted(tried.items()) if not ok]
+    return dict(vehicle_set=vehicle_set, friction=friction, margins_intact_up_to_kmh=intact,
+                first_broken=dict(speed_kmh=broken[0][0], margin=broken[0][1]) if broken else None, runs=len(tried))
+
+
+def wind_site_case(line: Line, index, base: Scenario, settings: Settings, speed_kmh):
+    """One point of a wind site's characteristic wind curve (m/s, NaN if not reached)."""
+    from .cwc import CwcCase, characteristic_wind_speed
+    site = line.wind_sites[index]
+    curve = line.curve_at(site.position_m)
+    sc = _case_scenario(base, settings.reference_set, settings.reference_friction)
+    if curve is None:
+        case = CwcCase(None)
+    else:
+        sc = line.scenario_for(curve, sc, arc_m=min(curve.arc_m, RULES.simulated_arc_m))
+        case = CwcCase(sc.track.uncompensated_acceleration(speed_kmh * KMH))
+    u, tried = characteristic_wind_speed(speed_kmh, sc, case, settings.cwc_tolerance_m_s)
+    return dict(speed_kmh=speed_kmh, wind_speed_m_s=u, runs=len(tried))
+
+
+KINDS = {"curve": curve_case, "defect": defect_case, "wind_site": wind_site_case}
+# each case's expected cost in trial-equivalents (to start the dearest first, `run_all`)
+COST = {"curve": 1.0, "defect": 0.6, "wind_site": 0.8}
+
+
+def run_case(item, line_data, base: Scenario, settings: Settings, cache=None):
+    """One case (kind, index, *arguments) of a survey, from the cache when it holds it (a module-level
+    function for the process pool and Dask)."""
+    kind, index, *arguments = item
+    key = None
+    if cache:
+        key = hashlib.sha256(jsonout.dumps(dict(item=list(item), line=line_data, base=_base_key(base),
+                                                settings=asdict(settings), code=source_hash())).encode()).hexdigest()
+        path = Path(cache, key[:2], key + ".json")
+        if path.exists():
+            return json.loads(path.read_text())
+    out = KINDS[kind](line_from_dict(line_data), index, base, settings, *arguments)
+    if cache:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        jsonout.write(path, out)
+        out = json.loads(path.read_text())     # the cached form, so that a first and a second survey agree
+    return out
+
+
+def _base_key(base: Scenario):
+    """What a survey's runs take from the base scenario, as plain data."""
+    return dict(contact=asdict(base.contact), rail_profile=base.track.rail_profile, track_model=base.track_model,
+                wind=None if base.wind is None else asdict(base.wind), faults=list(base.faults),
+                elastic_track=asdict(base.elastic_track), aerodynamics=asdict(base.aerodynamics))
+
+
+def cases(line: Line, settings: Settings):
+    """Every case of a survey: (kind, index, *arguments)."""
+    ref = (settings.reference_set, settings.reference_friction)
+    out = [("curve", i, s, f) for i in range(len(line.curves)) for s in settings.vehicle_sets for f in settings.frictions]
+    out += [("curve", i, *ref, u) for i in range(len(line.curves)) for u in settings.wind_speeds_m_s]
+    out += [("curve", i, *ref, 0.0, fault) for i in range(len(line.curves)) for fault in settings.faults]
+    out += [("defect", i, s, f) for i in range(len(line.defects)) for s in settings.vehicle_sets
+            for f in settings.frictions]
+    out += [("wind_site", i, v) for i in range(len(line.wind_sites)) for v in settings.cwc_speeds_kmh]
+    return out
+
+
+# --- the result --------------------------------------------------------------------------------------------
+def margin_sensitivity(critical_kmh):
+    """The safe speed (km/h) of a critical derailment speed under other margins than ETCS's dV_ebi."""
+    v = critical_kmh * KMH
+    twice = SafetyMargin(*(2.0 * x for x in (MARGIN.dv_min, MARGIN.dv_max)), MARGIN.v_min, MARGIN.v_max)
+    return dict(none=critical_kmh, etcs_dv_ebi=MARGIN.safe_speed(v) / KMH, twice_etcs_dv_ebi=twice.safe_speed(v) / KMH,
+                ten_percent=0.9 * critical_kmh)
+
+
+def _lowest(rows, key):
+    """(the row with the lowest `key`, max - min of `key`)."""
+    values = [r[key] for r in rows]
+    low = rows[int(np.argmin(values))]
+    return low, float(max(values) - min(values))
+
+
+def _curve_row(line: Line, i, rows, settings: Settings):
+    curve = line.curves[i]
+    base = [r for r in rows if r["wind_speed_m_s"] == 0.0 and r["fault"] is None and
+            (r["vehicle_set"], r["friction"]) in {(s, f) for s in settings.vehicle_sets for f in settings.frictions}]
+    low, spread = _lowest(base, "critical_derailment_speed_kmh")
+    reference = next((r for r in base if (r["vehicle_set"], r["friction"]) ==
+                      (settings.reference_set, settings.reference_friction)), None)
+    critical = low["critical_derailment_speed_kmh"]
+
+    def change(r):
+        if reference is None:
+            return None
+        return r["critical_derailment_speed_kmh"] - reference["critical_derailment_speed_kmh"]
+
+    wind = [dict(wind_speed_m_s=r["wind_speed_m_s"], critical_derailment_speed_kmh=r["critical_derailment_speed_kmh"],
+                 derailed=r["derailed"], change_kmh=change(r)) for r in rows if r["wind_speed_m_s"] > 0.0]
+    faults = [dict(fault=r["fault"], critical_derailment_speed_kmh=r["critical_derailment_speed_kmh"],
+                   derailed=r["derailed"], change_kmh=change(r)) for r in rows if r["fault"]]
+    sensitivity = margin_sensitivity(critical)
+    return dict(index=i, start_m=curve.start_m, end_m=curve.end_m, radius_m=curve.radius_m, cant_mm=curve.cant_m * 1e3,
+                direction=curve.direction, permitted_speed_kmh=line.permitted_speed_kmh(curve),
+                critical_derailment_speed_kmh=critical, derailed=low["derailed"], spread_kmh=spread,
+                lowest_case=dict(vehicle_set=low["vehicle_set"], friction=low["friction"]),
+                safe_speed_kmh=sensitivity["etcs_dv_ebi"], safe_speed_sensitivity_kmh=sensitivity,
+                mechanism=low["mechanism"], side=low["side"], section=low["section"], cases=base,
+                reference_case=dict(vehicle_set=settings.reference_set, friction=settings.reference_friction),
+                crosswind=wind, faults=faults)
+
+
+def _defect_row(line: Line, i, rows):
+    defect = line.defects[i]
+    low, spread = _lowest(rows, "margins_intact_up_to_kmh")
+    intact = low["margins_intact_up_to_kmh"]
+    return dict(index=i, position_m=defect.position_m, end_m=defect.end_m, kind=defect.kind, size_mm=defect.size_m * 1e3,
+                length_m=defect.length_m, margins_intact_up_to_kmh=intact, spread_kmh=spread,
+                safe_speed_kmh=MARGIN.safe_speed(intact * KMH) / KMH,
+                lowest_case=dict(vehicle_set=low["vehicle_set"], friction=low["friction"]),
+                first_broken=low["first_broken"], cases=rows)
+
+
+def _site_row(line: Line, i, rows):
+    site = line.wind_sites[i]
+    curve = line.curve_at(site.position_m)
+    return dict(index=i, position_m=site.position_m, name=site.name, exposure=site.exposure,
+                track="straight" if curve is None else f"curve R {curve.radius_m:g} m, cant {curve.cant_m * 1e3:g} mm",
+                curve=dict(speed_kmh=[r["speed_kmh"] for r in rows], wind_speed_m_s=[r["wind_speed_m_s"] for r in rows]),
+                runs=sum(r["runs"] for r in rows))
+
+
+@dataclass
+class SurveyResult:
+    """A survey: the line (its file's content, and name and length), the settings and margin, and the rows of
+    its curves, defects and wind sites (km/h and mm where the names say so)."""
+    line: dict
+    settings: dict
+    margin: dict
+    curves: list = field(default_factory=list)
+    defects: list = field(default_factory=list)
+    wind_sites: list = field(default_factory=list)
+
+    def as_dict(self):
+        return jsonout.plain(dict(line=self.line, settings=self.settings, margin=self.margin, curves=self.curves,
+                                  defects=self.defects, wind_sites=self.wind_sites))
+
+    @classmethod
+    def from_dict(cls, data):
+        """The result of a survey's JSON (`as_dict`); ValueError if a section is missing."""
+        missing = [k for k in ("line", "settings", "margin", "curves", "defects", "wind_sites") if k not in data]
+        if missing:
+            raise ValueError(f"survey result: {', '.join(missing)} missing (not a `railderail survey --json` file?)")
+        return cls(**{k: data[k] for k in ("line", "settings", "margin", "curves", "defects", "wind_sites")})
+
+    @classmethod
+    def load(cls, path):
+        try:
+            return cls.from_dict(json.loads(Path(path).read_text()))
+        except (OSError, json.JSONDecodeError) as error:
+            raise ValueError(f"survey result {path}: cannot be read ({error})") from None
+
+    def save(self, path):
+        jsonout.write(path, self.as_dict())
+
+
+def survey(line: Line, base: Scenario = None, settings: Settings = Settings(), workers=None, scheduler=None,
+           progress=True, cache=None):
+    """The survey of a line (module docstring): a SurveyResult."""
+    base = base or Scenario()
+    settings = settings.validated()
+    line = line.validated()
+    items = cases(line, settings)
+    line_data = line_as_dict(line)
+    rows = run_all(functools.partial(run_case, line_data=line_data, base=base, settings=settings, cache=cache),
+                   items, workers=workers, scheduler=scheduler, progress=progress, desc="survey", unit="case",
+                   cost=[COST[item[0]] for item in items])
+    by = {}
+    for item, row in zip(items, rows):
+        by.setdefault((item[0], item[1]), []).append(row)
+    return SurveyResult(
+        line=dict(name=line.name, length_m=line.length_m, line_speed_kmh=line.line_speed_kmh, source=line.source,
+                  sureness=line.sureness, file=line_data),
+        settings=asdict(settings),
+        margin=dict(rule="safe speed V with V + dV_ebi(V) = the limit", **{
+            f.name: dict(value_kmh=getattr(MARGIN, f.name) / KMH, source=f.metadata["source"], sure=f.metadata["sure"])
+            for f in SafetyMargin.__dataclass_fields__.values()}),
+        curves=[_curve_row(line, i, by[("curve", i)], settings) for i in range(len(line.curves))],
+        defects=[_defect_row(line, i, by[("defect", i)]) for i in range(len(line.defects))],
+        wind_sites=[_site_row(line, i, by[("wind_site", i)]) for i in range(len(line.wind_sites))])
+
+
+# --- the supervisor's targets ----------------------------------------------------------------------------
+def _line(result):
+    return line_from_dict((SurveyResult.from_dict(result) if isinstance(result, dict) else result).line["file"])
+
+
+def permitted_profile(result):
+    """The civil profile alone: [(start m, end m, permitted speed m/s)] (`Line.permitted_speed_at`)."""
+    line = _line(result)
+    edges = sorted({0.0, line.length_m, *(x for a, b, _ in line.speed_limits for x in (a, b)),
+                    *(x for c in line.curves for x in c.extent)})
+    out = []
+    for a, b in zip(edges[:-1], edges[1:]):
+        v = line.permitted_speed_at(0.5 * (a + b))
+        if out and out[-1][2] == v and out[-1][1] == a:
+            out[-1] = (out[-1][0], b, v)
+        else:
+            out.append((a, b, v))
+    return out
+
+
+def survey_targets(result):
+    """The most restrictive speed profile along the line: [(start m, end m, speed limit m/s, reason)] in order,
+    covering the line: the lowest at each place of the line speed, the civil speed limits, each curve's
+    permitted speed and safe speed over its extent (from the start of its entry transition to the end of its
+    exit transition) and each defect's safe speed from `defect_guard_m` before it to as far after it.
+    `result` is a SurveyResult or its dict."""
+    if isinstance(result, dict):
+        result = SurveyResult.from_dict(result)
+    line = _line(result)
+    limits = [(0.0, line.length_m, line.line_speed_kmh, "line speed")]
+    limits += [(a, b, v, f"speed limit {a / 1000:.3f}-{b / 1000:.3f} km") for a, b, v in line.speed_limits]
+    for c in result.curves:
+        name = f"curve {c['index']} (R {c['radius_m']:g} m)"
+        limits.append((c["start_m"], c["end_m"], c["permitted_speed_kmh"], f"{name}: permitted speed"))
+        limits.append((c["start_m"], c["end_m"], c["safe_speed_kmh"],
+                       f"{name}: safe speed, critical derailment speed {c['critical_derailment_speed_kmh']:.1f} km/h"
+                       + ("" if c["derailed"] else " (no derailment up to it)") + " less dV_ebi"))
+    for d in result.defects:
+        limits.append((max(0.0, d["position_m"] - RULES.defect_guard_m),
+                       min(line.length_m, d["end_m"] + RULES.defect_guard_m), d["safe_speed_kmh"],
+                       f"defect {d['index']} ({d['kind']} {d['size_mm']:g} mm): safe speed, margins intact up to "
+                       f"{d['margins_intact_up_to_kmh']:.1f} km/h less dV_ebi"))
+    edges = sorted({x for a, b, _, _ in limits for x in (a, b)})
+    profile = []
+    for a, b in zip(edges[:-1], edges[1:]):
+        covering = [(v, why) for lo, hi, v, why in limits if lo <= a and b <= hi]
+        v, why = min(covering, key=lambda x: x[0])
+        if profile and profile[-1][2] == v * KMH and profile[-1][3] == why and profile[-1][1] == a:
+            profile[-1] = (profile[-1][0], b, v * KMH, why)
+        else:
+            profile.append((a, b, v * KMH, why))
+    return profile
+
