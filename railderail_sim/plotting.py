@@ -541,7 +541,8 @@ def survey_figure(result, permitted, targets, path):
     derailment came up to it) and safe speed over its extent, each defect's safe speed, and the most
     restrictive profile (`targets`: (start m, end m, m/s, reason) pieces), against km."""
     def stairs(ax, pieces, **style):
-        ax.stairs([p[2] * 3.6 for p in pieces], np.array([pieces[0][0]] + [p[1] for p in pieces]) / 1000.0, **style)
+        ax.stairs([p[2] * 3.6 for p in pieces], np.array([pieces[0][0]] + [p[1] for p in pieces]) / 1000.0,
+                  baseline=None, **style)
 
     with figure(path, (9.0, 4.5)) as fig:
         ax = fig.subplots()

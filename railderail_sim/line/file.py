@@ -141,8 +141,17 @@ def load_line(path):
 
 
 def _mm(value_m):
-    """m -> mm for the file, rounded where float arithmetic leaves noise (a loaded file's values return)."""
-    return round(value_m * 1000.0, 9)
+    """m -> mm for the file: the shortest of the numbers near value_m * 1000 that the loader's / 1000 turns
+    back into value_m exactly (float arithmetic leaves 15.299999999999999 for 0.0153 m), so that a line
+    written and read again is the same line."""
+    exact = value_m * 1000.0
+    near = [round(exact, 9), exact]
+    for direction in (math.inf, -math.inf):
+        y = exact
+        for _ in range(4):
+            y = math.nextafter(y, direction)
+            near.append(y)
+    return next((y for y in near if y / 1000.0 == value_m), near[0])
 
 
 def line_as_dict(line: Line):

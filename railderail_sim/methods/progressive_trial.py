@@ -83,7 +83,8 @@ def _last_safe(table, s_event):
     return max(held) / KMH if held else float("nan")
 
 
-def _constant_run(sc: Scenario, radius, speed_kmh):
+def constant_run(sc: Scenario, radius, speed_kmh):
+    """One run at a constant speed over the scenario's line with its curve of `radius` (the bisection's)."""
     return simulate(replace(sc, track=replace(sc.track, radius=radius), speed_table=constant_speed(speed_kmh),
                             stop_on_derailment=True, output_rate=50.0))
 
@@ -108,18 +109,20 @@ def progressive_trial(sc: Scenario = None, radius=1000.0, stair: Staircase = Sta
         res.mechanism = d["mechanism"]
         res.derailment_time_s = d["time_s"]
     if refine and d is not None:
-        _refine(sc, radius, res, tolerance_kmh)
+        bisect_constant_speeds(sc, radius, res, tolerance_kmh)
     return res
 
 
-def _refine(sc, radius, res, tolerance_kmh):
-    """Bisection over constant-speed runs on the Table 2 line, bracketed around the staircase result."""
+def bisect_constant_speeds(sc, radius, res, tolerance_kmh):
+    """Bisection over constant-speed runs on the scenario's line (the Table 2 line), bracketed around the
+    speed `res.critical_derailment_speed_kmh` (the staircase's, or another first guess); fills `res`'s
+    refined fields."""
     cache = {}
 
     def run(v):
         v = round(v, 6)
         if v not in cache:
-            cache[v] = _constant_run(sc, radius, v)
+            cache[v] = constant_run(sc, radius, v)
         return cache[v]
 
     hi = round(res.critical_derailment_speed_kmh)

@@ -5,9 +5,11 @@ to supervise the car against its own limits rather than against fixed civil ones
   (`progressive_trial`: the staircase, then the bisection over constant-speed runs), on the curve's own run
   (`Line.scenario_for`: Table 2's 200 m straights around the curve's transitions, its arc cut to
   `SurveyRules.simulated_arc_m`), for every friction and stand-in parameter set asked; the lowest is the
-  curve's critical derailment speed, with the spread (max - min) and the case that gave it. A curve whose
-  staircase reaches its top speed without a derailment has no critical speed below it: its limit is reported
-  as that top (`derailed: false`), a lower bound.
+  curve's critical derailment speed, with the spread (max - min) and the case that gave it. A constant-speed
+  run at the staircase's top speed comes first: a curve that does not derail at it is, by the bisection's own
+  assumption (every speed above a derailing one derails too), not derailed below it either, and its limit is
+  reported as that top (`derailed: false`), a lower bound; the staircase and bisection run only on a curve
+  that derails at the top.
 - Its safe speed: the critical derailment speed less ETCS's emergency-brake-intervention margin (`SafetyMargin`,
   SUBSET-026's dV_ebi): with the ceiling at the safe speed, a train allowed to exceed it by dV_ebi before the
   emergency brake is commanded is still below the critical derailment speed. The sensitivity to the margin
@@ -50,7 +52,7 @@ from ..parameters import FRICTION_RANGE, VEHICLE_SETS, parameter, vehicle_parame
 from ..ranges import check_range
 from ..vehicle.simulate import KMH, Scenario, constant_speed, run_to_stop, straight_track
 from .parallel import run_all
-from .progressive_trial import SPEED_RANGE_KMH, Staircase, progressive_trial
+from .progressive_trial import SPEED_RANGE_KMH, Staircase, bisect_constant_speeds, constant_run, progressive_trial
 
 DEFAULT_FRICTIONS = (0.2, 0.3, 0.4, 0.6)
 DEFAULT_WIND_SPEEDS_M_S = (10.0, 20.0, 30.0)
@@ -178,17 +180,27 @@ def curve_case(line: Line, index, base: Scenario, settings: Settings, vehicle_se
     sc = line.scenario_for(curve, _case_scenario(base, vehicle_set, friction, wind=wind,
                                                  faults=base.faults + ((fault,) if fault else ())),
                            arc_m=min(curve.arc_m, RULES.simulated_arc_m))
+    top = constant_run(sc, curve.radius_m, settings.top_kmh)
+    if top.derailment is None:
+        # the bisection's own assumption (a speed above a derailing one derails too) read the other way: no
+        # derailment at the top, none below it; one run instead of the staircase's tens of kilometres
+        return dict(vehicle_set=vehicle_set, friction=friction, wind_speed_m_s=wind_m_s, fault=fault, derailed=False,
+                    critical_derailment_speed_kmh=settings.top_kmh, staircase_speed_kmh=math.nan,
+                    method="no derailment at the top speed", mechanism="", side="", wheelset=-1, section="", runs=1)
     r = progressive_trial(sc, curve.radius_m, settings.staircase, refine=True, tolerance_kmh=settings.tolerance_kmh)
+    staircase = r.critical_derailment_speed_kmh
+    if not math.isfinite(staircase):
+        # the staircase held on to its top, the constant run at the top did not (its entry): bisect down from it
+        r = replace(r, critical_derailment_speed_kmh=settings.top_kmh)
+        bisect_constant_speeds(sc, curve.radius_m, r, settings.tolerance_kmh)
     refined = math.isfinite(r.refined_speed_kmh)
-    derailed = math.isfinite(r.critical_derailment_speed_kmh)
-    speed = r.refined_speed_kmh if refined else (r.critical_derailment_speed_kmh if derailed else settings.top_kmh)
-    return dict(vehicle_set=vehicle_set, friction=friction, wind_speed_m_s=wind_m_s, fault=fault,
-                derailed=derailed, critical_derailment_speed_kmh=speed, staircase_speed_kmh=r.critical_derailment_speed_kmh,
-                method="bisection" if refined else ("staircase" if derailed else "not derailed up to the top"),
+    return dict(vehicle_set=vehicle_set, friction=friction, wind_speed_m_s=wind_m_s, fault=fault, derailed=True,
+                critical_derailment_speed_kmh=r.refined_speed_kmh if refined else r.critical_derailment_speed_kmh,
+                staircase_speed_kmh=staircase, method="bisection" if refined else "staircase",
                 mechanism=r.refined_mechanism if refined else r.mechanism,
                 side=r.refined_side if refined else r.derailed_side,
                 wheelset=r.refined_wheelset if refined else r.derailed_wheelset,
-                section=r.refined_section, runs=r.runs)
+                section=r.refined_section, runs=r.runs + 1)
 
 
 def defect_run(line: Line, index, base: Scenario, vehicle_set, friction, speed_kmh):
