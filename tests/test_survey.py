@@ -1,0 +1,117 @@
+"""The survey of a line's physical speed limits (methods/survey.py, `railderail survey`): the safety margin, the
+supervisor's target profile from a hand-built result, the survey of the Table 2 curve against `trial` on the same
+scenario, the command's JSON and its cache, and a defect's margins."""
+import contextlib
+import io
+import json
+
+import pytest
+
+from railderail_sim.cli import main
+from railderail_sim.line.data import Curve, Defect, Line
+from railderail_sim.line.file import line_as_dict
+from railderail_sim.methods import survey as sv
+from railderail_sim.methods.progressive_trial import Staircase, progressive_trial
+from railderail_sim.vehicle.simulate import KMH, Scenario
+
+TOLERANCE_KMH = 8.0          # coarse: the test compares like with like, not the speed's last km/h
+
+
+def test_safety_margin_is_etcs_dv_ebi_over_the_safe_speed():
+    m = sv.SafetyMargin()
+    assert m.safe_speed(300.0 * KMH) / KMH == pytest.approx(285.0)          # above V_ebi_max: 15 km/h
+    assert m.safe_speed(100.0 * KMH) / KMH == pytest.approx(92.5)           # below V_ebi_min: 7.5 km/h
+    for critical in (120.0, 150.0, 200.0, 222.0):                           # on the ramp between them
+        v = m.safe_speed(critical * KMH)
+        assert v + m.dv(v) == pytest.approx(critical * KMH)
+    assert m.safe_speed(150.0 * KMH) / KMH == pytest.approx(150.75 / 1.075)
+
+
+def _hand_built():
+    line = Line("hand", "test", "C", 10000.0, 300.0,
+                (Curve(2000.0, 250.0, 500.0, 250.0, 1200.0, 0.15, 1, 250.0), Curve(5000.0, 250.0, 500.0, 250.0, 7000.0, 0.15)),
+                ((0.0, 1000.0, 160.0),), (Defect(5500.0, "kink", 0.02, 10.0),)).validated()
+    curves = [dict(index=0, start_m=2000.0, end_m=3000.0, radius_m=1200.0, permitted_speed_kmh=250.0,
+                   critical_derailment_speed_kmh=255.0, derailed=True, safe_speed_kmh=240.0),
+              dict(index=1, start_m=5000.0, end_m=6000.0, radius_m=7000.0, permitted_speed_kmh=300.0,
+                   critical_derailment_speed_kmh=450.0, derailed=False, safe_speed_kmh=435.0)]
+    defects = [dict(index=0, position_m=5500.0, end_m=5510.0, kind="kink", size_mm=20.0,
+                    margins_intact_up_to_kmh=165.0, safe_speed_kmh=150.0)]
+    return sv.SurveyResult(line=dict(name="hand", length_m=10000.0, file=line_as_dict(line)), settings={}, margin={},
+                           curves=curves, defects=defects, wind_sites=[])
+
+
+def test_targets_are_the_most_restrictive_profile():
+    targets = sv.survey_targets(_hand_built())
+    assert [(a, b, round(v / KMH, 9)) for a, b, v, _ in targets] == [
+        (0.0, 1000.0, 160.0), (1000.0, 2000.0, 300.0), (2000.0, 3000.0, 240.0), (3000.0, 5475.0, 300.0),
+        (5475.0, 5535.0, 150.0), (5535.0, 10000.0, 300.0)]
+    reasons = [why for _, _, _, why in targets]
+    assert reasons[0].startswith("speed limit") and reasons[1] == "line speed"
+    assert reasons[2].startswith("curve 0 (R 1200 m): safe speed") and reasons[4].startswith("defect 0 (kink 20 mm)")
+    # the JSON form reads back to the same profile
+    assert sv.survey_targets(json.loads(json.dumps(_hand_built().as_dict()))) == targets
+    permitted = sv.permitted_profile(_hand_built())
+    assert [(a, b, round(v / KMH, 9)) for a, b, v in permitted] == [
+        (0.0, 1000.0, 160.0), (1000.0, 2000.0, 300.0), (2000.0, 3000.0, 250.0), (3000.0, 10000.0, 300.0)]
+
+
+ARGS = ["survey", "table2", "--frictions", "0.3", "--vehicle-sets", "hs19", "--tolerance-kmh", str(TOLERANCE_KMH),
+        "--faults", "none", "--wind-speeds-m-s", "none", "--workers", "1", "--json"]
+
+
+@pytest.fixture(scope="module")
+def table2_survey(tmp_path_factory):
+    """`railderail survey table2 --json` of one case (its stdout text) and its cache folder."""
+    cache = tmp_path_factory.mktemp("survey-cache")
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        assert main(ARGS + ["--cache", str(cache)]) == 0
+    return out.getvalue(), cache
+
+
+def test_survey_json_keys(table2_survey):
+    result = json.loads(table2_survey[0])
+    assert result["line"]["name"] == "table2" and result["line"]["length_m"] == 1800.0
+    curve = result["curves"][0]
+    for key in ("start_m", "end_m", "radius_m", "cant_mm", "critical_derailment_speed_kmh", "spread_kmh",
+                "safe_speed_kmh", "cases", "crosswind", "faults", "lowest_case"):
+        assert key in curve
+    assert (curve["start_m"], curve["end_m"], curve["radius_m"], curve["cant_mm"]) == (200.0, 1600.0, 1000.0, 175.0)
+    assert result["defects"] == [] and result["wind_sites"] == []
+    assert curve["safe_speed_kmh"] == pytest.approx(curve["critical_derailment_speed_kmh"] - 15.0)
+
+
+def test_survey_gives_the_trial_speed_on_the_same_scenario(table2_survey):
+    curve = json.loads(table2_survey[0])["curves"][0]
+    trial = progressive_trial(Scenario(), 1000.0, Staircase(), tolerance_kmh=TOLERANCE_KMH)
+    assert curve["derailed"] and curve["cases"][0]["method"] == "bisection"
+    assert curve["critical_derailment_speed_kmh"] == trial.refined_speed_kmh
+    assert curve["mechanism"] == trial.refined_mechanism
+
+
+def test_survey_is_cached(table2_survey, capsys):
+    text, cache = table2_survey
+    assert any(cache.rglob("*.json"))
+    assert main(ARGS + ["--cache", str(cache)]) == 0            # every case from the cache: seconds
+    assert capsys.readouterr().out == text
+
+
+def test_bad_line_file_is_one_line(tmp_path, capsys):
+    path = tmp_path / "bad.yaml"
+    path.write_text("name: x\nsource: y\nsureness: C\nlength_m: 1000\nline_speed_kmh: 200\n"
+                    "curves:\n  - {start_m: 100, transition_in_m: 10, arc_m: 100, transition_out_m: 100, "
+                    "radius_m: 1000, cant_mm: 150, direction: left}\n")
+    assert main(["survey", str(path), "--json"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and f"{path}: curves[0]: transition_in_m 10 m is too short" in err
+
+
+def test_defect_margins():
+    """A 20 mm lateral kink in a 1000 m curve: passed at 120 km/h with every margin intact, a margin broken at
+    200 km/h."""
+    line = Line("kink", "test", "C", 3000.0, 300.0, (Curve(500.0, 200.0, 600.0, 200.0, 1000.0, 0.175, -1),),
+                defects=(Defect(900.0, "kink", 0.020, 10.0),)).validated()
+    assert sv.defect_run(line, 0, Scenario(), "hs19", 0.3, 120.0) == (True, "")
+    ok, margin = sv.defect_run(line, 0, Scenario(), "hs19", 0.3, 200.0)
+    assert not ok and margin in ("flange_climb", "wheel_unloading", "wheel_lift", "derailment")
