@@ -83,6 +83,9 @@ def test_wheel_layout(tmp_path):
             shipped = (ROOT / package / "config" / name).read_bytes()
             assert archive.read(f"{package}/config/{name}") == shipped
             assert archive.read(f"{data}data/share/railderail/config/{name}") == shipped
+        for line in ("table2.yaml", "hsr-300-demo.yaml"):        # the shipped lines (railderail survey NAME)
+            assert archive.read(f"railderail_sim/config/lines/{line}") == \
+                (ROOT / "railderail_sim" / "config" / "lines" / line).read_bytes()
         assert archive.read(f"{data}data/share/railderail/launch/demo.launch.py") == \
             (ROOT / "launch" / "demo.launch.py").read_bytes()
     for name, target in CONSOLE_SCRIPTS.items():

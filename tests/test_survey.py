@@ -41,7 +41,9 @@ def _hand_built():
                            curves=curves, defects=defects, wind_sites=[])
 
 
-def test_targets_are_the_most_restrictive_profile():
+def test_targets_are_the_most_restrictive_profile(tmp_path):
+    _hand_built().save(tmp_path / "survey.json")
+    assert sv.SurveyResult.load(tmp_path / "survey.json").as_dict() == _hand_built().as_dict()
     targets = sv.survey_targets(_hand_built())
     assert [(a, b, round(v / KMH, 9)) for a, b, v, _ in targets] == [
         (0.0, 1000.0, 160.0), (1000.0, 2000.0, 300.0), (2000.0, 3000.0, 240.0), (3000.0, 5475.0, 300.0),
