@@ -546,7 +546,7 @@ def survey_figure(result, permitted, targets, path):
 
     with figure(path, (9.0, 4.5)) as fig:
         ax = fig.subplots()
-        stairs(ax, permitted, color="tab:green", lw=1.6, label="permitted speed")
+        stairs(ax, permitted, color="tab:green", lw=3.5, alpha=0.6, label="permitted speed")
         for i, c in enumerate(result.curves):
             km = np.array([c["start_m"], c["end_m"]]) / 1000.0
             ax.plot(km, [c["critical_derailment_speed_kmh"]] * 2, color="tab:red", lw=2.0,

@@ -117,3 +117,25 @@ def test_defect_margins():
     assert sv.defect_run(line, 0, Scenario(), "hs19", 0.3, 120.0) == (True, "")
     ok, margin = sv.defect_run(line, 0, Scenario(), "hs19", 0.3, 200.0)
     assert not ok and margin in ("flange_climb", "wheel_unloading", "wheel_lift", "derailment")
+
+
+def test_curve_row_takes_the_lowest_case_and_changes_against_the_reference():
+    """Without the reference case among the cases (as with --quick), it is run on its own for the tables' changes
+    and left out of the lowest."""
+    line = Line("x", "test", "C", 3000.0, 300.0, (Curve(500.0, 200.0, 600.0, 200.0, 1000.0, 0.175),)).validated()
+    settings = sv.Settings(frictions=(0.2, 0.6), vehicle_sets=("hs19", "zhai"), wind_speeds_m_s=(20.0,),
+                           faults=("yaw-dampers-failed@both",))
+    items = sv.cases(line, settings)
+    assert ("curve", 0, "hs19", 0.3) in items and ("curve", 0, "hs19", 0.3, 20.0) in items
+    assert len([i for i in items if i[0] == "curve"]) == 4 + 1 + 1 + 1
+
+    def row(vehicle_set, friction, speed, wind=0.0, fault=None):
+        return dict(vehicle_set=vehicle_set, friction=friction, wind_speed_m_s=wind, fault=fault, derailed=True,
+                    critical_derailment_speed_kmh=speed, mechanism="wheel_unloading", side="inner", section="curve")
+    rows = [row("hs19", 0.2, 290.0), row("hs19", 0.6, 291.0), row("zhai", 0.2, 284.0), row("zhai", 0.6, 286.0),
+            row("hs19", 0.3, 280.0), row("hs19", 0.3, 260.0, wind=20.0), row("hs19", 0.3, 281.0, fault="yaw-dampers-failed@both")]
+    c = sv._curve_row(line, 0, rows, settings)
+    assert c["critical_derailment_speed_kmh"] == 284.0 and c["spread_kmh"] == 7.0
+    assert c["lowest_case"] == dict(vehicle_set="zhai", friction=0.2) and len(c["cases"]) == 4
+    assert c["safe_speed_kmh"] == pytest.approx(269.0)
+    assert c["crosswind"][0]["change_kmh"] == -20.0 and c["faults"][0]["change_kmh"] == 1.0

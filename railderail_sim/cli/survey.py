@@ -58,9 +58,9 @@ def survey_command(parser):
         from ..line.file import load_line
         plot = _plot_path(args)
         line = load_line(args.line)
-        chosen = dict(sv.Settings().__dict__, vehicle_sets=VEHICLE_SETS, **(sv.QUICK if args.quick else {}))
+        chosen = dict(sv.Settings().__dict__)
         if args.quick:
-            chosen["vehicle_sets"] = (args.vehicle_set,)
+            chosen.update(sv.QUICK, vehicle_sets=(args.vehicle_set,))
         for key, text in (("frictions", args.frictions), ("wind_speeds_m_s", args.wind_speeds_m_s),
                           ("cwc_speeds_kmh", args.cwc_speeds_kmh)):
             if text is not None:
@@ -115,4 +115,4 @@ def _human(result):
 
 def _change(row):
     c = row["change_kmh"]
-    return "?" if c is None else (f"{c:+.1f}" if row["derailed"] else f"{c:+.1f} (no derailment)")
+    return f"{c:+.1f}" if row["derailed"] else f"{c:+.1f} (no derailment)"

@@ -28,7 +28,7 @@ to supervise the car against its own limits rather than against fixed civil ones
 - How the live inputs move each curve's limit, at the reference case (the `--vehicle-set` and `--friction`):
   its critical derailment speed in a steady crosswind from the inside of the curve (which adds to the
   centrifugal unloading of the inner wheels) at a few wind speeds, and with each shipped fault; reported as
-  the change against the reference case without them.
+  the change against the reference case without them (run on its own when it is not among the cases).
 
 Every case is one item of `parallel.run_all` (processes or Dask), cached on disk under the SHA-256 of its
 inputs and of railderail_sim's sources, so a second survey of the same line returns at once and an
@@ -310,7 +310,10 @@ def _base_key(base: Scenario):
 def cases(line: Line, settings: Settings):
     """Every case of a survey: (kind, index, *arguments)."""
     ref = (settings.reference_set, settings.reference_friction)
-    out = [("curve", i, s, f) for i in range(len(line.curves)) for s in settings.vehicle_sets for f in settings.frictions]
+    grid = [(s, f) for s in settings.vehicle_sets for f in settings.frictions]
+    out = [("curve", i, s, f) for i in range(len(line.curves)) for s, f in grid]
+    if ref not in grid and (settings.wind_speeds_m_s or settings.faults):     # what the tables' changes are against
+        out += [("curve", i, *ref) for i in range(len(line.curves))]
     out += [("curve", i, *ref, u) for i in range(len(line.curves)) for u in settings.wind_speeds_m_s]
     out += [("curve", i, *ref, 0.0, fault) for i in range(len(line.curves)) for fault in settings.faults]
     out += [("defect", i, s, f) for i in range(len(line.defects)) for s in settings.vehicle_sets
@@ -337,16 +340,14 @@ def _lowest(rows, key):
 
 def _curve_row(line: Line, i, rows, settings: Settings):
     curve = line.curves[i]
-    base = [r for r in rows if r["wind_speed_m_s"] == 0.0 and r["fault"] is None and
-            (r["vehicle_set"], r["friction"]) in {(s, f) for s in settings.vehicle_sets for f in settings.frictions}]
+    plain = [r for r in rows if r["wind_speed_m_s"] == 0.0 and r["fault"] is None]
+    base = [r for r in plain if r["vehicle_set"] in settings.vehicle_sets and r["friction"] in settings.frictions]
     low, spread = _lowest(base, "critical_derailment_speed_kmh")
-    reference = next((r for r in base if (r["vehicle_set"], r["friction"]) ==
-                      (settings.reference_set, settings.reference_friction)), None)
+    reference = next((r for r in plain if (r["vehicle_set"], r["friction"]) ==
+                      (settings.reference_set, settings.reference_friction)), None)   # run if the tables need it
     critical = low["critical_derailment_speed_kmh"]
 
     def change(r):
-        if reference is None:
-            return None
         return r["critical_derailment_speed_kmh"] - reference["critical_derailment_speed_kmh"]
 
     wind = [dict(wind_speed_m_s=r["wind_speed_m_s"], critical_derailment_speed_kmh=r["critical_derailment_speed_kmh"],
