@@ -398,6 +398,9 @@ RUNNING_GEAR_UNLOADING_LIMIT = 0.90
 # Hz; the low-pass of dQ/Q0 before its peak is read: the standard's filter as quoted second hand, not read in
 # the standard (A)
 RUNNING_GEAR_UNLOADING_FILTER_HZ = 2.0
+KMH = 1.0 / 3.6                 # m/s per km/h
+RADIUS_RANGE = (150.0, 20000.0)  # accepted curve radii (m)
+SPEED_RANGE_KMH = (30.0, 800.0)  # accepted speeds (km/h): the creepage normalisation and tolerances are set for this range
 FRICTION_RANGE = (0.0, 1.0)     # accepted wheel-rail friction coefficients, (0, 1]
 CANT_RANGE_MM = (0.0, 200.0)    # accepted cant heights (mm); EN 13803 allows up to 180 mm (200 mm on ballastless track)
 

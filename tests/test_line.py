@@ -1,6 +1,10 @@
 """The line as data (railderail_sim/line): the shipped line files, the loader's one-line errors (each naming the
 file, the section and the key), the round trip, and a curve's run as the simulator takes it."""
 import math
+import os
+from pathlib import Path
+import subprocess
+import sys
 
 import pytest
 import yaml
@@ -9,6 +13,8 @@ from railderail_sim.line.data import Curve, Defect, Line, WindSite
 from railderail_sim.line.file import dump_line, line_as_dict, load_line
 from railderail_sim.parameters import TrackParameters
 from railderail_sim.vehicle.simulate import KMH, Scenario
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_shipped_lines_load():
@@ -135,3 +141,10 @@ def test_loader_refuses_what_is_not_a_line_file(tmp_path):
         load_line(path)
     with pytest.raises(ValueError, match="is not a shipped line"):
         load_line("no-such-line")
+
+
+def test_reading_a_line_does_not_load_the_core():
+    """The monitor's side reads line files without numba (docs/design.md)."""
+    code = ("import sys; from railderail_sim.line.file import load_line; load_line('hsr-300-demo'); "
+            "assert 'numba' not in sys.modules, 'numba loaded'")
+    subprocess.run([sys.executable, "-c", code], check=True, cwd=ROOT, env=dict(os.environ, PYTHONPATH=str(ROOT)))

@@ -15,9 +15,8 @@ recalled.
 from dataclasses import dataclass, replace
 import math
 
-from ..parameters import CANT_RANGE_MM, TrackParameters, parameter
+from ..parameters import CANT_RANGE_MM, KMH, RADIUS_RANGE, SPEED_RANGE_KMH, TrackParameters, parameter
 from ..ranges import check_range
-from ..vehicle.simulate import KMH, RADIUS_RANGE, SPEED_RANGE_KMH, Scenario
 
 DEFECT_KINDS = ("kink", "twist")     # what track.irregularity builds: lateral_kink, twist
 SURENESS = ("A", "B", "C")
@@ -220,9 +219,10 @@ class Line:
                        transition_out=curve.transition_out_m, straight_out=rules.exit_m, radius=curve.radius_m,
                        cant_height=curve.cant_m, direction=curve.direction, rail_spacing=self.rail_spacing)
 
-    def scenario_for(self, curve, base: Scenario = None, approach_m=None, arc_m=None, **changes):
-        """The Scenario of one curve with its approach straight (`track_for`), the rest from `base` (default
-        `Scenario()`) with `changes` (Scenario fields); the progressive trial runs it as it is."""
+    def scenario_for(self, curve, base=None, approach_m=None, arc_m=None, **changes):
+        """The `vehicle.simulate.Scenario` of one curve with its approach straight (`track_for`), the rest from
+        `base` (default `Scenario()`) with `changes` (Scenario fields); the progressive trial runs it as it is."""
+        from ..vehicle.simulate import Scenario       # here: reading a line file does not load the numba core
         base = base or Scenario()
         return replace(base, track=self.track_for(curve, base.track, approach_m, arc_m), **changes)
 

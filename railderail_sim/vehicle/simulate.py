@@ -16,8 +16,8 @@ from .. import jsonout
 from ..atomic import atomic_write
 from ..contact.layout import GeometryHeader, Wheel
 from ..loads.wind import Wind, pack_aero
-from ..parameters import (AerodynamicParameters, ContactParameters, ElasticTrackParameters, TrackParameters,
-                          VehicleParameters, vehicle_parameters)
+from ..parameters import (KMH, RADIUS_RANGE, SPEED_RANGE_KMH, AerodynamicParameters, ContactParameters,
+                          ElasticTrackParameters, TrackParameters, VehicleParameters, vehicle_parameters)
 from ..ranges import check_range
 from ..track import alignment
 from ..track.irregularity import Irregularity
@@ -28,9 +28,6 @@ from .assemble import build_model, failed_elements, static_contact
 from .integrator import Event, StepControl, Stepper
 from .layout import N_DOF, N_OUT, N_STATE, N_WHEEL, WHEELSETS, Body, BodyTable, Dof, OutputRow, State, WheelsetOutput
 
-KMH = 1.0 / 3.6
-RADIUS_RANGE = (150.0, 20000.0)          # m
-SPEED_RANGE_KMH = (30.0, 800.0)          # the creepage normalisation and tolerances are set for this range
 RTOL = 1.0e-7                            # relative error per step; see docs/vehicle-model.md (tolerance study)
 ATOL_DISPLACEMENT = 1.0e-8               # m and rad per step; velocities and rates get 100x this in 1/s
 MAX_STEP = 2.0e-3                        # s, below the stability limit of the 200 Hz contact modes
