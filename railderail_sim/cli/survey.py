@@ -1,5 +1,7 @@
 """Subcommand survey: the physical speed limits of a line file's curves, defects and wind sites
 (`methods.survey`; docs/supervision.md, "The survey")."""
+from pathlib import Path
+
 from .. import jsonout, plotting
 from .methods import _common, _floats, _plot_path, base_scenario
 
@@ -57,6 +59,8 @@ def survey_command(parser):
     def run(args):
         from ..line.file import load_line
         plot = _plot_path(args)
+        if args.out and not Path(args.out).expanduser().resolve().parent.is_dir():
+            raise ValueError(f"--out {args.out!r}: its folder does not exist")
         line = load_line(args.line)
         chosen = dict(sv.Settings().__dict__)
         if args.quick:
