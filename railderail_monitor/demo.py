@@ -1,8 +1,8 @@
 """`railderail demo`: the main job, as real ROS 2 nodes in separate processes.
 
-Starts the recorder (railderail_monitor.recording), the monitor (railderail_monitor.node), a second
+Starts the recorder (railderail_monitor.recording.recorder), the monitor (railderail_monitor.node), a second
 monitor in measured mode beside it (`railderail_onboard_monitor`, signals:=measured: the on-board
-sensors' topics only) and the simulator (railderail_sim.node, its shipped sensor set on) on the built-in
+sensors' topics only) and the simulator (railderail_sim.ros.node, its shipped sensor set on) on the built-in
 scenario — R = 1000 m, the paper's progressive trial from 200 km/h until a wheel derails — at 200 Hz of
 simulated time, faster than real time (`--real-time-factor`, with /clock). It prints the alerts of both
 as they arrive (/railderail/alerts and /railderail/onboard_alerts), each marked with its mode
@@ -33,15 +33,16 @@ import time
 from pathlib import Path
 
 from railderail_sim import jsonout
-from railderail_sim.ros_interface import REAL_TIME_FACTOR_RANGE
+from railderail_sim.ros.interface import REAL_TIME_FACTOR_RANGE
 
-from .criteria import SEVERITY_NAMES, default_limits, lead_times
+from .warning.alerts import lead_times
+from .warning.limits import SEVERITY_NAMES, default_limits
 
 NODES = {  # name: python -m module
-    "recorder": "railderail_monitor.recording",
+    "recorder": "railderail_monitor.recording.recorder",
     "monitor": "railderail_monitor.node",
     "onboard": "railderail_monitor.node",
-    "simulator": "railderail_sim.node",
+    "simulator": "railderail_sim.ros.node",
 }
 ONBOARD_NODE = "railderail_onboard_monitor"
 ONBOARD_ARGS = ["--ros-args", "-r", f"__node:={ONBOARD_NODE}", "-p", "signals:=measured"]
@@ -128,7 +129,7 @@ def simulator_parameters(args):
 def catalogue_parameters(path, name, seed=None):
     """The simulator node's parameters of one catalogue scenario (its first seed unless `seed`); no faults
     given as no parameter (rcl cannot type an empty array on the command line)."""
-    from . import catalogue
+    from .evaluation import catalogue
     if name is None:
         raise ValueError("--catalogue needs --scenario NAME")
     entries = {e.name: e for e in catalogue.load(None if path in (None, "shipped") else path)}
@@ -165,14 +166,14 @@ SUBSCRIBERS = 3          # the simulator starts once the monitor, the recorder a
 
 class Listener:
     """The demo's own rclpy node: alerts, the derailment event and the final status; the simulator counts
-    it among the subscribers it waits for (`ros_interface.count_as_subscriber`)."""
+    it among the subscribers it waits for (`ros.interface.count_as_subscriber`)."""
 
     def __init__(self, say):
         import rclpy
         from rclpy.executors import SingleThreadedExecutor
         from rclpy.signals import SignalHandlerOptions
 
-        from railderail_sim import ros_interface as m
+        from railderail_sim.ros import interface as m
 
         self.rclpy, self.m = rclpy, m
         rclpy.init(signal_handler_options=SignalHandlerOptions.NO)   # Ctrl-C stays a KeyboardInterrupt here
@@ -288,7 +289,7 @@ def run_demo(args, say=print):
                 listener.spin_once(0.05)
         if args.rerun or args.rerun_connect:
             sink = ["--connect", args.rerun_connect] if args.rerun_connect else ["--spawn"]
-            nodes["viewer"] = Node("viewer", [python, "-m", "railderail_monitor.viewer_node"] + sink, out / "logs")
+            nodes["viewer"] = Node("viewer", [python, "-m", "railderail_monitor.views.viewer_node"] + sink, out / "logs")
         nodes["simulator"] = Node("simulator", [python, "-m", NODES["simulator"]] + ros_args(sim_params),
                                   out / "logs", echo=echo_sim)
         deadline = time.monotonic() + args.timeout
@@ -370,7 +371,7 @@ def run_demo(args, say=print):
             say(f"{name + ':':10s} " + line.split("] ", 1)[-1])
     mon_line = logs.get("monitor", "")
     if not args.no_rrd:
-        from .replay import read_recording, write_rrd
+        from .recording.replay import read_recording, write_rrd
         t0 = time.monotonic()
         write_rrd(read_recording(mcap_path), rrd_path, limits)
         say(f"wrote {rrd_path} in {time.monotonic() - t0:.1f} s")
@@ -414,7 +415,7 @@ def command(parser: argparse.ArgumentParser):
     add_arguments(parser)
 
     def run(args):
-        from railderail_sim.node import PARAMETERS
+        from railderail_sim.ros.node import PARAMETERS
 
         table = {spec.name: spec for spec in PARAMETERS}     # the simulator node's own checks, before it starts
         for name, value in simulator_parameters(args).items():

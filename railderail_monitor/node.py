@@ -2,10 +2,10 @@
 `signals:=measured`, the on-board criteria over the sensors' topics only.
 
 Ground truth (`signals` ground_truth, the default): subscribes to /railderail/wheelset_states, /railderail/contact_forces (best effort, deep queue)
-and /railderail/vehicle_status (for the curve's side), runs `criteria.Monitor` on every sample and
+and /railderail/vehicle_status (for the curve's side), runs `warning.monitor.Monitor` on every sample and
 publishes each alert on /railderail/alerts (reliable, transient local). The criteria, their
 thresholds and the debounce/hysteresis are in railderail_monitor/criteria.py. Every threshold is a
-ROS parameter (the fields of `criteria.Limits`, `-p name:=value` or `--params-file FILE.yaml`; NaN
+ROS parameter (the fields of `warning.limits.Limits`, `-p name:=value` or `--params-file FILE.yaml`; NaN
 disables a level) whose default is the shipped parameter file's (railderail_monitor/config/
 monitor.yaml, `railderail monitor-params`); all may change while running (`ros2 param set`): the
 node checks them (`Limits.validated`) and starts a new Monitor with them. On exit it logs how many
@@ -28,12 +28,14 @@ from dataclasses import fields
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
-from railderail_sim import ros_interface as m
-from railderail_sim import sensor_messages as sm
 from railderail_sim.parameters import VEHICLE_SETS
+from railderail_sim.ros import interface as m
+from railderail_sim.ros import sensor_messages as sm
 from railderail_sim.vehicle.layout import RUNNING_GEARS
 
-from .criteria import SEVERITY_NAMES, SIGNALS as MODES, SIGNALS_MEANING, AlertRecord, Limits, Monitor, default_limits
+from .warning.alerts import AlertRecord
+from .warning.limits import SEVERITY_NAMES, SIGNALS as MODES, SIGNALS_MEANING, Limits, default_limits
+from .warning.monitor import Monitor
 
 
 # the measured mode's subscriber queue: 2.5 minutes of a 200 Hz sensor. A message costs this Python node about
@@ -52,7 +54,7 @@ MEASURED_SETUP = [
 
 def parameter_table(defaults):
     """The node's parameters in the mode of `defaults`: `signals`, for measured mode (onboard MeasuredLimits)
-    its sensor set and car, then the fields of the limits (criteria.Limits, or MeasuredLimits) with their
+    its sensor set and car, then the fields of the limits (warning.limits.Limits, or MeasuredLimits) with their
     metadata, defaults from `defaults`; the limits may change while running."""
     setup = [] if isinstance(defaults, Limits) else MEASURED_SETUP
     return [SIGNALS] + setup + [

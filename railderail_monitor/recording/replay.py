@@ -1,11 +1,11 @@
 """`railderail replay FILE.mcap`: a recording back on the ROS topics, in Rerun, or as alerts.
 
-- Publishes every recorded topic again (raw CDR, the QoS of ros_interface.TOPICS) at the recorded
+- Publishes every recorded topic again (raw CDR, the QoS of ros.interface.TOPICS) at the recorded
   timing — the messages' log times, which are simulation time — divided by `--rate` (2 = twice as
   fast; 0 = as fast as possible), so that a monitor (or any node) can run offline against it. The
   recorded alerts are left out unless `--include-alerts`, so that a live monitor's alerts are not
   mixed with them. `--no-publish` skips ROS altogether.
-- Runs the monitor's criteria (criteria.Monitor, thresholds from the recording's metadata if the
+- Runs the monitor's criteria (warning.monitor.Monitor, thresholds from the recording's metadata if the
   demo wrote them, else the defaults) over the recorded samples and prints the alerts found, with
   their lead before the recorded derailment; `--json` prints one JSON object instead. With
   `--signals measured` (the default for a recording of sensor topics only, `railderail recover
@@ -33,14 +33,19 @@ from mcap_ros2.decoder import DecoderFactory
 from rclpy.serialization import deserialize_message
 from rosidl_adapter.parser import InvalidSpecification, InvalidValue
 
-from railderail_sim import jsonout, ros_interface as m
-from railderail_sim import sensor_messages as sm
+from railderail_sim import jsonout
 from railderail_sim.parameters import VEHICLE_SETS
 from railderail_sim.ranges import check_range
-from railderail_sim.ros_interface import ALERTS, DERAILMENT, FINAL_STATUS, FORCES, REAL_TIME_FACTOR_RANGE, STATES, STATUS
+from railderail_sim.ros import interface as m
+from railderail_sim.ros import sensor_messages as sm
+from railderail_sim.ros.interface import (ALERTS, DERAILMENT, FINAL_STATUS, FORCES, REAL_TIME_FACTOR_RANGE, STATES,
+                                          STATUS)
 
-from .criteria import Limits, default_limits, Monitor, lead_times, nanoseconds
-from .recording import MAGIC, recover_hint, schema_definitions, schema_text, split_type
+from ..warning.limits import Limits, default_limits
+from ..warning.monitor import Monitor
+from ..warning.alerts import lead_times
+from ..warning.alarms import nanoseconds
+from .recorder import MAGIC, recover_hint, schema_definitions, schema_text, split_type
 
 # what the mcap readers raise on a cut or damaged file (besides McapError)
 READ_ERRORS = (McapError, struct.error, EOFError, ValueError, KeyError)
@@ -180,7 +185,7 @@ def limits_of(recording):
 @dataclass
 class Review:
     """What a replay found."""
-    alerts: list = field(default_factory=list)           # criteria.AlertRecord
+    alerts: list = field(default_factory=list)           # warning.alerts.AlertRecord
     recorded_alerts: list = field(default_factory=list)  # dicts
     derailment: dict = None
     final_status: str = ""
@@ -236,12 +241,12 @@ def review_measured(recording, vehicle_set="hs19", sensors=None, limits=None, on
     log-time order: decoded (sensor_messages.SensorDecoder) into a MeasuredMonitor as the measured-mode
     monitor node does, without its last undecided stamps (the node, fed live, never ends its streams);
     the recorded ones are those of /railderail/onboard_alerts, as dicts. `sensors`: the sensor set
-    (sensors.config.SensorSet, default the shipped one); `limits`: MeasuredLimits (default the car's)."""
+    (sensors.sensor_set.SensorSet, default the shipped one); `limits`: MeasuredLimits (default the car's)."""
     from railderail_sim.parameters import vehicle_parameters
     from railderail_sim.sensors.config import default_set
 
-    from .onboard import measured as me
-    from .onboard.monitor import MeasuredMonitor
+    from ..onboard import measured as me
+    from ..onboard.monitor import MeasuredMonitor
 
     sensors = sensors or default_set()
     vehicle = vehicle_parameters(vehicle_set)
@@ -349,7 +354,7 @@ def feed_viewer(viewer):
 
 def write_rrd(recording, rrd_path, limits=None):
     """The Rerun file of a recording (headless)."""
-    from .viewer import RunViewer
+    from ..views.rerun_views import RunViewer
 
     viewer = RunViewer(limits or limits_of(recording), flush_every=5000)
     viewer.save(rrd_path)
@@ -415,7 +420,7 @@ def command(parser: argparse.ArgumentParser):
                 f"{recording.path} on {len(publisher.publishers)} topics"
                 + (f" at {args.rate:g} x" if args.rate else " as fast as possible"))
         if args.rerun or args.rrd:
-            from .viewer import RunViewer
+            from ..views.rerun_views import RunViewer
             viewer = RunViewer(limits, flush_every=20 if args.rerun else 5000)
             viewer.spawn() if args.rerun else viewer.save(args.rrd)
             callbacks.append(feed_viewer(viewer))

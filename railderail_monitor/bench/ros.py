@@ -74,8 +74,8 @@ def _measured_figures():
     import rclpy
     from rclpy.signals import SignalHandlerOptions
 
-    from railderail_sim import ros_interface as m
-    from railderail_sim import sensor_messages as sm
+    from railderail_sim.ros import interface as m
+    from railderail_sim.ros import sensor_messages as sm
     from railderail_sim.sensors.config import load as load_sensors
 
     env = _isolated_env()
@@ -112,7 +112,7 @@ def _measured_figures():
             raise RuntimeError("bench: the measured-mode monitor did not subscribe to the sensors")
         executor.spin_once(timeout_sec=0.1)
     simulator = subprocess.Popen(
-        [py, "-m", "railderail_sim.node", "--ros-args", "-p", "speed_mode:=constant", "-p", f"speed_kmh:={SPEED_KMH}",
+        [py, "-m", "railderail_sim.ros.node", "--ros-args", "-p", "speed_mode:=constant", "-p", f"speed_kmh:={SPEED_KMH}",
          "-p", f"publish_rate:={RATE}", "-p", "real_time_factor:=1.0", "-p", "wait_for_subscribers:=1",
          "-p", "sensors:=shipped"], env=env, stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, text=True,
         start_new_session=True)
@@ -139,7 +139,7 @@ def _ros_figures():
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.signals import SignalHandlerOptions
 
-    from railderail_sim import ros_interface as m
+    from railderail_sim.ros import interface as m
 
     env = _isolated_env()
     py = sys.executable
@@ -168,7 +168,7 @@ def _ros_figures():
     node.create_subscription(m.Alert, m.ALERTS, lambda msg: alerts.append((clock(), msg.sample, msg.criterion)),
                              m.ALERT_QOS)
     simulator = subprocess.Popen(
-        [py, "-m", "railderail_sim.node", "--ros-args", "-p", "speed_mode:=constant", "-p", f"speed_kmh:={SPEED_KMH}",
+        [py, "-m", "railderail_sim.ros.node", "--ros-args", "-p", "speed_mode:=constant", "-p", f"speed_kmh:={SPEED_KMH}",
          "-p", f"publish_rate:={RATE}", "-p", "real_time_factor:=1.0", "-p", "wait_for_subscribers:=2"],
         env=env, stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, text=True, start_new_session=True)
     try:
@@ -201,9 +201,9 @@ def _mcap_figures(seconds=2.0):
 
     from railderail_sim.vehicle.simulate import Simulation, output_arrays, scenario
 
-    from railderail_sim import ros_interface as m
-    from .recording import McapRecording
-    from .replay import read_recording
+    from railderail_sim.ros import interface as m
+    from ..recording.recorder import McapRecording
+    from ..recording.replay import read_recording
 
     sim = Simulation(replace(scenario(radius=1000.0, speed_kmh=300.0), output_rate=RATE))
     rows = sim.advance(1.0)

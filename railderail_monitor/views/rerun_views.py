@@ -11,7 +11,7 @@ Entities (timeline `sim_time`, simulation time):
                                    wheel_lift_mm, derailment_coefficient (Q/P), unloading_ratio (dP/P0),
                                    lateral_force_kN (Q), vertical_force_kN (P); levels in
                                    plots/NAME/limit_warning and limit_critical, named as the alerts
-                                   round them (criteria.level_text)
+                                   round them (warning.alerts.level_text)
   plots/speed_kmh
   alerts                       text log (WARN = warning level, ERROR = critical, CRITICAL = derailment)
   sensors/GROUP/lateral/MOUNT, sensors/GROUP/vertical/MOUNT    with the simulator's sensors on (or a
@@ -42,15 +42,17 @@ import numpy as np
 import rerun as rr
 import rerun.blueprint as rrb
 
-from railderail_sim import ros_interface as m
-from railderail_sim import sensor_messages as sm
 from railderail_sim.assessment import en14363
 from railderail_sim.parameters import TrackParameters, VehicleParameters
-from railderail_sim.ros_interface import seconds
-from railderail_sim.sensors.config import AIR_SPRING_EFFECTIVE_AREA
+from railderail_sim.ros import interface as m
+from railderail_sim.ros import sensor_messages as sm
+from railderail_sim.ros.interface import seconds
+from railderail_sim.sensors.sensor_set import AIR_SPRING_EFFECTIVE_AREA
 
-from .criteria import Limits, default_limits, level_text, SEVERITY_CRITICAL, unloading_ratio
-from .onboard import criteria as onboard, estimator
+from ..onboard import criteria as onboard, estimator
+from ..warning.alerts import level_text
+from ..warning.limits import Limits, default_limits, SEVERITY_CRITICAL
+from ..warning.quantities import unloading_ratio
 
 WHEELSETS = [f"ws{w}" for w in range(4)]
 SIDES = ("left", "right")                  # wheel k is wheelset k // 2, side k % 2
@@ -73,7 +75,7 @@ WHEEL_PLOTS = (("wheel_lift_mm", "wheel_lift", 1e3, "lift (mm)"),
                ("lateral_force_kN", None, 1e-3, "Q (kN)"),
                ("vertical_force_kN", None, 1e-3, "P (kN)"))
 ATTACK = "attack_angle_mrad"
-# the sensors' mount groups (sensors.config.MOUNTS by their prefix) and the colours of their mounts in order
+# the sensors' mount groups (sensors.sensor_set.MOUNTS by their prefix) and the colours of their mounts in order
 SENSOR_GROUPS = (("car_body", "car body"), ("bogie_frame", "bogie frame"), ("axle_box", "axle box"))
 MOUNT_COLORS = WHEELSET_COLORS + [(23, 190, 207), (227, 119, 194), (127, 127, 127), (255, 187, 120)]
 ESTIMATE_COLORS = ((31, 119, 180), (148, 103, 189))          # left, right; the ground truth in grey tones

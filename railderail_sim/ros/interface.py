@@ -2,7 +2,7 @@
 stamps, node parameter tables (`ParameterSpec`, `declare_parameters`) and the one way every
 railderail node is run (`run_node`).
 
-The simulator node (railderail_sim/node.py) publishes on these topics; the monitor, recorder,
+The simulator node (railderail_sim/ros/node.py) publishes on these topics; the monitor, recorder,
 replay, viewer, demo and benchmark of railderail_monitor use them through this module, so that
 railderail_sim never imports railderail_monitor. Topics (all under /railderail/ except the clock):
 
@@ -20,7 +20,7 @@ railderail_sim never imports railderail_monitor. Topics (all under /railderail/ 
 |                                  |                                  | when not running at real time          |
 
 With the simulator's `sensors` on, the on-board sensors (railderail_sim/sensors, docs/onboard.md) publish under
-/railderail/sensors/ (SENSORS_NS) with sensor-data QoS: their topics and messages are railderail_sim/sensor_messages.py.
+/railderail/sensors/ (SENSORS_NS) with sensor-data QoS: their topics and messages are railderail_sim/ros/sensor_messages.py.
 
 Subscribers of the sensor-data topics use best effort with a deeper queue (SENSOR_SUBSCRIBER) so
 that a burst does not overwrite samples before the callback runs.
@@ -48,7 +48,7 @@ from railderail_msgs.msg import Alert, ContactForces, DerailmentEvent, OnboardEs
 
 from railderail_sim.vehicle.layout import BOGIES, WHEELSETS, Body, Dof
 
-from .ranges import check_range
+from ..ranges import check_range
 
 NS = "/railderail"
 STATES = f"{NS}/wheelset_states"

@@ -1,7 +1,7 @@
 """The `sensors` tab of the Foxglove layout (foxglove/railderail-layout.json), made from the sensor set's
-mounts (sensors.config.MOUNTS) and the Rerun views' groups, colours and on-board levels (viewer.py), so that
+mounts (sensors.sensor_set.MOUNTS) and the Rerun views' groups, colours and on-board levels (rerun_views.py), so that
 the two views show the same, and the measured-mode monitor's estimates (/railderail/onboard_estimates) beside
-the ground truth's wheel loads; `python -m railderail_monitor.foxglove` writes it into the layout file (the
+the ground truth's wheel loads; `python -m railderail_monitor.views.foxglove` writes it into the layout file (the
 `run` tab, hand-made, is kept). tests/test_foxglove_layout.py checks that the file holds what this gives.
 """
 from __future__ import annotations
@@ -11,15 +11,15 @@ import sys
 from pathlib import Path
 
 from railderail_sim.parameters import VehicleParameters
-from railderail_sim.ros_interface import FORCES, ONBOARD_ESTIMATES, SENSORS_NS
-from railderail_sim.sensors.config import MOUNTS
+from railderail_sim.ros.interface import FORCES, ONBOARD_ESTIMATES, SENSORS_NS
+from railderail_sim.sensors.sensor_set import MOUNTS
 from railderail_sim.vehicle.layout import RUNNING_GEARS
 
-from .onboard.estimator import BOGIES
-from .onboard.measured import GEAR_SIDES, measured_limits
-from .viewer import MOUNT_COLORS, RED, SENSOR_GROUPS, sensor_group, sensor_levels
+from ..onboard.estimator import BOGIES
+from ..onboard.measured import GEAR_SIDES, measured_limits
+from .rerun_views import MOUNT_COLORS, RED, SENSOR_GROUPS, sensor_group, sensor_levels
 
-LAYOUT = Path(__file__).resolve().parents[1] / "foxglove" / "railderail-layout.json"
+LAYOUT = Path(__file__).resolve().parents[2] / "foxglove" / "railderail-layout.json"
 TABS = "Tab!views"
 # what each plot of a group shows: (plot, the Imu's field, unit, what)
 PLOTS = (("lateral", "linear_acceleration.y", "m/s²", "lateral acceleration"),

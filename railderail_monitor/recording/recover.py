@@ -31,8 +31,8 @@ from mcap.records import Attachment, Channel, Header, Message, Metadata, Schema
 from mcap.stream_reader import StreamReader
 from mcap.writer import CompressionType
 
-from railderail_sim import ros_interface as m
 from railderail_sim.atomic import atomic_write
+from railderail_sim.ros import interface as m
 
 from .replay import READ_ERRORS, RecordingError, _check_head
 

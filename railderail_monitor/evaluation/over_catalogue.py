@@ -39,14 +39,15 @@ from pathlib import Path
 import numpy as np
 
 from railderail_sim import jsonout
-from railderail_sim.node import PARAMETERS
 from railderail_sim.parameters import VehicleParameters
+from railderail_sim.ros.node import PARAMETERS
 
-from .climb_distance import climb_distance_ratio
-from .criteria import (TIMED, critical_name, debounce, default_limits, front_attack_angle, model_basis,
-                       nanoseconds, running_gear_unloading, sliding_mean, unloading_ratio)
+from ..warning.climb_distance import climb_distance_ratio
+from ..warning.limits import TIMED, critical_name, debounce, default_limits, model_basis
+from ..warning.quantities import front_attack_angle, running_gear_unloading, sliding_mean, unloading_ratio
+from ..warning.alarms import nanoseconds
 from .hazards import Car, HazardRules, cant_deficiency, hazards, windows
-from .onboard import measured
+from ..onboard import measured
 from .scoring import (channel_places, exposure, in_alarm, is_useful, rate_per_1000_km, resolvable_km, score,
                       share_interval)
 
@@ -70,7 +71,7 @@ CRITERIA = tuple(THRESHOLDS) + measured.CRITERIA
 # what each criterion's signals are: the simulator's wheel forces and motions, or the on-board sensors'
 SIGNALS = {criterion: "ground_truth" for criterion in THRESHOLDS} | {c: measured.SIGNALS for c in measured.CRITERIA}
 # the sensor sensitivity: the shipped set (noise 1, bias 1, 200 Hz) and each change of one of them; the sample
-# rate cannot exceed the simulator's output rate (sensors.config.Sampling), so 500 Hz is out of reach at 200 Hz
+# rate cannot exceed the simulator's output rate (sensors.sensor_set.Sampling), so 500 Hz is out of reach at 200 Hz
 SENSOR_VARIANTS = (dict(noise=1.0, bias=1.0, rate_hz=200.0), dict(noise=0.0, bias=1.0, rate_hz=200.0),
                    dict(noise=3.0, bias=1.0, rate_hz=200.0), dict(noise=1.0, bias=0.0, rate_hz=200.0),
                    dict(noise=1.0, bias=3.0, rate_hz=200.0), dict(noise=1.0, bias=1.0, rate_hz=100.0),
@@ -87,10 +88,11 @@ def source_hash():
     criteria, the labelling and their levels): a cached run is valid for these only."""
     import railderail_sim
     digest = hashlib.sha256()
-    for package in (Path(railderail_sim.__file__).parent, Path(__file__).parent):
+    monitor = Path(__file__).parents[1]
+    for package in (Path(railderail_sim.__file__).parent, monitor):
         for path in sorted(package.rglob("*.py")):
             digest.update(path.read_bytes())
-    digest.update((Path(__file__).parent / "config" / "monitor.yaml").read_bytes())
+    digest.update((monitor / "config" / "monitor.yaml").read_bytes())
     from railderail_sim.sensors.config import SHIPPED as SENSORS
     digest.update(SENSORS.read_bytes())
     return digest.hexdigest()
@@ -502,8 +504,8 @@ def write(result, out):
     from railderail_sim import plotting
     from railderail_sim.atomic import atomic_write
 
-    from .monitor_params import limits_of_car, parameter_file
-    from .warning_report import markdown
+    from ..warning.monitor_params import limits_of_car, parameter_file
+    from .report import markdown
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     jsonout.write(out / "warnings-catalogue.json", result)
@@ -541,13 +543,13 @@ def bench():
 
 
 def command_line(args):
-    """`railderail warnings --catalogue [FILE]` (the arguments of warning_quality.command)."""
+    """`railderail warnings --catalogue [FILE]` (the arguments of over_radii.command)."""
     import sys
 
     from railderail_sim.ranges import check_range
 
     from . import catalogue
-    from .warning_report import markdown
+    from .report import markdown
     budgets = dict(warning=check_range("--warning-budget-per-1000-km", args.warning_budget_per_1000_km, 0.0, 1.0e6,
                                        lo_open=True),
                    critical=check_range("--critical-budget-per-1000-km", args.critical_budget_per_1000_km, 0.0,

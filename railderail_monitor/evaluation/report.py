@@ -1,4 +1,4 @@
-"""The warning evaluation as Markdown (`warning_catalogue.write`, docs/report/warnings-catalogue.md): what it
+"""The warning evaluation as Markdown (`over_catalogue.write`, docs/report/warnings-catalogue.md): what it
 found, the ground-truth and the measured criteria side by side, what the catalogue can and cannot resolve,
 the paper's 0.06 rad criterion judged, the recommended levels with their reasons, the sensitivity to the
 window and to the braking rule, the measured criteria's sensitivity to the sensors' noise, bias and sample

@@ -1,6 +1,6 @@
 """The monitor's parameter file and `railderail monitor-params`.
 
-The monitor node's thresholds are ROS 2 parameters (`criteria.Limits`). Their defaults are those of
+The monitor node's thresholds are ROS 2 parameters (`warning.limits.Limits`). Their defaults are those of
 the parameter file shipped with the package, railderail_monitor/config/monitor.yaml (installed as
 package data and to share/railderail/config/): the standard `railderail_monitor: ros__parameters:`
 layout, every parameter with a comment giving its unit, meaning and source. The four values that
@@ -23,8 +23,7 @@ from pathlib import Path
 
 from railderail_sim.atomic import atomic_write
 
-from .criteria import (NODE, SHIPPED, SIGNALS, SIGNALS_MEANING, Limits, limits_for_model, model_basis,  # noqa: F401
-                       read_limits)
+from .limits import NODE, SIGNALS, SIGNALS_MEANING, Limits, limits_for_model, model_basis
 
 REGENERATE = "railderail monitor-params --out railderail_monitor/config/monitor.yaml"
 

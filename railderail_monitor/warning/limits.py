@@ -1,8 +1,10 @@
-"""Derailment criteria as plain functions: the early-warning criteria of Yu et al. (2022) and the
-classic ones, with the debounce and hysteresis that turn a crossing into one alert.
+"""The ground-truth criteria's levels: `Limits` (every level and the alerting behaviour, the one table of the
+monitor's parameters), the model values they take (`limits_for_model`) and their parameter file
+(`read_limits`, `default_limits`). The criteria themselves: their values `quantities`, the alarm mechanics
+`alarms`, the alert and its wording `alerts`, the streaming monitor `monitor`.
 
 No ROS here: the monitor node (`railderail_monitor.node`), the replay, `alerts_of_run` (recordings
-written without ROS, the warning-quality command) all run the same `Monitor` over their samples, so
+written without ROS, the warning evaluation) all run the same `Monitor` over their samples, so
 their alerts agree by construction.
 
 Criteria (values, units, default levels; `Limits` holds them and its field metadata is the table of
@@ -61,20 +63,18 @@ its level at a few metres' spacing). Each (criterion, level, wheel or wheelset) 
 """
 from __future__ import annotations
 
-import collections
 import functools
 from importlib.resources import files
 import math
 from dataclasses import MISSING, asdict, dataclass, field, fields
 from pathlib import Path
 
-import numpy as np
-
 from railderail_sim.parameters import RUNNING_GEAR_UNLOADING_LIMIT
 from railderail_sim.ranges import check_range
-from railderail_sim.vehicle.layout import RUNNING_GEARS, running_gear_sides
+from railderail_sim.vehicle.layout import RUNNING_GEARS
 
-from .climb_distance import CLIMB_FRICTION, ClimbDistance, tcrp_coefficients
+from .alarms import nanoseconds
+from .climb_distance import CLIMB_FRICTION, tcrp_coefficients
 
 SIDES = ("left", "right")
 CRITERIA = ("attack_angle", "wheel_lift", "derailment_coefficient", "wheel_unloading", "running_gear_unloading",
@@ -91,15 +91,6 @@ def critical_name(criterion):
 
 
 TIMED = ("derailment_coefficient_duration",)      # their debounce is time, not track
-NANOSECOND = 1e-9                                 # s: the clock of the timed rules (a ROS stamp's resolution)
-
-
-def nanoseconds(seconds):
-    """Integer nanoseconds of a time (s) or an array of times, as a ROS stamp holds it
-    (`ros_interface.set_time`): exact for times below 10^6 s, whether they come from the simulator's clock
-    or from a stamp's sec + 1e-9 nanosec."""
-    ns = np.round(np.asarray(seconds, dtype=float) / NANOSECOND)
-    return ns.astype(np.int64) if ns.ndim else int(ns)
 
 
 def debounce(criterion, limits):
@@ -287,318 +278,3 @@ def default_limits():
     car: vehicle set hs19, LM on UIC60 at 1:40, friction 0.3). Reads no model, imports no numba."""
     return read_limits(SHIPPED)
 
-
-# --- values of the criteria -------------------------------------------------------------------
-
-def front_attack_angle(attack_angle):
-    """Magnitude of the front wheelset's attack angle (rad) from (..., 4) attack angles."""
-    return np.abs(np.asarray(attack_angle, dtype=float)[..., 0])
-
-
-def unloading_ratio(vertical_force, static_wheel_load):
-    """Wheel unloading ratio dP/P0 = (P0 - P) / P0 (dimensionless; 1 = wheel fully unloaded)."""
-    if not static_wheel_load > 0.0:
-        raise ValueError(f"static wheel load {static_wheel_load:g} N must be positive")
-    return (static_wheel_load - np.asarray(vertical_force, dtype=float)) / static_wheel_load
-
-
-def running_gear_unloading(unloading):
-    """Mean unloading ratio of each bogie's two wheels on one side (EN 14067-6), (..., 4) in the order of
-    BOGIE_PLACES, from the (..., 8) ratios of the wheels [wheelset 0 left, wheelset 0 right, ...]."""
-    return running_gear_sides(unloading)
-
-
-def sliding_mean(values, position, window):
-    """The mean of each column of `values` (n, ...) over the samples of the last `window` m of track up to
-    each sample (those with position > position_i - window), as EN 14363 evaluates Q/P. From prefix sums,
-    so that the monitor's running version (`SlidingMean`) gives the same numbers."""
-    v = np.asarray(values, dtype=float)
-    pos = np.asarray(position, dtype=float)
-    sums = np.concatenate((np.zeros((1,) + v.shape[1:]), np.cumsum(v, axis=0)))
-    first = np.searchsorted(pos, pos - window, side="right")
-    count = (np.arange(len(pos)) + 1 - first).reshape((-1,) + (1,) * (v.ndim - 1))
-    return (sums[1:] - sums[first]) / count
-
-
-class SlidingMean:
-    """`sliding_mean` sample by sample: the prefix sum so far and, for the samples in the window, where they
-    are and the prefix sum before them."""
-
-    def __init__(self, window, width):
-        self.window = float(window)
-        self.total = np.zeros(width)
-        self.kept = collections.deque()
-
-    def update(self, value, position):
-        self.kept.append((float(position), self.total.copy()))
-        self.total = self.total + np.asarray(value, dtype=float)
-        while self.kept[0][0] <= position - self.window:
-            self.kept.popleft()
-        return (self.total - self.kept[0][1]) / len(self.kept)
-
-
-def rail_side(wheel_side, curvature):
-    """'inner' / 'outer' rail of a wheel on a curve of signed curvature (+ = curve to the left);
-    '' on straight track."""
-    if curvature == 0.0 or not math.isfinite(curvature):
-        return ""
-    inner = "left" if curvature > 0.0 else "right"
-    return "inner" if wheel_side == inner else "outer"
-
-
-# --- debounce and hysteresis ------------------------------------------------------------------
-
-class Detector:
-    """One alert per event on one channel: the value must stay >= threshold over `debounce` (m of
-    track, or integer nanoseconds of time for a duration rule) to raise the alert; the channel re-arms once the value has
-    stayed below rearm_fraction x threshold over `rearm_m` of track. `update` returns True on the
-    sample that raises the alert."""
-
-    __slots__ = ("threshold", "rearm_level", "debounce", "rearm_m", "armed", "start")
-
-    def __init__(self, threshold, debounce=2.0, rearm_fraction=0.9, rearm_m=50.0):
-        self.threshold = float(threshold)
-        self.rearm_level = float(rearm_fraction) * self.threshold
-        self.debounce = debounce                   # m, or integer ns of a timed rule
-        self.rearm_m = float(rearm_m)
-        self.armed = True
-        self.start = None      # where (or when) the value crossed (the level, or the re-arm level)
-
-    def update(self, value, position, clock=None):
-        """`clock`: what the debounce is measured on, the track position by default (a duration rule
-        passes the time in integer nanoseconds); the re-arm is always measured on the track."""
-        if not self.armed:
-            if value < self.rearm_level:
-                if self.start is None:
-                    self.start = position
-                if position - self.start >= self.rearm_m:
-                    self.armed = True
-                    self.start = None
-            else:
-                self.start = None
-            return False
-        at = position if clock is None else clock
-        if value >= self.threshold:
-            if self.start is None:
-                self.start = at
-            if at - self.start >= self.debounce:
-                self.armed = False
-                self.start = None
-                return True
-        else:
-            self.start = None
-        return False
-
-
-def alarm_intervals(values, position, threshold, debounce=2.0, rearm_fraction=0.9, rearm_m=50.0, clock=None):
-    """[(alert, rearm)] of a Detector fed (values[i], position[i], clock[i]): the sample that raises each
-    alert and the one at which the channel re-arms (len(values) if it never does), so the channel is in
-    alarm over alert <= i < rearm. Found over the runs of samples above the level and below the re-arm level
-    instead of sample by sample, with the same decisions (the same comparisons of the same differences), so
-    that a threshold sweep over long runs (`warning_catalogue`) is what the monitor would have said at each
-    threshold. Positions (and the clock) must not decrease."""
-    v = np.asarray(values, dtype=float)
-    pos = np.asarray(position, dtype=float)
-    at = pos if clock is None else np.asarray(clock)
-    above = np.flatnonzero(v >= float(threshold))
-    not_above = np.flatnonzero(~(v >= float(threshold)))
-    rearm_level = float(rearm_fraction) * float(threshold)
-    below = np.flatnonzero(v < rearm_level)
-    not_below = np.flatnonzero(~(v < rearm_level))
-    n = len(v)
-
-    def first_after(indices, i):
-        k = np.searchsorted(indices, i)
-        return int(indices[k]) if k < len(indices) else n
-
-    def held(coordinate, start, end, length):
-        """The first sample in [start, end) whose coordinate is `length` past the start's, else end."""
-        k = int(np.searchsorted(coordinate[start:end], coordinate[start] + length)) + start
-        k = max(k - 1, start)                  # the exact comparison decides, not the sum's rounding
-        while k < end and not coordinate[k] - coordinate[start] >= length:
-            k += 1
-        return k
-
-    intervals, i, armed = [], 0, True
-    while i < n:
-        if armed:
-            start = first_after(above, i)
-            if start >= n:
-                break
-            end = first_after(not_above, start)
-            k = held(at, start, end, debounce)
-            if k < end:
-                intervals.append([k, n])
-                armed = False
-            i = k + 1 if k < end else end
-        else:
-            start = first_after(below, i)
-            if start >= n:
-                break
-            end = first_after(not_below, start)
-            k = held(pos, start, end, float(rearm_m))
-            if k < end:
-                intervals[-1][1] = k
-                armed = True
-            i = k + 1 if k < end else end
-    return [tuple(x) for x in intervals]
-
-
-def alert_indices(values, position, threshold, debounce=2.0, rearm_fraction=0.9, rearm_m=50.0, clock=None):
-    """The samples at which a Detector fed (values[i], position[i], clock[i]) raises its alerts
-    (`alarm_intervals`' first samples)."""
-    return [a for a, _ in alarm_intervals(values, position, threshold, debounce, rearm_fraction, rearm_m, clock)]
-
-
-# --- the monitor --------------------------------------------------------------------------------
-
-@dataclass
-class AlertRecord:
-    """An alert, field for field the Alert message (time_s is the header stamp in seconds)."""
-    time_s: float
-    sample: int
-    criterion: str
-    severity: int
-    value: float
-    threshold: float
-    wheelset: int
-    wheel_side: str
-    rail_side: str
-    track_position: float
-    speed: float
-    message: str = ""
-
-    def as_dict(self):
-        return asdict(self)
-
-
-def level_text(criterion, value):
-    """A value of a criterion as the alerts and the views write it: the same rounding everywhere."""
-    if criterion == "wheel_lift":
-        return f"{value * 1e3:.1f} mm"
-    if criterion == "attack_angle":
-        return f"{value:.4f} rad"
-    return f"{value:.3f}"
-
-
-def describe(criterion, severity, value, threshold, wheelset, wheel_side, rail):
-    where = f"wheelset {wheelset}" + (f" {wheel_side}" if wheel_side else "") + (f" ({rail})" if rail else "")
-    amount = f"{level_text(criterion, value)} >= {level_text(criterion, threshold)}"
-    return f"{SEVERITY_NAMES[severity]}: {criterion.replace('_', ' ')} {amount} on {where}"
-
-
-class Monitor:
-    """Every criterion over a stream of samples. Feed it `on_states` (wheelset states) and
-    `on_forces` (contact forces), each returning the list of AlertRecords the sample raised, and
-    `set_curvature` (vehicle status): an alert on sample i names the inner or outer rail from the
-    curvature (1/m, + left) of the latest status before sample i (so that the order in which the
-    three topics of one sample arrive does not matter)."""
-
-    # (wheelset, side) of each channel of a criterion that is not per wheel; side '' for a wheelset
-    PLACES = {"attack_angle": ((0, ""),), "running_gear_unloading": BOGIE_PLACES}
-
-    def __init__(self, limits: Limits = None):
-        limits = (limits or default_limits()).validated()
-        self.limits = limits
-        r, rm = limits.rearm_fraction, limits.rearm_m
-        self.channels = {}
-        for criterion in CRITERIA:
-            count = len(self.PLACES.get(criterion, range(8)))
-            held = debounce(criterion, limits)
-            self.channels[criterion] = [(sev, thr, [Detector(thr, held, r, rm) for _ in range(count)])
-                                        for sev, thr in limits.levels(criterion)]
-        self.curvatures = collections.deque(maxlen=256)       # (sample, curvature), arrival order
-        self.attack_angles = collections.deque(maxlen=256)    # (sample, 4 attack angles), arrival order
-        self.qp_mean = SlidingMean(limits.sliding_mean_m, 8)
-        self.climb = ClimbDistance(limits.climb_nadal_limit, limits.climb_distance_scale,
-                                   limits.climb_attack_angle_scale)
-
-    def set_curvature(self, sample, curvature):
-        self.curvatures.append((int(sample), float(curvature)))
-
-    def curvature_before(self, sample):
-        return self._before(self.curvatures, sample, 0.0)
-
-    @staticmethod
-    def _before(kept, sample, none):
-        for s, value in reversed(kept):
-            if s < sample:
-                return value
-        return none
-
-    def _check(self, criterion, values, t, sample, position, speed):
-        t, sample, position, speed = float(t), int(sample), float(position), float(speed)
-        clock = nanoseconds(t) if criterion in TIMED else None
-        alerts = []
-        for sev, thr, detectors in self.channels[criterion]:
-            for k, detector in enumerate(detectors):
-                value = float(values[k])
-                if detector.update(value, position, clock):
-                    ws, side = self.PLACES[criterion][k] if criterion in self.PLACES else (k // 2, SIDES[k % 2])
-                    rail = rail_side(side, self.curvature_before(sample)) if side else ""
-                    alerts.append(AlertRecord(t, sample, criterion, sev, value, thr, ws, side, rail, position,
-                                              speed, describe(criterion, sev, value, thr, ws, side, rail)))
-        return alerts
-
-    def on_states(self, t, sample, position, speed, attack_angle, wheel_lift):
-        """Attack angle (4 wheelsets, rad) and wheel lift (8 wheels, m) of one sample."""
-        self.attack_angles.append((int(sample), np.asarray(attack_angle, dtype=float)))
-        return (self._check("attack_angle", [front_attack_angle(attack_angle)], t, sample, position, speed)
-                + self._check("wheel_lift", wheel_lift, t, sample, position, speed))
-
-    def on_forces(self, t, sample, position, speed, derailment_coefficient, vertical_force):
-        """Q/P (8 wheels) and vertical forces P (8 wheels, N) of one sample."""
-        unloading = unloading_ratio(vertical_force, self.limits.static_wheel_load)
-        return (self._check("derailment_coefficient", derailment_coefficient, t, sample, position, speed)
-                + self._check("derailment_coefficient_duration", derailment_coefficient, t, sample, position, speed)
-                + self._check("derailment_coefficient_mean", self.qp_mean.update(derailment_coefficient, position), t,
-                              sample, position, speed)
-                + self._check("wheel_unloading", unloading, t, sample, position, speed)
-                + self._check("running_gear_unloading", running_gear_unloading(unloading), t, sample, position,
-                              speed)
-                + self._check("flange_climb_distance", self.climb.update(
-                    derailment_coefficient, self._before(self.attack_angles, int(sample), np.zeros(4)), position),
-                    t, sample, position, speed))
-
-
-def alerts_of_run(arrays, limits: Limits = None):
-    """Alerts of a whole run, from the named arrays of `vehicle.simulate.Result.arrays()` or
-    `vehicle.simulate.output_arrays` (or the same names from a recording): a Monitor fed sample by
-    sample as the monitor node is fed, the states, then the forces, then the status (curvature) of
-    each sample, so that batch and stream give the same alerts by construction."""
-    monitor = Monitor(limits)
-    t, s, v = arrays["time"], arrays["position"], arrays["speed"]
-    attack, lift = arrays["attack_angle"], arrays["wheel_lift"]
-    qp, load = arrays["derailment_coefficient"], arrays["vertical_force"]
-    curvature = arrays.get("curvature")
-    found = []
-    for i, sample in enumerate(arrays.get("sample", range(len(t)))):
-        found += monitor.on_states(t[i], sample, s[i], v[i], attack[i], lift[i])
-        found += monitor.on_forces(t[i], sample, s[i], v[i], qp[i], load[i])
-        if curvature is not None:
-            monitor.set_curvature(sample, curvature[i])
-    return found
-
-
-def lead_times(alerts, derailment):
-    """First alert of each (criterion, severity) with its lead before the derailment.
-
-    `alerts`: AlertRecords (or dicts with the same keys); `derailment`: dict with time_s and
-    track_position_m (car-body centre), or None. Returns {"criterion/severity": {...}}, lead_s and
-    lead_m being NaN when no derailment follows (a false alarm)."""
-    first = {}
-    for a in alerts:
-        a = a.as_dict() if isinstance(a, AlertRecord) else a
-        key = f"{a['criterion']}/{SEVERITY_NAMES[a['severity']]}"
-        if key not in first:
-            first[key] = a
-    out = {}
-    for key, a in first.items():
-        lead_s = lead_m = math.nan
-        if derailment is not None:
-            lead_s = derailment["time_s"] - a["time_s"]
-            lead_m = derailment["track_position_m"] - a["track_position"]
-        out[key] = dict(time_s=a["time_s"], track_position_m=a["track_position"], speed_kmh=a["speed"] * 3.6,
-                        value=a["value"], threshold=a["threshold"], wheelset=a["wheelset"],
-                        wheel_side=a["wheel_side"], rail_side=a["rail_side"], lead_s=lead_s, lead_m=lead_m)
-    return out

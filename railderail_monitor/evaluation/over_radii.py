@@ -1,7 +1,7 @@
 """`railderail warnings`: how early, and how falsely, each criterion warns.
 
 For each curve radius (default the paper's six, 800-1800 m) it runs the core directly (no ROS;
-the same `criteria.alerts_of_run` as the monitor node, at the same 200 Hz) over:
+the same `warning.monitor.alerts_of_run` as the monitor node, at the same 200 Hz) over:
 
   trial      the paper's progressive staircase from 200 km/h until the derailment (the demo's run);
   critical   a constant speed equal to the critical derailment speed (the lowest constant speed
@@ -35,8 +35,10 @@ from railderail_sim.atomic import atomic_write
 from railderail_sim.ranges import check_range
 from railderail_sim.vehicle.simulate import RADIUS_RANGE
 
-from .criteria import CRITERIA, SEVERITY_NAMES, alerts_of_run, default_limits, lead_times
-from .warning_catalogue import BUDGETS, RATE
+from ..warning.limits import CRITERIA, SEVERITY_NAMES, default_limits
+from ..warning.monitor import alerts_of_run
+from ..warning.alerts import lead_times
+from .over_catalogue import BUDGETS, RATE
 
 PAPER_RADII = (800.0, 1000.0, 1200.0, 1400.0, 1600.0, 1800.0)
 CASES = ("trial", "critical", "near", "balance", "operating")
@@ -66,14 +68,14 @@ def _scenario(radius, case, speed_kmh, friction):
 
 def run_case(radius, case, speed_kmh, friction=0.3):
     """One run and its alerts (a module-level function for the process pool)."""
-    from .criteria import limits_for_model
+    from ..warning.limits import limits_for_model
 
     t0 = time.monotonic()
     from railderail_sim.vehicle.simulate import run_to_stop
     sim, arrays, error = run_to_stop(_scenario(radius, case, speed_kmh, friction), 5.0)
     limits = limits_for_model(sim.model, friction)
     alerts = alerts_of_run(arrays, limits)
-    from .criteria import front_attack_angle, unloading_ratio
+    from ..warning.quantities import front_attack_angle, unloading_ratio
     peaks = dict(attack_angle_rad=float(front_attack_angle(arrays["attack_angle"]).max()),
                  wheel_lift_m=float(arrays["wheel_lift"].max()),
                  derailment_coefficient=float(arrays["derailment_coefficient"].max()),
@@ -218,7 +220,7 @@ def command(parser: argparse.ArgumentParser):
     parser.add_argument("--out", metavar="DIR", help="also write DIR/warnings.json and DIR/warnings.md")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.add_argument("--catalogue", nargs="?", const="shipped", metavar="FILE.yaml",
-                        help="evaluate a scenario catalogue instead (railderail_monitor/catalogue.py; no FILE: the "
+                        help="evaluate a scenario catalogue instead (railderail_monitor/evaluation/catalogue.py; no FILE: the "
                              "shipped one), every criterion over its thresholds")
     parser.add_argument("--cache", metavar="DIR", default=None,
                         help="with --catalogue: keep each run's result here (default OUT/cache, or none)")
@@ -232,7 +234,7 @@ def command(parser: argparse.ArgumentParser):
 
     def run(args):
         if args.catalogue is not None:
-            from .warning_catalogue import command_line
+            from .over_catalogue import command_line
             return command_line(args)
         try:
             radii = [float(x) for x in args.radii.split(",") if x]

@@ -28,14 +28,14 @@ import numpy as np
 from geometry_msgs.msg import TwistWithCovarianceStamped
 from sensor_msgs.msg import FluidPressure, Imu, Range
 
-from railderail_sim.sensors.config import AIR_SPRING_HEIGHT, AIR_SPRINGS, ODOMETER
+from railderail_sim.sensors.sensor_set import AIR_SPRING_HEIGHT, AIR_SPRINGS, ODOMETER
 
-from .ros_interface import SENSOR, SENSOR_SUBSCRIBER, SENSORS_NS, seconds, stamp, stamp_ns
+from .interface import SENSOR, SENSOR_SUBSCRIBER, SENSORS_NS, seconds, stamp, stamp_ns
 
 
 def sensor_topics(sensors):
     """{topic: (ROS type name, message class, publisher QoS, subscriber QoS)} of a sensor set
-    (`sensors.config.SensorSet`)."""
+    (`sensors.sensor_set.SensorSet`)."""
     topics = {f"{SENSORS_NS}/{mount.name}/imu": ("sensor_msgs/msg/Imu", Imu) for mount in sensors.mounts}
     if sensors.air_springs is not None:
         for spring in AIR_SPRINGS:
@@ -134,7 +134,7 @@ class SensorDecoder:
     unless the message marks it absent; the air springs' four deflections (the spring's height less the Range)
     and pressures once all eight messages of a stamp are in; the odometer's speed. `missed` counts the air
     springs' stamps given up incomplete (a later stamp completed first: best-effort transport lost a message).
-    `sensors` (a `sensors.config.SensorSet`) gives the topics to subscribe to and the springs' height; without
+    `sensors` (a `sensors.sensor_set.SensorSet`) gives the topics to subscribe to and the springs' height; without
     it, any mount decodes and the height is the shipped one (`height_m` to say another)."""
 
     def __init__(self, sensors=None, height_m=None):

@@ -18,7 +18,7 @@ import numpy as np
 
 from railderail_sim import jsonout, plotting
 from railderail_sim.parameters import VEHICLE_SETS, vehicle_parameters
-from railderail_sim.ros_interface import FORCES, STATUS, seconds
+from railderail_sim.ros.interface import FORCES, STATUS, seconds
 
 
 def recording_signals(path, vehicle_set="hs19", allow_truncated=False):

@@ -1,7 +1,7 @@
 """Recorder `railderail_recorder`: every railderail topic to an MCAP file.
 
-`railderail record OUT.mcap` (or `python -m railderail_monitor.recording OUT.mcap`) subscribes to
-the topics of railderail_sim/ros_interface.py and /clock from the start, and to any other topic
+`railderail record OUT.mcap` (or `python -m railderail_monitor.recording.recorder OUT.mcap`) subscribes to
+the topics of railderail_sim/ros/interface.py and /clock from the start, and to any other topic
 under /railderail/ that appears later, all *raw*: the CDR bytes are written as published, with no
 decoding. The file is a standard MCAP with ROS 2 conventions, so the mcap CLI, Foxglove and
 `ros2 bag` (rosbag2_storage_mcap) read it:
@@ -42,8 +42,8 @@ from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.utilities import remove_ros_args
 from rosidl_adapter.parser import parse_message_string
 
-from railderail_sim import ros_interface as m
-from railderail_sim import sensor_messages as sm
+from railderail_sim.ros import interface as m
+from railderail_sim.ros import sensor_messages as sm
 from railderail_sim.sensors.config import load as load_sensors
 
 from .bag import bag_file, write_bag_metadata
@@ -268,11 +268,12 @@ def record_run(path, result, limits=None, metadata=None, sensor_log=None):
     alerts, the derailment event and the final status; with `sensor_log` (the run's
     `sensors.measure.SensorLog`) the sensor topics too, each message before the first sample at or after
     its stamp, as the simulator node sends them — without a ROS graph (tests, examples).
-    Returns the alerts (criteria.AlertRecord)."""
+    Returns the alerts (warning.alerts.AlertRecord)."""
     from rclpy.serialization import serialize_message
 
-    from .criteria import alerts_of_run, default_limits
-    from .node import alert_message
+    from ..node import alert_message
+    from ..warning.limits import default_limits
+    from ..warning.monitor import alerts_of_run
 
     limits = limits or default_limits()
     a = result.arrays()
@@ -323,7 +324,7 @@ class RecorderNode(Node):
     """The recorder node `railderail_recorder`: subscribes raw to every railderail topic and
     /clock, and to any new topic under /railderail/; its file is complete once `destroy_node`
     returns (`log` gets the line that says what it wrote). With `bag` true it then writes the
-    rosbag2 metadata.yaml beside the file (railderail_monitor/bag.py)."""
+    rosbag2 metadata.yaml beside the file (railderail_monitor/recording/bag.py)."""
 
     def __init__(self, path, metadata=None, flush_period_s=0.5, log=print, bag=False):
         super().__init__("railderail_recorder")
@@ -425,7 +426,7 @@ def command(parser: argparse.ArgumentParser):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="python -m railderail_monitor.recording", description=__doc__.split("\n")[0])
+    parser = argparse.ArgumentParser(prog="python -m railderail_monitor.recording.recorder", description=__doc__.split("\n")[0])
     run = command(parser)
     # ROS arguments (`--ros-args -r __node:=NAME`, which `ros2 launch` adds) are for rclpy.init, which
     # reads them from sys.argv

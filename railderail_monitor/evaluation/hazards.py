@@ -36,8 +36,8 @@ from railderail_sim.assessment.en14363 import RMS_WINDOW_M
 from railderail_sim.parameters import ContactParameters
 from railderail_sim.vehicle.layout import RUNNING_GEARS
 
-from .criteria import sliding_mean, unloading_ratio
-from .onboard.criteria import sample_rate
+from ..onboard.criteria import sample_rate
+from ..warning.quantities import sliding_mean, unloading_ratio
 
 FOOT = 0.3048                        # m
 NORMAL, NEAR_MISS, DERAILMENT = 0, 1, 2
@@ -82,7 +82,7 @@ class HazardRules:
                                  "of at least 25 Hz); unfiltered, the rigid track's wheel-force spikes of a few ms "
                                  "read as margins falling in ordinary running", "B")
     merge_m: float = _rule(50.0, "m", "near misses of one margin at one place closer than this are one",
-                           "the monitor's re-arm distance (criteria.Limits.rearm_m)", "-")
+                           "the monitor's re-arm distance (warning.limits.Limits.rearm_m)", "-")
     reaction_s: float = _rule(1.0, "s", "from the warning to the emergency brake command",
                               "an automatic command (a driver needs 1-2 s for an expected alarm); as quoted in "
                               "../shared/reference/onboard-and-assessment.md section 5", "C")

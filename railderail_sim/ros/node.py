@@ -7,7 +7,7 @@ publication period (`Simulation.advance`) and publishes the new sample on the st
 run stops it publishes the final VehicleStatus on /railderail/final_status and, after a derailment,
 the ground-truth DerailmentEvent on /railderail/derailment (both reliable, transient local), then
 exits (0; 1 if the model diverged, with the reason in the log and in the final status). Topics and
-QoS: railderail_sim/ros_interface.py.
+QoS: railderail_sim/ros/interface.py.
 
 Parameters (`-p name:=value`, `--params-file`): PARAMETERS below, each with its descriptor (range,
 read-only). A bad value at start is one line `railderail-simulator: error: ...` and exit status 2.
@@ -23,12 +23,13 @@ import rclpy
 from rclpy.node import Node
 from rclpy.task import Future
 
-from railderail_sim import ros_interface as m
-from railderail_sim import sensor_messages as sm
 from railderail_sim.loads.wind import DIRECTION_RANGE_DEG, GUSTS, WIND_SPEED_RANGE, Wind
 from railderail_sim.parameters import CANT_RANGE_MM, FRICTION_RANGE, TRACK_MODELS
-from railderail_sim.ros_interface import REAL_TIME_FACTOR_RANGE, ParameterSpec as P
-from railderail_sim.sensors.config import SEED_RANGE, load as load_sensors
+from railderail_sim.ros import interface as m
+from railderail_sim.ros import sensor_messages as sm
+from railderail_sim.ros.interface import REAL_TIME_FACTOR_RANGE, ParameterSpec as P
+from railderail_sim.sensors.config import load as load_sensors
+from railderail_sim.sensors.sensor_set import SEED_RANGE
 from railderail_sim.track.irregularity import SEEDS, SPECTRA, resolve
 from railderail_sim.vehicle.assemble import FAULT_NAMES, NORMAL_MODELS
 from railderail_sim.vehicle.simulate import (RADIUS_RANGE, SPEED_RANGE_KMH, Simulation, SimulationDiverged,

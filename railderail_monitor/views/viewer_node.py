@@ -1,4 +1,4 @@
-"""The live viewer node `railderail_viewer` (`railderail view`, `python -m railderail_monitor.viewer_node`):
+"""The live viewer node `railderail_viewer` (`railderail view`, `python -m railderail_monitor.views.viewer_node`):
 every /railderail topic, the sensors' included, into a `viewer.RunViewer` that spawns a Rerun viewer, streams
 to one (`--connect URL`) or writes a file (`--rrd FILE.rrd`)."""
 from __future__ import annotations
@@ -8,11 +8,11 @@ import sys
 
 from rclpy.node import Node
 
-from railderail_sim import ros_interface as m
-from railderail_sim import sensor_messages as sm
+from railderail_sim.ros import interface as m
+from railderail_sim.ros import sensor_messages as sm
 from railderail_sim.sensors.config import default_set
 
-from .viewer import RunViewer
+from .rerun_views import RunViewer
 
 
 class ViewerNode(Node):
@@ -71,7 +71,7 @@ def command(parser: argparse.ArgumentParser):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="python -m railderail_monitor.viewer_node",
+    parser = argparse.ArgumentParser(prog="python -m railderail_monitor.views.viewer_node",
                                      description="Show the live /railderail topics in Rerun.")
     run = command(parser)
     try:

@@ -2,7 +2,7 @@
 benchmark scores (the Numenta Anomaly Benchmark's labelled windows), and its statistics over many runs.
 
 A channel (a wheel, a wheelset or a running gear's side) is *in alarm* from the sample its alert is raised
-until it re-arms (`criteria.alarm_intervals`): what an operator sees. Then:
+until it re-arms (`warning.alarms.alarm_intervals`): what an operator sees. Then:
 - **Attribution.** A channel in alarm inside a hazard's window, at the hazard's place (its running gear,
   and its side: a channel of a wheel or a side matches a hazard of that side; a channel of a whole
   wheelset, the attack angle, matches either side of its running gear), is a true warning of it; in alarm
@@ -28,9 +28,10 @@ import math
 
 import numpy as np
 
-from .criteria import BOGIE_PLACES, SIDES, alarm_intervals
+from ..warning.limits import BOGIE_PLACES, SIDES
+from ..warning.alarms import alarm_intervals
 from .hazards import BOGIE_OF_WHEELSET, PLACES, useful_lead
-from .onboard import measured
+from ..onboard import measured
 
 EPISODE_M = 1000.0         # m: one false-alarm episode at most per km of a run's track (the grid of the count)
 CONFIDENCE = 0.95
@@ -60,7 +61,7 @@ def channel_places(criterion, channels):
 
 
 def in_alarm(values, position, threshold, held, rearm_fraction, rearm_m, clock=None):
-    """(n,) bool: the channel is in alarm (`criteria.alarm_intervals`)."""
+    """(n,) bool: the channel is in alarm (`warning.alarms.alarm_intervals`)."""
     mask = np.zeros(len(position), dtype=bool)
     for a, b in alarm_intervals(values, position, threshold, held, rearm_fraction, rearm_m, clock):
         mask[a:b] = True

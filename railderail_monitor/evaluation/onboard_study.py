@@ -23,11 +23,11 @@ from pathlib import Path
 
 import numpy as np
 
-from railderail_sim.sensors.config import ODOMETER
 from railderail_sim.sensors.measure import START_UP_S
+from railderail_sim.sensors.sensor_set import ODOMETER
 
-from .criteria import hunting_frequency
-from .measured import FRAMES, alerts, evaluate, measured_limits, sample_rates
+from ..onboard.criteria import hunting_frequency
+from ..onboard.measured import FRAMES, alerts, evaluate, measured_limits, sample_rates
 
 SPEEDS_KMH = (250.0, 275.0, 300.0, 325.0, 350.0)
 LINE_M = 3000.0             # m of straight track per run: 30 or more hunting cycles at 250-350 km/h
@@ -56,7 +56,7 @@ CASES = (Case("healthy", (), "no fault (linear critical speed about 403 km/h)"),
 
 def entry(case, speed_kmh):
     """The catalogue entry of one run of the sweep."""
-    from ..catalogue import Entry
+    from .catalogue import Entry
     return Entry(name=f"study-{case.name}-{speed_kmh:g}", family="fault" if case.faults else "ordinary",
                  radius_m=math.inf, speed_kmh=speed_kmh, irregularity=IRREGULARITY, seeds=(SEED,),
                  line_length_m=LINE_M, faults=case.faults)
