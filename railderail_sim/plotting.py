@@ -272,6 +272,28 @@ def limit_cycle_figure(result, path, threshold_m, linear_critical_speed_kmh=None
         ax.set_title(f"limit cycle after the excitation: {result.excitation}")
 
 
+def stability_figure(base, rows, path, required_kmh):
+    """The stability study (methods.stability): each one-at-a-time case's nonlinear (ramp-down) and linear
+    critical speeds beside the default set's, with the speed the car must be stable to."""
+    def kmh(v):
+        return np.nan if v is None else float(v)
+
+    with figure(path, (8.0, 0.32 * len(rows) + 1.8)) as fig:
+        ax = fig.subplots()
+        y = np.arange(len(rows))
+        ax.barh(y, [kmh(r["linear_kmh"]) for r in rows], color=CRITICAL_SPEED_COLOURS["linear"], alpha=0.35,
+                label="linear (root locus)")
+        ax.barh(y, [kmh(r["nonlinear_kmh"]) for r in rows], height=0.5, color=CRITICAL_SPEED_COLOURS["nonlinear"],
+                label="nonlinear (ramp-down)")
+        ax.axvline(kmh(base["nonlinear_kmh"]), color=CRITICAL_SPEED_COLOURS["nonlinear"], ls="--", lw=0.8,
+                   label="default set, nonlinear")
+        ax.axvline(required_kmh, color=REFERENCE_COLOUR, ls=":", lw=1.0, label=f"{required_kmh:.0f} km/h")
+        ax.set_yticks(y, [f"{r['input']}: {r['value'].split(':')[0].split(',')[0]}" for r in rows], fontsize=7)
+        ax.invert_yaxis()
+        ax.set_xlabel("critical speed (km/h)")
+        ax.legend(fontsize=7, loc="lower right")
+
+
 def critical_speed_figure(results, path):
     """Critical derailment speed against curve radius (Yu 2022, Fig. 5) from the sweep's result dicts."""
     with figure(path, (7.0, 4.5)) as fig:

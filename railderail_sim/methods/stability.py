@@ -1,0 +1,245 @@
+"""The stability study (`railderail limit-cycle --sensitivity --out DIR`, docs/report/stability.md): what sets the
+model car's hunting speed.
+
+Each input is moved alone, from the default set (hs19) to the values other public sources give for a
+high-speed car of the same family (the stand-in sets of parameters.py, the yaw-damper count of the SF400/SF500
+bogie lineage, the S1002 wheel), never to a value chosen for its result. For each case: the nonlinear critical
+speed by the ramp-down method (the fold of the subcritical branch, `limit_cycle.ramp_down`) and the linear one
+(root locus). The kick's size and shape are varied for both limit-cycle methods. Each vehicle set is run at
+1.1 x 300 km/h on straight track with the China high-speed irregularity (TB/T 3352) and assessed by EN 14363's
+stability quantity (sum Y r.m.s. against half Prud'homme's limit). Every run is kept in DIR/cache/ under a key of
+what it depends on, so a second call rebuilds the report from the cache.
+"""
+from dataclasses import replace
+import hashlib
+import json
+import os
+
+import numpy as np
+
+from .. import jsonout, plotting
+from ..assessment import assess as assessment
+from ..assessment import signals
+from ..atomic import atomic_write
+from ..parameters import VEHICLE_SETS, vehicle_parameters
+from ..track import irregularity as ir
+from ..vehicle.simulate import Scenario, constant_speed, simulate, straight_track
+from . import limit_cycle as lc
+from . import root_locus as rl
+
+CACHE_VERSION = 1
+GRID = dict(top_kmh=460.0, bottom_kmh=180.0, step_kmh=40.0, tolerance_kmh=5.0)   # the descent, km/h
+SERVICE_KMH = 300.0                 # the CRH3's maximum service speed (crh3-suspension.md: 300-350 km/h)
+MARGIN = 1.1                        # EN 14363: stable to 1.1 x the maximum speed
+IRREGULARITY = "china-hsr"
+SEEDS = (0, 1, 2)
+HSR_LINE_M = 2000.0
+
+A380_YAW = dict(yaw_damper_knee_velocity=0.004, yaw_damper_damping=2452.5e3, yaw_damper_damping_after_knee=49.95e3,
+                yaw_damper_series_stiffness=8.82e6)
+ZHAI_YAW = dict(yaw_damper_knee_velocity=0.01, yaw_damper_damping=1320.0e3,
+                yaw_damper_damping_after_knee=(25.75e3 - 13.2e3) / 0.19, yaw_damper_series_stiffness=4.0e6)
+
+
+def _base_yaw():
+    v = vehicle_parameters()
+    return v.yaw_damper_damping, v.yaw_damper_knee_velocity * v.yaw_damper_damping
+
+
+def cases():
+    """(input, value, vehicle changes, contact changes, source, how sure) of each one-at-a-time case."""
+    c0, f0 = _base_yaw()
+    v0 = vehicle_parameters()
+    doubled = {k: 2.0 * getattr(v0, k) for k in ("yaw_damper_damping", "yaw_damper_damping_after_knee",
+                                                 "yaw_damper_series_stiffness")}
+    return [
+        ("yaw damper law", "A380: 2452.5 kN s/m to 9.8 kN, 49.95 kN s/m after; series 8.82 MN/m", A380_YAW, {},
+         "A380", "S"),
+        ("yaw damper law", "Zhai: 1320 kN s/m to 13.2 kN, 66 kN s/m after; series 4 MN/m", ZHAI_YAW, {},
+         "Zhai", "S"),
+        ("yaw dampers per bogie side", "2 (HS19's law twice)", doubled, {},
+         "SF400 (ICE 2) bogie: doubled yaw dampers (crh3-suspension.md, table A); not confirmed for CRH3", "S/U"),
+        ("yaw damper blow-off force", "9.8 kN (A380's), HS19 damping", dict(yaw_damper_knee_velocity=9.81e3 / c0),
+         {}, "A380", "S"),
+        ("yaw damper blow-off force", "13.2 kN (Zhai's), HS19 damping", dict(yaw_damper_knee_velocity=13.2e3 / c0),
+         {}, "Zhai", "S"),
+        ("yaw damper damping", "1320 kN s/m (Zhai's), HS19 blow-off 3 kN",
+         dict(yaw_damper_damping=1320.0e3, yaw_damper_knee_velocity=f0 / 1320.0e3), {}, "Zhai", "S"),
+        ("yaw damper damping", "2452.5 kN s/m (A380's), HS19 blow-off 3 kN",
+         dict(yaw_damper_damping=2452.5e3, yaw_damper_knee_velocity=f0 / 2452.5e3), {}, "A380", "S"),
+        ("yaw damper series stiffness", "4 MN/m (Zhai's)", dict(yaw_damper_series_stiffness=4.0e6), {}, "Zhai", "S"),
+        ("yaw damper series stiffness", "8.82 MN/m (A380's)", dict(yaw_damper_series_stiffness=8.82e6), {},
+         "A380", "S"),
+        ("primary longitudinal stiffness", "14.7 MN/m (A380: spring 0.98 + arm node 13.72)",
+         dict(primary_longitudinal_stiffness=14.7e6), {}, "A380", "S"),
+        ("primary longitudinal stiffness", "10 MN/m (Zhai's)", dict(primary_longitudinal_stiffness=10.0e6), {},
+         "Zhai", "S"),
+        ("primary lateral stiffness", "6.5 MN/m (A380: spring 0.98 + arm node 5.52)",
+         dict(primary_lateral_stiffness=6.5e6), {}, "A380", "S"),
+        ("primary lateral stiffness", "5 MN/m (Zhai's)", dict(primary_lateral_stiffness=5.0e6), {}, "Zhai", "S"),
+        ("bogie frame yaw inertia", "A380's radius of gyration (2280 kg m^2 at 2280 kg)",
+         dict(bogie_frame_yaw_inertia_source=(2280.0, 2280.0)), {}, "A380", "S"),
+        ("bogie frame yaw inertia", "Zhai's radius of gyration (3160 kg m^2 at 3000 kg)",
+         dict(bogie_frame_yaw_inertia_source=(3160.0, 3000.0)), {}, "Zhai", "S"),
+        ("wheel profile (conicity at 3 mm)", "S1002 on UIC60 1:40", {}, dict(wheel_profile="s1002"),
+         "EN13674", "V"),
+        ("friction", "0.2", {}, dict(friction_coefficient=0.2), "Iwnicki: 0.3 dry; 0.2 a damp rail", "A"),
+        ("friction", "0.4", {}, dict(friction_coefficient=0.4), "the report's sensitivity (0.3 -> 0.4)", "A"),
+    ]
+
+
+def kicks():
+    """(method, Kick) of the kick study."""
+    return ([("bisection", lc.Kick(a)) for a in (0.002, 0.005, 0.010, 0.020)]
+            + [("bisection", lc.Kick(0.010, shape="s-kink"))]
+            + [("ramp-down", lc.Kick(0.020)), ("ramp-down", lc.Kick(0.010, shape="s-kink"))])
+
+
+class Cache:
+    """Results kept as JSON under DIR/cache/, keyed by a hash of what they depend on."""
+
+    def __init__(self, out):
+        self.folder = os.path.join(out, "cache")
+        os.makedirs(self.folder, exist_ok=True)
+
+    def get(self, key, compute):
+        name = hashlib.sha1(jsonout.dumps(dict(key, version=CACHE_VERSION)).encode()).hexdigest()[:16]
+        path = os.path.join(self.folder, name + ".json")
+        if os.path.exists(path):
+            with open(path) as f:
+                return json.load(f)
+        value = jsonout.plain(compute())
+        jsonout.write(path, dict(key=key, value=value))
+        return value
+
+
+def _scenario(vehicle_set="hs19", vehicle=None, contact=None):
+    sc = Scenario(vehicle=vehicle_parameters(vehicle_set, **(vehicle or {})))
+    return replace(sc, contact=replace(sc.contact, **(contact or {})))
+
+
+def critical_speeds(sc: Scenario, kick=lc.Kick()):
+    """{nonlinear (ramp-down fold), linear (root locus)} critical speeds (km/h) and the downward branch."""
+    g = GRID
+    speeds, amps, fold = lc.ramp_down(sc, g["top_kmh"], g["bottom_kmh"], g["step_kmh"], g["tolerance_kmh"], kick)
+    locus = rl.root_locus(sc, np.linspace(100.0, 600.0, 26))
+    return dict(nonlinear_kmh=fold, linear_kmh=locus.linear_critical_speed_kmh, mode=locus.critical_mode,
+                frequency_hz=locus.critical_frequency_hz, downward=[speeds.tolist(), amps.tolist()])
+
+
+def bisection_speed(sc: Scenario, kick):
+    res = lc.limit_cycle(sc, np.arange(200.0, 501.0, 50.0), GRID["tolerance_kmh"], amplitude=kick.amplitude_m,
+                         length=kick.length_m, shape=kick.shape)
+    return dict(nonlinear_kmh=res.nonlinear_critical_speed_kmh)
+
+
+def hsr_check(vehicle_set, seed, speed_kmh=MARGIN * SERVICE_KMH):
+    """EN 14363's stability quantity of one run at speed_kmh on straight track with the China HSR irregularity:
+    the largest sum Y r.m.s. of any wheelset (N), its limit (N) and the largest wheelset lateral displacement (m)."""
+    track = straight_track().with_line_length(HSR_LINE_M)
+    sc = replace(_scenario(vehicle_set), track=track, irregularity=ir.resolve(IRREGULARITY, seed, HSR_LINE_M),
+                 speed_table=constant_speed(speed_kmh), output_rate=200.0)
+    r = simulate(sc)
+    a = assessment.assess(signals.from_arrays(r.arrays(), sc.vehicle))
+    rms = [row for row in a.rows if row.quantity == "sum_Y_rms"]
+    worst = max(rms, key=lambda row: row.value)
+    return dict(status=r.status, sum_y_rms_n=worst.value, limit_n=worst.limit,
+                lateral_max_m=float(np.max(np.abs(r.wheelset_lateral))))
+
+
+def study(out, progress=None):
+    """Run (or read from the cache) every case; write stability.json, stability.md and stability.png to `out`."""
+    os.makedirs(out, exist_ok=True)
+    cache = Cache(out)
+    say = progress or (lambda message: None)
+    base = cache.get(dict(case="base", grid=GRID), lambda: critical_speeds(_scenario()))
+    say(f"base: {_kmh(base['nonlinear_kmh'])} / {_kmh(base['linear_kmh'])} km/h")
+    rows = []
+    for name, value, vehicle, contact, source, sure in cases():
+        r = cache.get(dict(case=name, vehicle=vehicle, contact=contact, grid=GRID),
+                      lambda: critical_speeds(_scenario(vehicle=vehicle, contact=contact)))
+        rows.append(dict(input=name, value=value, source=source, sure=sure, **r))
+        say(f"{name}, {value}: {_kmh(r['nonlinear_kmh'])} / {_kmh(r['linear_kmh'])} km/h")
+    kick_rows = []
+    for method, kick in kicks():
+        key = dict(case="kick", method=method, kick=kick.as_json(), grid=GRID)
+        if method == "bisection":
+            r = cache.get(key, lambda: bisection_speed(_scenario(), kick))
+        else:
+            r = cache.get(key, lambda: critical_speeds(_scenario(), kick))
+        kick_rows.append(dict(method=method, kick=kick.as_json(), nonlinear_kmh=r["nonlinear_kmh"]))
+        say(f"kick {method} {kick}: {_kmh(r['nonlinear_kmh'])} km/h")
+    sets = {}
+    for vs in VEHICLE_SETS:
+        speeds = cache.get(dict(case="set", vehicle_set=vs, grid=GRID), lambda: critical_speeds(_scenario(vs)))
+        runs = [cache.get(dict(case="hsr", vehicle_set=vs, seed=s, speed_kmh=MARGIN * SERVICE_KMH,
+                               line_m=HSR_LINE_M), lambda: hsr_check(vs, s)) for s in SEEDS]
+        sets[vs] = dict(speeds, hsr=runs)
+        say(f"set {vs}: {_kmh(speeds['nonlinear_kmh'])} / {_kmh(speeds['linear_kmh'])} km/h; sum Y rms "
+            f"{max(r['sum_y_rms_n'] for r in runs) / 1e3:.1f} kN")
+    data = dict(grid=GRID, service_speed_kmh=SERVICE_KMH, margin=MARGIN, irregularity=IRREGULARITY, seeds=SEEDS,
+                base=base, cases=rows, kicks=kick_rows, sets=sets)
+    jsonout.write(os.path.join(out, "stability.json"), data)
+    plotting.stability_figure(base, rows, os.path.join(out, "stability.png"), MARGIN * SERVICE_KMH)
+    with atomic_write(os.path.join(out, "stability.md")) as f:
+        f.write(markdown(data))
+    return dict(base=dict(nonlinear_kmh=base["nonlinear_kmh"], linear_kmh=base["linear_kmh"]),
+                cases=[dict(input=r["input"], value=r["value"], nonlinear_kmh=r["nonlinear_kmh"],
+                            linear_kmh=r["linear_kmh"]) for r in rows])
+
+
+def _kmh(v, none="no limit cycle"):
+    return none if v is None or not np.isfinite(v) else f"{v:.0f}"
+
+
+def _linear(v):
+    return _kmh(v, "stable to 600")
+
+
+def _mode(r):
+    return f" ({r['mode']}, {r['frequency_hz']:.1f} Hz)" if r["mode"] else ""
+
+
+def markdown(d):
+    """The tables of the report section (docs/report/stability.md); the findings above them are in FINDINGS."""
+    g = d["grid"]
+    b = d["base"]
+    lines = FINDINGS.splitlines() + [
+        "", "## One input at a time", "",
+        f"Nonlinear critical speed: the ramp-down method (`railderail limit-cycle --method ramp-down`), a 10 mm, 20 m "
+        f"kink at {g['top_kmh']:.0f} km/h, then steps of {g['step_kmh']:.0f} km/h held {lc.HOLD_M:.0f} m each down to "
+        f"{g['bottom_kmh']:.0f} km/h, refined by {g['tolerance_kmh']:.0f} km/h steps: the lowest speed holding a limit "
+        "cycle; 'no limit cycle': none at the top speed. Linear: the root locus (26 speeds 100-600 km/h), the mode "
+        "that crosses.", "",
+        "| input | value | source (sure) | nonlinear km/h | linear km/h (mode) |", "|---|---|---|---|---|",
+        f"| default (hs19) | HS19 throughout | HS19 (S) | {_kmh(b['nonlinear_kmh'])} | {_linear(b['linear_kmh'])} |"]
+    for r in d["cases"]:
+        lines.append(f"| {r['input']} | {r['value']} | {r['source']} ({r['sure']}) | {_kmh(r['nonlinear_kmh'])} | "
+                     f"{_linear(r['linear_kmh'])}{_mode(r)} |")
+    lines += ["", "![one input at a time](stability.png)", "",
+              "## The kick", "", "| method | kick | nonlinear km/h |", "|---|---|---|"]
+    for r in d["kicks"]:
+        k = r["kick"]
+        lines.append(f"| {r['method']} | {k['shape']} {k['amplitude_m'] * 1e3:g} mm over {k['length_m']:g} m | "
+                     f"{_kmh(r['nonlinear_kmh'])} |")
+    limit = d["margin"] * d["service_speed_kmh"]
+    lines += ["", "## The vehicle sets", "",
+              f"Straight track at {limit:.0f} km/h ({d['margin']:g} x {d['service_speed_kmh']:.0f}) with the "
+              f"{d['irregularity']} irregularity (seeds {', '.join(map(str, d['seeds']))}, {HSR_LINE_M:.0f} m): "
+              "EN 14363's sum Y r.m.s. (the largest of any wheelset) against its limit, and the largest wheelset "
+              "lateral displacement.", "",
+              "| set | nonlinear km/h | linear km/h | sum Y r.m.s. kN (limit) | lateral max mm |",
+              "|---|---|---|---|---|"]
+    for name, s in d["sets"].items():
+        rms = max(r["sum_y_rms_n"] for r in s["hsr"])
+        lat = max(r["lateral_max_m"] for r in s["hsr"])
+        lines.append(f"| {name} | {_kmh(s['nonlinear_kmh'])} | {_linear(s['linear_kmh'])} | {rms / 1e3:.1f} "
+                     f"({s['hsr'][0]['limit_n'] / 1e3:.1f}) | {lat * 1e3:.2f} |")
+    return "\n".join(lines) + "\n"
+
+
+FINDINGS = """# What sets the model car's hunting speed (issue 41)
+
+Generated by `railderail limit-cycle --sensitivity --out docs/report` (methods/stability.py); the numbers
+below are in stability.json.
+"""
