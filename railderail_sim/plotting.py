@@ -288,7 +288,7 @@ def stability_figure(base, rows, path, required_kmh):
         ax.axvline(kmh(base["nonlinear_kmh"]), color=CRITICAL_SPEED_COLOURS["nonlinear"], ls="--", lw=0.8,
                    label="default set, nonlinear")
         ax.axvline(required_kmh, color=REFERENCE_COLOUR, ls=":", lw=1.0, label=f"{required_kmh:.0f} km/h")
-        ax.set_yticks(y, [f"{r['input']}: {r['value'].split(':')[0].split(',')[0]}" for r in rows], fontsize=7)
+        ax.set_yticks(y, [f"{r['input']}: {r['value'].split(';')[0].split(',')[0][:40]}" for r in rows], fontsize=7)
         ax.invert_yaxis()
         ax.set_xlabel("critical speed (km/h)")
         ax.legend(fontsize=7, loc="lower right")

@@ -89,3 +89,17 @@ def test_hs19_a380yaw_is_hs19_with_the_a380_yaw_damper_sourced():
         assert getattr(new, k) == getattr(a380, k)
         assert rows[k][3] == "A380" and rows[k][4] == "S"
     assert rows["primary_lateral_stiffness"][3] == "HS19"
+
+
+def test_study_cache_computes_once_and_returns_the_same_value(tmp_path):
+    cache = stability.Cache(str(tmp_path))
+    calls = []
+
+    def compute():
+        calls.append(1)
+        return dict(nonlinear_kmh=float("nan"), points=np.array([1.0, 2.0]))
+
+    first = cache.get(dict(case="x", grid=stability.GRID), compute)
+    again = cache.get(dict(case="x", grid=stability.GRID), compute)
+    other = cache.get(dict(case="y", grid=stability.GRID), compute)
+    assert len(calls) == 2 and first == again == other == dict(nonlinear_kmh=None, points=[1.0, 2.0])

@@ -149,7 +149,8 @@ def descent(sc: Scenario, speeds_kmh, kick: Kick, hold_m=HOLD_M, window_m=None):
     for v in (speeds_kmh[0], speeds_kmh[-1]):
         check_range("limit-cycle speed", v, *SPEED_RANGE_KMH, "km/h")
     table, holds = descent_table(speeds_kmh, hold_m)
-    track = straight_track().with_line_length(float(holds[-1, 1]) + 1.0)
+    track = straight_track()
+    track = track.with_line_length(max(track.line_length, float(holds[-1, 1]) + 1.0))
     r = simulate(replace(sc, track=track, irregularity=kick.irregularity(), speed_table=table,
                          stop_on_derailment=True, output_rate=100.0))
     lateral = np.max(np.abs(r.wheelset_lateral), axis=1)
