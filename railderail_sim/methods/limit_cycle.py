@@ -168,35 +168,32 @@ def descent(sc: Scenario, speeds_kmh, kick: Kick, hold_m=HOLD_M, window_m=None):
 
 
 def ramp_down(sc: Scenario, top_kmh, bottom_kmh, step_kmh, tolerance_kmh, kick: Kick, hold_m=HOLD_M, progress=None):
-    """The downward branch (speeds, amplitudes) and the lowest speed holding a limit cycle (km/h, nan if none,
-    `top_kmh` if the lowest step still holds one: then lower `bottom_kmh`)."""
+    """The downward branch (speeds rising, amplitudes) and the lowest speed holding a limit cycle (km/h; nan if
+    none holds one at the top, `bottom_kmh` if the lowest step still does: then the fold lies at or below it)."""
     coarse = np.arange(top_kmh, bottom_kmh - 1e-9, -step_kmh)
     amp, held = descent(sc, coarse, kick, hold_m)
     if progress:
         for v, a, h in zip(coarse, amp, held):
             progress(v, a, h)
     speeds, amps = list(coarse), list(amp)
-    if not held[0]:
-        return np.array(speeds), np.array(amps), float("nan")
-    last = int(np.flatnonzero(held)[-1]) if held.all() else int(np.argmin(held)) - 1
-    if last == len(coarse) - 1:
-        return np.array(speeds), np.array(amps), float(coarse[-1])
-    # finer steps below the last coarse speed that held one, reached along the same coarse path
-    fine = np.arange(coarse[last] - tolerance_kmh, coarse[last + 1] + 1e-9, -tolerance_kmh)
-    fine = fine[fine > coarse[last + 1] + 1e-9]
-    vcrit = float(coarse[last])
-    if fine.size:
-        amp_f, held_f = descent(sc, np.concatenate((coarse[:last + 1], fine)), kick, hold_m)
-        amp_f, held_f = amp_f[last + 1:], held_f[last + 1:]
-        if progress:
-            for v, a, h in zip(fine, amp_f, held_f):
-                progress(v, a, h)
-        dead = np.flatnonzero(~held_f)
-        alive = held_f[:dead[0]] if dead.size else held_f
-        if alive.size:
-            vcrit = float(fine[alive.size - 1])
-        speeds += list(fine)
-        amps += list(amp_f)
+    vcrit = float("nan")
+    if held[0]:
+        last = len(held) - 1 if held.all() else int(np.argmin(held)) - 1     # the last of the unbroken run
+        vcrit = float(coarse[last])
+        # finer steps below the last coarse speed that held one, reached along the same coarse path
+        fine = np.arange(coarse[last] - tolerance_kmh, coarse[min(last + 1, len(coarse) - 1)] + 1e-9, -tolerance_kmh)
+        fine = fine[fine > coarse[last + 1] + 1e-9] if last + 1 < len(coarse) else fine[:0]
+        if fine.size:
+            amp_f, held_f = descent(sc, np.concatenate((coarse[:last + 1], fine)), kick, hold_m)
+            amp_f, held_f = amp_f[last + 1:], held_f[last + 1:]
+            if progress:
+                for v, a, h in zip(fine, amp_f, held_f):
+                    progress(v, a, h)
+            alive = int(np.argmin(held_f)) if not held_f.all() else held_f.size
+            if alive:
+                vcrit = float(fine[alive - 1])
+            speeds += list(fine)
+            amps += list(amp_f)
     order = np.argsort(speeds)
     return np.array(speeds)[order], np.array(amps)[order], vcrit
 
