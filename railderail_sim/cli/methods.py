@@ -213,6 +213,8 @@ def limit_cycle_command(parser):
             res = stability.study(args.out, progress=None if args.json else lambda m: print(m, file=sys.stderr))
             _emit(args, res, f"stability study written to {args.out}")
             return
+        if args.out:
+            raise ValueError("--out is the --sensitivity study's folder; give --sensitivity too, or --plot")
         check_range("excitation amplitude", args.kink_mm, 0.1, 30.0, "mm")
         if args.step_kmh <= 0 or args.from_kmh >= args.to_kmh:
             raise ValueError(f"scan {args.from_kmh:g}-{args.to_kmh:g} km/h by {args.step_kmh:g} is empty")
