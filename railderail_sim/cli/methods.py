@@ -182,31 +182,55 @@ def root_locus_command(parser):
 def limit_cycle_command(parser):
     from ..methods import limit_cycle as lc
     _common(parser)
+    parser.add_argument("--method", default="bisection", choices=lc.METHODS,
+                        help="bisection: the lowest speed at which the car keeps hunting after the kick; ramp-down: "
+                             "a kick at the top speed, then the speed lowered in steps until the limit cycle dies "
+                             "(the lowest speed holding one); default %(default)s")
     parser.add_argument("--from-kmh", type=float, default=200.0)
     parser.add_argument("--to-kmh", type=float, default=600.0)
-    parser.add_argument("--step-kmh", type=float, default=50.0, help="scan step before the bisection")
-    parser.add_argument("--tolerance-kmh", type=float, default=1.0, help="bisection tolerance")
+    parser.add_argument("--step-kmh", type=float, default=50.0, help="scan step before the bisection or refinement")
+    parser.add_argument("--tolerance-kmh", type=float, default=1.0, help="bisection tolerance, or the descent's "
+                                                                          "finer step")
     parser.add_argument("--kink-mm", type=float, default=10.0,
-                        help="lateral kink's amplitude (mm), the excitation unless --irregularity gives one")
+                        help="the kick's amplitude (mm), the excitation unless --irregularity gives one")
+    parser.add_argument("--kick-length-m", type=float, default=20.0, help="the kick's period length (m)")
+    parser.add_argument("--kick-shape", default="kink", choices=tuple(lc.KICK_SHAPES),
+                        help="kink: one cosine period to the left; s-kink: left then right; default %(default)s")
     _track_args(parser, f"over the first {lc.EXCITATION_M:g} m, smooth track after it", cant=False)
-    parser.add_argument("--plot", metavar="FILE.png", help="amplitude-speed diagram (.png, .pdf or .svg)")
+    parser.add_argument("--plot", metavar="FILE.png",
+                        help="bifurcation diagram, both branches (.png, .pdf or .svg)")
+    parser.add_argument("--sensitivity", action="store_true",
+                        help="the stability study instead (docs/report/stability.md): what sets the hunting speed, "
+                             "one sourced input at a time; needs --out")
+    parser.add_argument("--out", help="with --sensitivity: the report folder (its cache/ keeps each run)")
 
     def run(args):
         import numpy as np
+        if args.sensitivity:
+            from ..methods import stability
+            if not args.out:
+                raise ValueError("--sensitivity needs --out DIR")
+            res = stability.study(args.out, progress=None if args.json else lambda m: print(m, file=sys.stderr))
+            _emit(args, res, f"stability study written to {args.out}")
+            return
+        if args.out:
+            raise ValueError("--out is the --sensitivity study's folder; give --sensitivity too, or --plot")
         check_range("excitation amplitude", args.kink_mm, 0.1, 30.0, "mm")
         if args.step_kmh <= 0 or args.from_kmh >= args.to_kmh:
             raise ValueError(f"scan {args.from_kmh:g}-{args.to_kmh:g} km/h by {args.step_kmh:g} is empty")
         plot = _plot_path(args)
         res = lc.limit_cycle(base_scenario(args, line_length_m=lc.EXCITATION_M),
                              np.arange(args.from_kmh, args.to_kmh + 1e-9, args.step_kmh),
-                             args.tolerance_kmh, amplitude=args.kink_mm / 1000.0,
+                             args.tolerance_kmh, amplitude=args.kink_mm / 1000.0, length=args.kick_length_m,
+                             method=args.method, shape=args.kick_shape, branches=True,
                              progress=None if args.json else
-                             lambda v, a: print(f"  {v:7.2f} km/h: final amplitude {a * 1e3:.4f} mm", file=sys.stderr))
+                             lambda v, a, u: print(f"  {v:7.2f} km/h: amplitude {a * 1e3:.4f} mm"
+                                                   f"{' (hunting)' if u else ''}", file=sys.stderr))
         if plot:
             plotting.limit_cycle_figure(res, plot, lc.THRESHOLD_M)
         v = res.nonlinear_critical_speed_kmh
-        human = (f"nonlinear critical speed: {v:.1f} km/h (+/- {args.tolerance_kmh:g})" if math.isfinite(v)
-                 else f"stable up to {args.to_kmh:g} km/h")
+        human = (f"nonlinear critical speed ({args.method}): {v:.1f} km/h (+/- {args.tolerance_kmh:g})"
+                 if math.isfinite(v) else f"no limit cycle from {args.from_kmh:g} to {args.to_kmh:g} km/h")
         _emit(args, res.as_json(), human)
     return run
 

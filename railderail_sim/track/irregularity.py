@@ -363,22 +363,28 @@ def taper(s, values, slopes, taper_m):
     return w[:, None] * values, w[:, None] * slopes + dw[:, None] * values
 
 
-def lateral_kink(start, length, amplitude, step=0.25):
+def lateral_kink(start, length, amplitude, step=0.25, periods=1):
     """Both rails moved sideways by one period of a cosine, A/2 (1 - cos(2 pi (s - start) / L)) over
     start <= s <= start + L (m): a smooth (C1) alignment defect of peak A to the left in the middle, the
-    limit-cycle method's excitation. Cubic Hermite on a `step` grid with the exact slopes (the largest
-    error of the shape, A (2 pi step / L)^4 / 384, is 2e-9 m for 10 mm over 20 m)."""
-    if not (length > 0.0 and step > 0.0):
-        raise ValueError(f"lateral kink: length {length:g} m and step {step:g} m must be positive")
-    n = max(int(round(length / step)), 2) + 1
-    s = np.linspace(start, start + length, n)
+    limit-cycle method's excitation. With `periods` > 1 that many such periods follow each other with
+    alternating sign (2: an S, left then right, which leaves the car no net lateral offset to follow). Cubic
+    Hermite on a `step` grid with the exact slopes (the largest error of the shape, A (2 pi step / L)^4 / 384,
+    is 2e-9 m for 10 mm over 20 m)."""
+    if not (length > 0.0 and step > 0.0) or periods not in (1, 2):
+        raise ValueError(f"lateral kink: length {length:g} m and step {step:g} m must be positive and periods "
+                         f"{periods!r} 1 or 2")
+    n = periods * max(int(round(length / step)), 2) + 1
+    s = np.linspace(start, start + periods * length, n)
     w = 2.0 * np.pi / length
-    lateral = 0.5 * amplitude * (1.0 - np.cos(w * (s - start)))
-    slope = 0.5 * amplitude * w * np.sin(w * (s - start))
+    sign = np.where(s - start < length, 1.0, -1.0)
+    lateral = 0.5 * amplitude * sign * (1.0 - np.cos(w * (s - start)))
+    slope = 0.5 * amplitude * sign * w * np.sin(w * (s - start))
     zero = np.zeros(n)
+    shape = "" if periods == 1 else "S-"
     return Irregularity(s, np.column_stack((lateral, zero, lateral, zero)),
-                        np.column_stack((slope, zero, slope, zero)), name=f"kink {amplitude * 1e3:g} mm",
-                        description=f"lateral kink of {amplitude * 1e3:g} mm over {length:g} m from s = {start:g} m")
+                        np.column_stack((slope, zero, slope, zero)), name=f"{shape}kink {amplitude * 1e3:g} mm",
+                        description=f"lateral {shape}kink of {amplitude * 1e3:g} mm over {periods * length:g} m "
+                                    f"from s = {start:g} m")
 
 
 def twist(start, length, amplitude, hold, side, step=0.25):
