@@ -16,8 +16,7 @@ import numpy as np
 
 from railderail_sim.supervision.braking import BrakingModel
 from railderail_sim.supervision.closed_loop import BrakeCommand, run_closed_loop
-from railderail_sim.vehicle.layout import WHEELSETS, BodyTable
-from railderail_sim.vehicle.simulate import output_arrays
+from railderail_sim.vehicle.layout import WHEELSETS, BodyTable, OutputRow
 
 from .curves import INTERVENTION, KMH, SupervisionLimits, Target, TargetCurves, target_limit
 from .supervisor import Supervisor
@@ -64,18 +63,17 @@ class Controller:
         self.lowest_speed = math.inf
 
     def __call__(self, sim, rows):
-        a = output_arrays(rows)
         station = float(sim.model.bodies[WHEELSETS[0], BodyTable.station])
         command = None
         start = time.perf_counter()
-        for t, s, v in zip(a["time"].tolist(), a["position"].tolist(), a["speed"].tolist()):
+        for t, s, v in rows[:, [OutputRow.time, OutputRow.position, OutputRow.speed]].tolist():
             level = self.supervisor.step(t, s + station, v)
             if level == INTERVENTION and not self.issued and command is None:
                 command = BrakeCommand(t, s, v, self.supervisor.release_speed)
             self.issued = self.supervisor.release_speed is not None
             self.lowest_speed = min(self.lowest_speed, v)
         self.step_s += time.perf_counter() - start
-        self.steps += len(a["time"])
+        self.steps += len(rows)
         return command
 
 

@@ -149,18 +149,21 @@ class Supervisor:
         """The level (curves.NONE..INTERVENTION) at one sample: the estimated front (m), the estimated speed
         (m/s) and the odometer's errors (the max safe front is front_m + position_error_m)."""
         front = front_m + position_error_m
-        up, down, worst = NONE, NONE, None
-        h = self.limits.hysteresis_kmh * KMH
+        up, worst = NONE, None
         for c in self._curves:
             lv = c.level(front, speed_m_s, speed_error_m_s)
             if lv > up or (lv == up and worst is not None and lv > NONE and c.v_target < worst.v_target):
                 up, worst = lv, c
-            down = max(down, c.level(front, speed_m_s + h, speed_error_m_s))
         if self.release_speed is not None and speed_m_s > self.release_speed:
             level = INTERVENTION
         else:
             self.release_speed = None
-            level = max(up, min(self.level, down))
+            level = up
+            if up < self.level:
+                # leave a level only as far as the train is clear of the curves by the hysteresis
+                h = self.limits.hysteresis_kmh * KMH
+                down = max(c.level(front, speed_m_s + h, speed_error_m_s) for c in self._curves)
+                level = max(up, min(self.level, down))
         if level > self.level and worst is not None:
             self.alerts.append(self._alert(time_s, front_m, speed_m_s, level, worst, front, speed_error_m_s))
             if level == INTERVENTION:

@@ -134,7 +134,8 @@ class BrakingModel:
         and at every band edge (the core interpolates linearly between them)."""
         check_range("release speed", v1, 0.0, v0, "m/s", hi_open=True)
         start = s0 + v0 * self.buildup_s
-        speeds = np.unique(np.concatenate([np.arange(v1, v0, SPEED_STEP), [e for e in self.edges() if v1 < e < v0],
-                                           [v0]]))[::-1]
+        # the grid and the edges strictly below v0 (an edge may differ from v0 in its last bit only)
+        inner = np.concatenate([np.arange(v1, v0, SPEED_STEP), [e for e in self.edges() if v1 < e]])
+        speeds = np.concatenate([[v0], np.unique(inner[inner < v0 - 1e-9])[::-1]])
         s = [start + self.deceleration_distance(v0, v) for v in speeds]
         return np.array([[s0, v0]] + list(zip(s, speeds)) + [[s[-1] + 1.0, v1]])
