@@ -13,6 +13,7 @@ from railderail_monitor.supervision.curves import KMH, SupervisionLimits
 from railderail_monitor.supervision.loop import Controller, scenario_targets, watching
 from railderail_monitor.supervision.supervisor import Supervisor
 from railderail_sim.cli import main
+from railderail_sim.sensors import config as sensor_config
 from railderail_sim.supervision.braking import BrakingModel
 from railderail_sim.supervision.closed_loop import run_closed_loop
 from railderail_sim.vehicle.simulate import scenario, simulate
@@ -25,8 +26,9 @@ SCENARIO = replace(scenario(radius=1000.0, speed_kmh=320.0),
                    track=replace(scenario().track, straight_in=2500.0)).validated()
 
 
-def _closed(closed=True):
-    controller = Controller(Supervisor(scenario_targets(SCENARIO.track, 270 * KMH, LIMITS), BRAKING, LIMITS))
+def _closed(closed=True, odometer=None):
+    controller = Controller(Supervisor(scenario_targets(SCENARIO.track, 270 * KMH, LIMITS), BRAKING, LIMITS),
+                            odometer, seed=3)
     return run_closed_loop(SCENARIO, controller if closed else watching(controller), BRAKING), controller
 
 
@@ -63,6 +65,15 @@ def test_the_speed_follows_the_braking_model(runs):
                 else c.speed_m_s for s in arrays["position"]]
     assert np.max(np.abs(arrays["speed"] - expected)) < 2e-3
     assert np.min(arrays["speed"]) == pytest.approx(c.release_speed_m_s)
+
+
+def test_the_measured_mode_brakes_earlier(runs):
+    # the odometer's speed error (V_ura) and position error move the intervention forward; it still prevents
+    _, (truth, _), _ = runs
+    measured, controller = _closed(odometer=sensor_config.load(None).odometer)
+    assert measured.result.status == "finished"
+    assert measured.commands[0].position_m < truth.commands[0].position_m - 100.0
+    assert controller.steps == pytest.approx(measured.result.time[-1] * 10.0, abs=2)     # the odometer's 10 Hz
 
 
 def test_a_run_inside_its_braking_distance_says_so_and_brakes_at_once(capsys):

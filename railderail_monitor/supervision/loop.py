@@ -16,9 +16,14 @@ import numpy as np
 
 from railderail_sim.supervision.braking import BrakingModel
 from railderail_sim.supervision.closed_loop import BrakeCommand, run_closed_loop
+from railderail_sim.sensors import config as sensor_config
+from railderail_sim.sensors.config import ODOMETER, SensorSet
+from railderail_sim.sensors.measure import SensorStream
 from railderail_sim.vehicle.layout import WHEELSETS, BodyTable, OutputRow
+from railderail_sim.vehicle.simulate import output_arrays
 
-from .curves import INTERVENTION, KMH, SupervisionLimits, Target, TargetCurves, target_limit
+from .curves import INTERVENTION, KMH, SupervisionLimits, Target, target_limit
+from .odometry import Odometry
 from .supervisor import Supervisor
 
 
@@ -52,28 +57,56 @@ def survey_targets(path):
 
 
 class Controller:
-    """The supervisor fed a run's rows (the front: the leading wheelset) at every output row; a BrakeCommand
-    when it first intervenes for a brake not yet commanded. `step_s`: the supervisor's own time."""
+    """The supervisor fed a run's rows; a BrakeCommand when it first intervenes for a brake not yet commanded
+    (at the true place and speed of the row it decided on). Ground truth: the front (the leading wheelset) and
+    the speed of every output row. Measured (`odometer`, a railderail_sim.sensors Odometer): the odometer's
+    speed samples only, the position integrated from a balise at the first sample (`odometry.Odometry`), the
+    pessimistic end of its confidence interval supervised. `step_s`: the supervisor's own time."""
 
-    def __init__(self, supervisor):
+    def __init__(self, supervisor, odometer=None, seed=0):
         self.supervisor = supervisor
+        self.odometer, self.seed = odometer, seed
+        self.stream = self.odometry = None
         self.issued = False
         self.step_s = 0.0
         self.steps = 0
         self.lowest_speed = math.inf
 
-    def __call__(self, sim, rows):
+    def samples(self, sim, rows):
+        """(row index, time, front m, speed m/s, position error m, speed error m/s) of each sample the
+        supervisor sees in these rows."""
         station = float(sim.model.bodies[WHEELSETS[0], BodyTable.station])
+        truth = rows[:, [OutputRow.time, OutputRow.position, OutputRow.speed]].tolist()
+        if self.odometer is None:
+            return [(k, t, s + station, v, 0.0, 0.0) for k, (t, s, v) in enumerate(truth)]
+        if self.stream is None:
+            sensors = SensorSet(seed=self.seed, odometer=self.odometer)
+            self.stream = SensorStream(sensors.validated(sim.scenario.output_rate), sim.scenario)
+        odo = self.stream.process(output_arrays(rows)).get(ODOMETER, dict(time=[], speed=[]))
+        out = []
+        for t, v in zip(np.asarray(odo["time"]).tolist(), np.asarray(odo["speed"]).tolist()):
+            k = int(np.searchsorted(rows[:, OutputRow.time], t - self.odometer.sampling.latency_s + 1e-9)) - 1
+            if self.odometry is None:
+                self.odometry = Odometry(self.supervisor.limits, truth[k][1] + station, t, v)
+            else:
+                self.odometry.update(t, v)
+            o = self.odometry
+            out.append((k, t, o.position, v, o.position_error, o.speed_error))
+        return out
+
+    def __call__(self, sim, rows):
         command = None
         start = time.perf_counter()
-        for t, s, v in rows[:, [OutputRow.time, OutputRow.position, OutputRow.speed]].tolist():
-            level = self.supervisor.step(t, s + station, v)
+        for k, t, front, v, position_error, speed_error in self.samples(sim, rows):
+            level = self.supervisor.step(t, front, v, position_error, speed_error)
             if level == INTERVENTION and not self.issued and command is None:
-                command = BrakeCommand(t, s, v, self.supervisor.release_speed)
+                row = rows[k]
+                command = BrakeCommand(float(row[OutputRow.time]), float(row[OutputRow.position]),
+                                       float(row[OutputRow.speed]), self.supervisor.release_speed)
             self.issued = self.supervisor.release_speed is not None
-            self.lowest_speed = min(self.lowest_speed, v)
+            self.steps += 1
         self.step_s += time.perf_counter() - start
-        self.steps += len(rows)
+        self.lowest_speed = min(self.lowest_speed, float(np.min(rows[:, OutputRow.speed], initial=math.inf)))
         return command
 
 
@@ -96,12 +129,15 @@ def simulate_supervised(args, sc):
     else:
         raise ValueError("--supervision needs a survey's JSON file or --critical-speed-kmh for the scenario's curve")
     supervisor = Supervisor(targets, braking, limits)
-    controller = Controller(supervisor)
+    shipped = sensor_config.load(None)
+    controller = Controller(supervisor, shipped.odometer if args.odometer else None,
+                            seed=shipped.seed if args.sensor_seed is None else args.sensor_seed)
     front = sc.start_position + sc.vehicle.bogie_semi_distance + sc.vehicle.wheelbase_semi
     inside = supervisor.behind_intervention(front, float(np.interp(sc.start_position, *sc.speed_table.T)))
     run = run_closed_loop(sc, controller if args.closed_loop else watching(controller), braking)
     result, commands = run.result, run.commands
     out = dict(status=result.status, derailment=result.derailment, closed_loop=bool(args.closed_loop),
+               signals="odometer" if args.odometer else "ground_truth",
                brake_commands=[dict(time_s=c.time_s, position_m=c.position_m, speed_kmh=c.speed_m_s / KMH,
                                     release_speed_kmh=c.release_speed_m_s / KMH) for c in commands],
                lowest_speed_kmh=controller.lowest_speed / KMH,

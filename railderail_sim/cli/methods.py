@@ -128,8 +128,8 @@ def simulate_command(parser):
     _supervision_args(parser)
 
     def run(args):
-        if args.supervision is None and (args.closed_loop or args.critical_speed_kmh is not None):
-            raise ValueError("--closed-loop and --critical-speed-kmh need --supervision")
+        if args.supervision is None and (args.closed_loop or args.odometer or args.critical_speed_kmh is not None):
+            raise ValueError("--closed-loop, --odometer and --critical-speed-kmh need --supervision")
         if args.supervision is not None:
             return _supervised(args)
         from ..sensors import config as sensor_config
@@ -172,6 +172,9 @@ def _supervision_args(parser):
                              "or the survey computes it)")
     parser.add_argument("--approach-m", type=float, default=None,
                         help="metres of straight before the curve's entry transition (default: Table 2's 200)")
+    parser.add_argument("--odometer", action="store_true",
+                        help="with --supervision: the measured mode, the shipped odometer's speed and the position "
+                             "integrated from it, supervised at the pessimistic end of its confidence interval")
     parser.add_argument("--adhesion", default="dry", choices=ADHESIONS,
                         help="the braking model's emergency decelerations: dry or wet rail; default %(default)s")
 
