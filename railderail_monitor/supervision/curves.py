@@ -137,22 +137,36 @@ class TargetCurves:
             if math.isfinite(top):
                 d += (top * top - lo * lo) / (2.0 * a)
             lo = top
+        self.pieces.reverse()               # searched from the top band down
+        # the warning and the indication behind the EBI, in seconds at the train's speed
+        self.warning_back = self.t_bs + self.t_warning
+        self.indication_back = self.t_bs + self.t_driver + self.t_indication
+        self._last = (math.nan, math.nan, math.nan)
 
     def ebd(self, v):
         """Location (m) of the EBD at speed v (m/s): where braking at full emergency deceleration from v
         reaches the target at its foot speed."""
         if v <= self.v_foot:
             return self.target.start_m
-        for lo, d, a in reversed(self.pieces):
+        for lo, d, a in self.pieces:
             if v > lo:
                 return self.target.start_m - d - (v * v - lo * lo) / (2.0 * a)
         return self.target.start_m
 
-    def locations(self, v, speed_error=0.0):
-        """(indication, permitted, warning, SBI, EBI) locations (m) at the estimated speed v (m/s), the speed
-        measurement's error (V_ura, m/s) compensated in the EBI as ETCS does (V_delta0)."""
+    def ebi(self, v, speed_error=0.0):
+        """The EBI's location (m) at the estimated speed v (m/s), the speed measurement's error (V_ura, m/s)
+        compensated as ETCS does (V_delta0). The last one is kept: a train at constant speed asks again."""
+        last_v, last_error, location = self._last
+        if v == last_v and speed_error == last_error:
+            return location
         v_bec = max(v + speed_error, self.v_target)
-        ebi = self.ebd(v_bec) - v_bec * self.t_be
+        location = self.ebd(v_bec) - v_bec * self.t_be
+        self._last = (v, speed_error, location)
+        return location
+
+    def locations(self, v, speed_error=0.0):
+        """(indication, permitted, warning, SBI, EBI) locations (m) at the estimated speed v (m/s)."""
+        ebi = self.ebi(v, speed_error)
         sbi = ebi - v * self.t_bs
         permitted = sbi - v * self.t_driver
         return permitted - v * self.t_indication, permitted, sbi - v * self.t_warning, sbi, ebi
@@ -167,6 +181,6 @@ class TargetCurves:
                     else NONE)
         if v <= self.v_target:
             return NONE
-        indication, _, warning, _, ebi = self.locations(v, speed_error)
-        return (INTERVENTION if front >= ebi else WARNING if front >= warning else INDICATION if front >= indication
-                else NONE)
+        ebi = self.ebi(v, speed_error)
+        return (INTERVENTION if front >= ebi else WARNING if front >= ebi - v * self.warning_back
+                else INDICATION if front >= ebi - v * self.indication_back else NONE)

@@ -143,7 +143,7 @@ class Supervisor:
         """The reasons of the targets ahead whose EBI at this speed (m/s) lies at or behind the front (m): a
         train there is already inside its braking distance to them."""
         return [c.target.reason for c in self._curves if c.target.start_m > front_m and speed_m_s > c.v_target
-                and c.locations(speed_m_s)[-1] <= front_m]
+                and c.ebi(speed_m_s) <= front_m]
 
     def step(self, time_s, front_m, speed_m_s, position_error_m=0.0, speed_error_m_s=0.0):
         """The level (curves.NONE..INTERVENTION) at one sample: the estimated front (m), the estimated speed
@@ -173,7 +173,7 @@ class Supervisor:
 
     def _alert(self, time_s, front_m, v, level, c, front, speed_error):
         inside = front >= c.target.start_m
-        ebi = c.locations(v, speed_error)[-1]
+        ebi = c.ebi(v, speed_error)
         return Alert(time_s=time_s, position_m=front_m, speed_kmh=v / KMH, level=LEVELS[level], reason=c.target.reason,
                      limit_kmh=c.v_target / KMH, margin_kmh=(c.v_target - v) / KMH,
                      time_to_intervention_s=0.0 if inside else max(ebi - front, 0.0) / v)
