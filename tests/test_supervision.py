@@ -2,6 +2,7 @@
 order and distances, the levels of a train approaching a curve too fast at the places computed here from
 the closed form, nothing at the permitted speed, hysteresis and the latched brake, the live inputs, the
 odometer's confidence interval, the cost of a step."""
+import json
 import math
 import timeit
 
@@ -9,6 +10,7 @@ import pytest
 
 from railderail_monitor.supervision.curves import (INDICATION, INTERVENTION, NONE, WARNING, SupervisionLimits, Target,
                                                    TargetCurves, ramp, target_limit)
+from railderail_monitor.supervision.loop import survey_targets
 from railderail_monitor.supervision.odometry import Odometry
 from railderail_monitor.supervision.supervisor import (LiveInputs, LiveRules, Supervisor, friction_limit,
                                                        wind_speed_limit)
@@ -158,3 +160,18 @@ def test_a_step_costs_under_a_tenth_of_a_millisecond():
     n = 2000
     cost = min(timeit.repeat(lambda: sup.step(0.0, 4000.0, 300 * KMH, 10.0, 2.0), number=n, repeat=3)) / n
     assert cost < 1e-4
+
+
+def test_a_surveys_targets(tmp_path):
+    path = tmp_path / "survey.json"
+    path.write_text(json.dumps(dict(curves=[dict(start_m=1000.0, end_m=2600.0, radius_m=1000.0, safe_speed_kmh=255.0,
+                                                 safe_speed_by_friction_kmh={"0.2": 280.0, "0.6": 250.0})])))
+    (target,) = survey_targets(path)
+    assert (target.start_m, target.end_m, target.speed_limit_m_s) == (1000.0, 2600.0, 255.0 * KMH)
+    assert friction_limit(target, 0.3) == pytest.approx(250.0 * KMH)
+    path.write_text(json.dumps(dict(curves=[dict(start_m=1000.0, end_m=900.0, safe_speed_kmh=255.0)])))
+    with pytest.raises(ValueError, match="curve 0: target .* start 1000 m is not before its end 900 m"):
+        survey_targets(path)
+    path.write_text("[]")
+    with pytest.raises(ValueError, match="not a survey's JSON"):
+        survey_targets(path)

@@ -14,17 +14,17 @@ import time
 
 import numpy as np
 
-from railderail_sim.supervision.braking import BrakingModel
-from railderail_sim.supervision.closed_loop import BrakeCommand, run_closed_loop
 from railderail_sim.sensors import config as sensor_config
 from railderail_sim.sensors.config import ODOMETER, SensorSet
 from railderail_sim.sensors.measure import SensorStream
+from railderail_sim.supervision.braking import BrakingModel
+from railderail_sim.supervision.closed_loop import BrakeCommand, run_closed_loop
 from railderail_sim.vehicle.layout import WHEELSETS, BodyTable, OutputRow
 from railderail_sim.vehicle.simulate import output_arrays
 
 from .curves import INTERVENTION, KMH, SupervisionLimits, Target, target_limit
 from .odometry import Odometry
-from .supervisor import Supervisor
+from .supervisor import LiveInputs, Supervisor
 
 
 def scenario_targets(track, critical_speed, limits):
@@ -133,6 +133,9 @@ def simulate_supervised(args, sc):
     controller = Controller(supervisor, shipped.odometer if args.odometer else None,
                             seed=shipped.seed if args.sensor_seed is None else args.sensor_seed)
     front = sc.start_position + sc.vehicle.bogie_semi_distance + sc.vehicle.wheelbase_semi
+    if not args.odometer:
+        # on ground truth the friction is known: it picks a survey's per-friction limits
+        supervisor.inputs(LiveInputs(friction=sc.contact.friction_coefficient), front)
     inside = supervisor.behind_intervention(front, float(np.interp(sc.start_position, *sc.speed_table.T)))
     run = run_closed_loop(sc, controller if args.closed_loop else watching(controller), braking)
     result, commands = run.result, run.commands
