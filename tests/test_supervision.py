@@ -139,6 +139,9 @@ def test_live_inputs_move_the_targets():
     # inside the hunting target from 800 m: above its limit + dV_ebi (= 330 km/h) the brake
     assert hunting.step(0.0, 810.0, 331 * KMH) == INTERVENTION and "hunting" in hunting.alerts[0].reason
     assert hunting.step(0.1, 811.0, target_limit(330 * KMH, LIMITS) - 3 * KMH) == NONE
+    assert hunting.step(0.2, 812.0, target_limit(330 * KMH, LIMITS) + 1 * KMH) == INDICATION
+    hunting.inputs(LiveInputs(hunting=False), 813.0)                          # its target gone, so is the level
+    assert hunting.step(0.3, 813.0, target_limit(330 * KMH, LIMITS) + 1 * KMH) == NONE
     with pytest.raises(ValueError, match="vehicle speeds must rise"):
         LiveRules(cwc=((300.0, 30.0), (200.0, 40.0))).validated()
 

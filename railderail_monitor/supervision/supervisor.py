@@ -162,7 +162,7 @@ class Supervisor:
             if up < self.level:
                 # leave a level only as far as the train is clear of the curves by the hysteresis
                 h = self.limits.hysteresis_kmh * KMH
-                down = max(c.level(front, speed_m_s + h, speed_error_m_s) for c in self._curves)
+                down = max((c.level(front, speed_m_s + h, speed_error_m_s) for c in self._curves), default=NONE)
                 level = max(up, min(self.level, down))
         if level > self.level and worst is not None:
             self.alerts.append(self._alert(time_s, front_m, speed_m_s, level, worst, front, speed_error_m_s))
