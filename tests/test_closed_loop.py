@@ -15,7 +15,7 @@ from railderail_monitor.supervision.supervisor import Supervisor
 from railderail_sim.cli import main
 from railderail_sim.sensors import config as sensor_config
 from railderail_sim.supervision.braking import BrakingModel
-from railderail_sim.supervision.closed_loop import run_closed_loop
+from railderail_sim.supervision.closed_loop import BrakeCommand, braked_table, run_closed_loop
 from railderail_sim.vehicle.simulate import scenario, simulate
 
 LIMITS = SupervisionLimits()
@@ -85,3 +85,25 @@ def test_a_run_inside_its_braking_distance_says_so_and_brakes_at_once(capsys):
     assert out["lowest_speed_kmh"] < 320.0 and set(out) >= {"status", "derailment", "brake_commands"}
     assert main(["simulate", "--closed-loop"]) == 2
     assert "need --supervision" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_braking_to_low_speed_stays_accurate():
+    # the wheelset spin mode stiffens as the speed falls: braked from 300 to 40 km/h on R 1000 m (the brake on
+    # the straight before it), the default tolerances against 100 times tighter ones (docs/supervision.md)
+    base = scenario(radius=1000.0, speed_kmh=300.0)
+    command = BrakeCommand(0.0, 100.0, 300 * KMH, 40 * KMH)
+    table = braked_table(base.speed_table, command, BRAKING)
+    end = table[-2, 0] + 50.0
+    sc = replace(base, track=replace(base.track, straight_in=1500.0).with_line_length(end + 300.0),
+                 speed_table=table, end_position=end).validated()
+    a = simulate(sc).arrays()
+    b = simulate(replace(sc, rtol=sc.rtol / 100, atol=sc.atol / 100)).arrays()
+    assert len(a["time"]) == len(b["time"]) and a["speed"][-1] == pytest.approx(40 * KMH)
+    low = a["speed"] < 100 * KMH
+    assert np.max(np.abs(a["wheelset_lateral"] - b["wheelset_lateral"])[low]) < 2e-6
+    assert np.max(np.abs(a["attack_angle"] - b["attack_angle"])[low]) < 2e-6
+    assert np.max(np.abs(a["vertical_force"] - b["vertical_force"])[low]) < 2e3
+    expected = [max(BRAKING.speed_after(command.speed_m_s, s - command.position_m), command.release_speed_m_s)
+                for s in a["position"]]
+    assert np.max(np.abs(a["speed"] - expected)) < 1e-3
