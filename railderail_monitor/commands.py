@@ -23,3 +23,6 @@ COMMANDS = (
      "see hunting (failed yaw dampers) and a broken primary spring (--out DIR)",
      "railderail_monitor.evaluation.onboard_study:command"),
 )
+
+# `railderail simulate --supervision` runs through this (railderail_sim.cli.methods finds it by name)
+SUPERVISION = "railderail_monitor.supervision.loop:simulate_supervised"

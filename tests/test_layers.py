@@ -20,6 +20,7 @@ LAYERS = [  # module name prefix -> layer (the first prefix that matches)
     ("railderail_sim.vehicle.dynamics", CORE), ("railderail_sim.vehicle.integrator", CORE),
     ("railderail_sim.parameters", MODEL), ("railderail_sim.profiles", MODEL), ("railderail_sim.vehicle", MODEL),
     ("railderail_sim.sensors", MODEL), ("railderail_sim.methods", METHODS), ("railderail_sim.assessment", METHODS),
+    ("railderail_sim.supervision", METHODS),
     ("railderail_sim.cli", TOP), ("railderail_sim.bench", TOP), ("railderail_sim.ros", TOP),
 ]
 

@@ -28,12 +28,12 @@ to (1 - safe_speed_reduction) of it at the emergency deceleration of its speed b
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields
-import math
 
 import numpy as np
 
 from railderail_sim.assessment.en14363 import RMS_WINDOW_M
 from railderail_sim.parameters import ContactParameters
+from railderail_sim.supervision.braking import BrakingModel
 from railderail_sim.vehicle.layout import RUNNING_GEARS
 
 from ..onboard.criteria import sample_rate
@@ -49,6 +49,12 @@ PLACES = tuple((bogie, side) for bogie in range(len(RUNNING_GEARS)) for side in 
 
 def _rule(value, unit, meaning, source, sure):
     return field(default=value, metadata=dict(unit=unit, meaning=meaning, source=source, sure=sure))
+
+
+def _braking(name):
+    """A rule whose value, unit, source and sureness are the braking model's (railderail_sim.supervision)."""
+    f = next(f for f in fields(BrakingModel) if f.name == name)
+    return _rule(f.default, f.metadata["unit"], f.metadata["note"], f.metadata["source"], f.metadata["sure"])
 
 
 @dataclass(frozen=True)
@@ -83,15 +89,9 @@ class HazardRules:
                                  "read as margins falling in ordinary running", "B")
     merge_m: float = _rule(50.0, "m", "near misses of one margin at one place closer than this are one",
                            "the monitor's re-arm distance (warning.limits.Limits.rearm_m)", "-")
-    reaction_s: float = _rule(1.0, "s", "from the warning to the emergency brake command",
-                              "an automatic command (a driver needs 1-2 s for an expected alarm); as quoted in "
-                              "../shared/reference/onboard-and-assessment.md section 5", "C")
-    brake_buildup_s: float = _rule(2.0, "s", "equivalent response time of the emergency brake",
-                                   "EMU electro-pneumatic brakes, 1.5-3 s (as quoted in the reference sheet)", "C")
-    deceleration_bands: tuple = _rule(((170.0, 1.2), (230.0, 1.05), (300.0, 0.9), (math.inf, 0.85)),
-                                      "km/h, m/s^2", "emergency deceleration below each upper speed",
-                                      "TSI HS RST 2008/232/EC minimum mean emergency deceleration (dry rail), as "
-                                      "quoted in the reference sheet", "C")
+    reaction_s: float = _braking("reaction_s")
+    brake_buildup_s: float = _braking("buildup_s")
+    deceleration_bands: tuple = _braking("emergency_bands")
     safe_speed_reduction: float = _rule(0.10, "-", "share of the speed to brake off before the hazard",
                                         "a modelling choice: the quasi-static curving loads fall with v^2 (19 % "
                                         "for 10 %); the report shows 0.05, 0.2 and 1 (stopping)", "-")
@@ -116,22 +116,16 @@ class HazardRules:
                 for f in fields(self)]
 
 
-def deceleration(rules, speed):
-    """Emergency deceleration (m/s^2) at a speed (m/s) from the rules' speed bands."""
-    kmh = speed * 3.6
-    return next(a for top, a in rules.deceleration_bands if kmh < top)
+def braking(rules):
+    """The braking model of the rules' deceleration bands and times."""
+    return BrakingModel(emergency_bands=rules.deceleration_bands, buildup_s=rules.brake_buildup_s,
+                        reaction_s=rules.reaction_s)
 
 
 def braking_time(rules, speed, reduction=None):
     """Time (s) to brake from `speed` (m/s) by `reduction` (the rules' share by default) of it, band by band."""
     reduction = rules.safe_speed_reduction if reduction is None else reduction
-    target, v, t = (1.0 - reduction) * speed, speed, 0.0
-    edges = sorted(top / 3.6 for top, _ in rules.deceleration_bands if math.isfinite(top))
-    while v > target + 1e-12:
-        low = max([e for e in edges if e < v - 1e-12] + [target])
-        t += (v - low) / deceleration(rules, v - 1e-9)
-        v = low
-    return t
+    return braking(rules).deceleration_time(speed, (1.0 - reduction) * speed)
 
 
 def useful_lead(rules, speed, reduction=None):

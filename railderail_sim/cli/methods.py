@@ -125,14 +125,18 @@ def simulate_command(parser):
                         help="seed of the sensors' noise, biases and lost samples (default: the sensor file's)")
     _track_args(parser, "along the line")
     _wind_args(parser)
+    _supervision_args(parser)
 
     def run(args):
+        if args.supervision is None and (args.closed_loop or args.odometer or args.critical_speed_kmh is not None):
+            raise ValueError("--closed-loop, --odometer and --critical-speed-kmh need --supervision")
+        if args.supervision is not None:
+            return _supervised(args)
         from ..sensors import config as sensor_config
         from ..sensors.measure import SensorLog
         from ..vehicle.simulate import simulate
         plot = _plot_path(args)
-        sc = base_scenario(args, radius=args.radius, direction=-1 if args.right else 1)
-        sc = replace(sc, speed_table=constant_speed(args.speed_kmh), output_rate=args.rate).validated()
+        sc = _simulate_scenario(args)
         if args.out and not args.out.endswith(".npz"):
             raise ValueError(f"output file {args.out!r} must end in .npz")
         log = None
@@ -153,6 +157,56 @@ def simulate_command(parser):
         human = "\n".join(f"{k:28s} {v}" for k, v in s.items())
         _emit(args, s, human)
     return run
+
+
+def _supervision_args(parser):
+    """--supervision, --closed-loop, --critical-speed-kmh, --approach-m, --adhesion (docs/supervision.md)."""
+    from ..supervision.braking import ADHESIONS
+    parser.add_argument("--supervision", nargs="?", const="", metavar="SURVEY.json",
+                        help="supervise the speed against the targets of a survey's JSON, or without one the "
+                             "scenario's curve under --critical-speed-kmh (railderail_monitor's supervisor)")
+    parser.add_argument("--closed-loop", action="store_true",
+                        help="with --supervision: brake on the supervisor's emergency brake command")
+    parser.add_argument("--critical-speed-kmh", type=float, default=None,
+                        help="the critical derailment speed of the scenario's curve (km/h; `railderail trial` "
+                             "or the survey computes it)")
+    parser.add_argument("--approach-m", type=float, default=None,
+                        help="metres of straight before the curve's entry transition (default: Table 2's 200)")
+    parser.add_argument("--odometer", action="store_true",
+                        help="with --supervision: the measured mode, the shipped odometer's speed and the position "
+                             "integrated from it, supervised at the pessimistic end of its confidence interval")
+    parser.add_argument("--adhesion", default="dry", choices=ADHESIONS,
+                        help="the braking model's emergency decelerations: dry or wet rail; default %(default)s")
+
+
+SUPERVISION_HOOK = "SUPERVISION"    # the name, in a command table's module, of the supervised run's "module:function"
+
+
+def _supervised(args):
+    """`simulate --supervision`: the run through the supervisor a command table's module names (railderail_monitor
+    registers it), so that this package never imports the supervisor."""
+    import importlib
+    from importlib.metadata import entry_points
+    from . import ENTRY_POINTS, _load
+    targets = [getattr(importlib.import_module(p.module), SUPERVISION_HOOK, None)
+               for p in sorted(entry_points(group=ENTRY_POINTS), key=lambda p: p.name)]
+    targets = [t for t in targets if t]
+    if not targets:
+        raise ValueError("--supervision needs railderail_monitor's supervisor, which is not installed")
+    if args.out or args.plot or args.sensors is not None:
+        raise ValueError("--out, --plot and --sensors do not go with --supervision")
+    if args.critical_speed_kmh is not None:
+        check_range("critical derailment speed", args.critical_speed_kmh, 50.0, 800.0, "km/h")
+    sc = _simulate_scenario(args)
+    out, human = _load(targets[0])(args, sc)
+    _emit(args, out, human)
+
+
+def _simulate_scenario(args):
+    """The Scenario of `simulate`'s options."""
+    track = {} if args.approach_m is None else dict(straight_in=check_range("approach", args.approach_m, 0.0, 1e5, "m"))
+    sc = base_scenario(args, radius=args.radius, direction=-1 if args.right else 1, **track)
+    return replace(sc, speed_table=constant_speed(args.speed_kmh), output_rate=args.rate).validated()
 
 
 def root_locus_command(parser):
