@@ -31,6 +31,7 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from railderail_sim.parameters import VEHICLE_SETS
 from railderail_sim.ros import interface as m
 from railderail_sim.ros import sensor_messages as sm
+from railderail_sim.supervision.braking import ADHESIONS
 from railderail_sim.vehicle.layout import RUNNING_GEARS
 
 from .warning.alerts import AlertRecord
@@ -50,6 +51,18 @@ MEASURED_SETUP = [
                     "(railderail_sim/config/sensors.yaml) or the path of a sensor file", read_only=True),
     m.ParameterSpec("vehicle_set", "hs19", "the car's parameter set: masses and suspension of the estimator, "
                     "the defaults of the levels", choices=VEHICLE_SETS, read_only=True)]
+
+
+SUPERVISION_SETUP = [
+    m.ParameterSpec("supervision", "", "ground truth: supervise the speed against a survey's safe speeds (the path "
+                    "of `railderail survey LINE.yaml --json`'s output, docs/supervision.md); empty: no speed "
+                    "supervision", read_only=True),
+    m.ParameterSpec("supervision_brake", True, "at the supervision's intervention, command the emergency brake on "
+                    "/railderail/brake_command (the simulator obeys it): the loop closed", read_only=True),
+    m.ParameterSpec("supervision_adhesion", "dry", "the braking model's emergency decelerations the supervision "
+                    "plans with: dry rail, or wet (degraded adhesion)", choices=ADHESIONS, read_only=True),
+    m.ParameterSpec("supervision_vehicle_set", "hs19", "the car whose leading wheelset is the train's front",
+                    choices=VEHICLE_SETS, read_only=True)]
 
 
 def parameter_table(defaults):
@@ -117,12 +130,27 @@ class MonitorNode(Node):
                                                  apply=self.on_limits)
         self.monitor = Monitor(Limits(**self.limit_values))
         self.publisher = self.create_publisher(m.Alert, m.ALERTS, m.ALERT_QOS)
+        self.supervision = self._supervision(m.declare_parameters(self, SUPERVISION_SETUP))
         self.create_subscription(m.WheelsetStates, m.STATES, self.on_states, m.SENSOR_SUBSCRIBER)
         self.create_subscription(m.ContactForces, m.FORCES, self.on_forces, m.SENSOR_SUBSCRIBER)
         self.create_subscription(m.VehicleStatus, m.STATUS, self.on_status, m.SENSOR_SUBSCRIBER)
         self.counts = {"states": [0, 0, None], "forces": [0, 0, None]}   # received, missed, last sample
         self.alerts = 0
         self.get_logger().info(f"railderail monitor: {self.monitoring()}")
+
+    def _supervision(self, setup):
+        """The speed supervision of the `supervision` parameters, or None."""
+        if not setup["supervision"]:
+            return None
+        from .supervision.on_line import OnLineSupervision
+        supervision = OnLineSupervision(setup["supervision"], setup["supervision_vehicle_set"],
+                                        setup["supervision_adhesion"])
+        self.brake_publisher = (self.create_publisher(m.BrakeCommand, m.BRAKE, m.BRAKE_QOS)
+                                if setup["supervision_brake"] else None)
+        targets = supervision.supervisor.base
+        self.get_logger().info(f"speed supervision: {len(targets)} targets of {setup['supervision']}"
+                               + ("" if self.brake_publisher else " (alerts only: no brake commands)"))
+        return supervision
 
     def _measured(self):
         """The measured mode: the sensor topics only, MeasuredMonitor, /railderail/onboard_alerts."""
@@ -207,8 +235,23 @@ class MonitorNode(Node):
 
     def on_states(self, msg):
         self._count("states", msg.sample)
-        self._publish(self.monitor.on_states(m.seconds(msg.header.stamp), msg.sample, msg.track_position, msg.speed,
-                                             msg.attack_angle, msg.wheel_lift))
+        t = m.seconds(msg.header.stamp)
+        if self.supervision is not None:
+            self._supervise(t, msg)
+        self._publish(self.monitor.on_states(t, msg.sample, msg.track_position, msg.speed, msg.attack_angle,
+                                             msg.wheel_lift))
+
+    def _supervise(self, t, msg):
+        alerts, brake = self.supervision.on_states(t, msg.sample, msg.track_position, msg.speed)
+        if brake is not None and self.brake_publisher is not None:      # the brake before anything else
+            command = m.stamp(m.BrakeCommand(), t)
+            command.header.frame_id = msg.header.frame_id
+            command.sample, command.speed, command.release_speed = msg.sample, msg.speed, brake
+            command.track_position, command.reason = msg.track_position, self.supervision.reason()
+            self.brake_publisher.publish(command)
+            self.get_logger().warning(f"t = {t:.3f} s, s = {msg.track_position:.1f} m: emergency brake commanded "
+                                      f"at {msg.speed * 3.6:.1f} km/h, down to {brake * 3.6:.1f} km/h")
+        self._publish(alerts)
 
     def on_forces(self, msg):
         self._count("forces", msg.sample)

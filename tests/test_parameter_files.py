@@ -9,7 +9,7 @@ from rclpy.parameter import parameter_value_to_python
 
 from railderail_monitor.warning.limits import default_limits
 from railderail_monitor.warning.limits import SHIPPED as MONITOR_FILE
-from railderail_monitor.node import parameter_table
+from railderail_monitor.node import SUPERVISION_SETUP, parameter_table
 from railderail_sim.cli import main
 from railderail_sim.cli.nodes import REGENERATE, SHIPPED as SIMULATOR_FILE
 from railderail_sim.ros.node import PARAMETERS
@@ -57,6 +57,8 @@ def test_node_started_with_its_file_uses_it(node, module, name, changed, log, up
     path, specs = TABLES[node]
     data = yaml.safe_load(path.read_text())
     expected = dict(data[node]["ros__parameters"], **{name: changed})
+    if node == "railderail_monitor":     # the speed supervision's, off by default, are not in the thresholds' file
+        expected.update({spec.name: spec.default for spec in SUPERVISION_SETUP})
     if how == "edited file":
         text = path.read_text()
         line = f"    {name}: {data[node]['ros__parameters'][name]!r}\n"

@@ -352,6 +352,13 @@ class RunViewer:
         level = "ERROR" if a["severity"] == SEVERITY_CRITICAL else "WARN"
         self.rec.log("/alerts", rr.TextLog(f"s = {a['track_position']:.1f} m: {a['message']}", level=level))
 
+    def on_brake(self, msg):
+        """A speed supervision's emergency brake command (railderail_msgs/BrakeCommand) in the alerts' log."""
+        self.rec.set_time(TIMELINE, duration=seconds(msg.header.stamp))
+        self.rec.log("/alerts", rr.TextLog(
+            f"s = {msg.track_position:.1f} m: EMERGENCY BRAKE commanded at {msg.speed * 3.6:.1f} km/h, held down to "
+            f"{msg.release_speed * 3.6:.1f} km/h ({msg.reason})", level="ERROR"))
+
     def on_derailment(self, event):
         d = m.derailment_dict(event)
         self.derailed_at = d["time_s"]

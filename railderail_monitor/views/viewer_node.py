@@ -24,7 +24,7 @@ class ViewerNode(Node):
         self.viewer = viewer
         handlers = {m.STATES: viewer.on_states, m.FORCES: viewer.on_forces, m.STATUS: viewer.on_status,
                     m.ALERTS: viewer.on_alert, m.DERAILMENT: viewer.on_derailment,
-                    m.FINAL_STATUS: viewer.on_final_status}
+                    m.FINAL_STATUS: viewer.on_final_status, m.BRAKE: viewer.on_brake}
         for topic, (_, cls, _, qos) in m.TOPICS.items():
             self.create_subscription(cls, topic, handlers[topic], qos)
         # every mount's, the air springs' and the odometer's topics: those of a smaller set never publish

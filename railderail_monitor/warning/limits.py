@@ -81,8 +81,9 @@ CRITERIA = ("attack_angle", "wheel_lift", "derailment_coefficient", "wheel_unloa
             "derailment_coefficient_duration", "derailment_coefficient_mean", "flange_climb_distance")
 # a running gear's side by its leading wheelset, in the order of vehicle.layout.running_gear_sides
 BOGIE_PLACES = tuple((gear[0], side) for gear in RUNNING_GEARS for side in SIDES)
-SEVERITY_WARNING, SEVERITY_CRITICAL = 1, 2          # the Alert message's constants
-SEVERITY_NAMES = {SEVERITY_WARNING: "warning", SEVERITY_CRITICAL: "critical"}
+SEVERITY_INFO, SEVERITY_WARNING, SEVERITY_CRITICAL = 0, 1, 2   # the Alert message's constants
+# the criteria's two levels; the speed supervision's indication is an INFO (railderail_monitor/supervision)
+SEVERITY_NAMES = {SEVERITY_INFO: "indication", SEVERITY_WARNING: "warning", SEVERITY_CRITICAL: "critical"}
 
 
 def critical_name(criterion):

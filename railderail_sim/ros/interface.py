@@ -16,6 +16,8 @@ railderail_sim never imports railderail_monitor. Topics (all under /railderail/ 
 | /railderail/alerts               | railderail_msgs/Alert            | reliable, transient local, depth 1000  |
 | /railderail/onboard_alerts       | railderail_msgs/Alert            | the same (the monitor in measured mode)|
 | /railderail/onboard_estimates    | railderail_msgs/OnboardEstimate  | sensor data (its estimator's)          |
+| /railderail/brake_command        | railderail_msgs/BrakeCommand     | reliable, volatile, depth 10 (the      |
+|                                  |                                  | speed supervision's intervention)      |
 | /clock                           | rosgraph_msgs/Clock              | clock QoS (best effort, depth 1); only |
 |                                  |                                  | when not running at real time          |
 
@@ -44,7 +46,8 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from rosgraph_msgs.msg import Clock
 
 import railderail_msgs.msg as msgs
-from railderail_msgs.msg import Alert, ContactForces, DerailmentEvent, OnboardEstimate, VehicleStatus, WheelsetStates
+from railderail_msgs.msg import (Alert, BrakeCommand, ContactForces, DerailmentEvent, OnboardEstimate, VehicleStatus,
+                                 WheelsetStates)
 
 from railderail_sim.vehicle.layout import BOGIES, WHEELSETS, Body, Dof
 
@@ -62,6 +65,8 @@ ALERTS = f"{NS}/alerts"
 ONBOARD_ALERTS = f"{NS}/onboard_alerts"
 # its estimator's running-gear loads, unloading and Q/P from the sensors (one message per decided stamp)
 ONBOARD_ESTIMATES = f"{NS}/onboard_estimates"
+# the speed supervision's emergency brake command (the monitor's), which the simulator obeys
+BRAKE = f"{NS}/brake_command"
 CLOCK = "/clock"
 
 SENSOR = qos_profile_sensor_data
@@ -73,6 +78,9 @@ LATCHED = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1, reliability=Relia
                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
 ALERT_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000, reliability=ReliabilityPolicy.RELIABLE,
                        durability=DurabilityPolicy.TRANSIENT_LOCAL)
+# a command is not latched: a node that joins later must not brake on an old one
+BRAKE_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10, reliability=ReliabilityPolicy.RELIABLE,
+                       durability=DurabilityPolicy.VOLATILE)
 CLOCK_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)   # what rclpy's time source subscribes with
 
 # topic -> (ROS type name, message class, publisher QoS, subscriber QoS)
@@ -83,7 +91,9 @@ TOPICS = {
     FINAL_STATUS: ("railderail_msgs/msg/VehicleStatus", VehicleStatus, LATCHED, LATCHED),
     DERAILMENT: ("railderail_msgs/msg/DerailmentEvent", DerailmentEvent, LATCHED, LATCHED),
     ALERTS: ("railderail_msgs/msg/Alert", Alert, ALERT_QOS, ALERT_QOS),
+    BRAKE: ("railderail_msgs/msg/BrakeCommand", BrakeCommand, BRAKE_QOS, BRAKE_QOS),
 }
+MONITOR_TOPICS = (ALERTS, BRAKE)        # of TOPICS, those the monitor publishes (the simulator the others)
 CLOCK_TOPIC = ("rosgraph_msgs/msg/Clock", Clock, CLOCK_QOS, CLOCK_QOS)
 ONBOARD_ALERTS_TOPIC = ("railderail_msgs/msg/Alert", Alert, ALERT_QOS, ALERT_QOS)
 ONBOARD_ESTIMATES_TOPIC = ("railderail_msgs/msg/OnboardEstimate", OnboardEstimate, SENSOR, SENSOR_SUBSCRIBER)

@@ -30,6 +30,8 @@ from railderail_sim.ros import sensor_messages as sm
 from railderail_sim.ros.interface import REAL_TIME_FACTOR_RANGE, ParameterSpec as P
 from railderail_sim.sensors.config import load as load_sensors
 from railderail_sim.sensors.sensor_set import SEED_RANGE
+from railderail_sim.supervision.braking import ADHESIONS, BrakingModel
+from railderail_sim.supervision.closed_loop import BrakeCommand, braked_table
 from railderail_sim.track.irregularity import SEEDS, SPECTRA, resolve
 from railderail_sim.vehicle.assemble import FAULT_NAMES, NORMAL_MODELS
 from railderail_sim.vehicle.simulate import (RADIUS_RANGE, SPEED_RANGE_KMH, Simulation, SimulationDiverged,
@@ -43,6 +45,8 @@ PUBLISH_RATE_RANGE = (1.0, 2000.0)        # Hz of simulated time
 PARAMETERS = (
     P("radius", 1000.0, "curve radius", "m", RADIUS_RANGE, read_only=True),
     P("cant_mm", 175.0, "cant height of the curve (Table 2: 175 mm)", "mm", CANT_RANGE_MM, read_only=True),
+    P("approach_m", 0.0, "0: the Table 2 line's straight before the curve's transition; else this many metres of "
+      "straight (a train approaching the curve, for the speed supervision)", "m", (0.0, 1.0e5), read_only=True),
     P("line_length_m", 0.0, "0: the Table 2 line (or the staircase's); else the circular curve made longer so that "
       "the line is this long", "m", (0.0, 1.0e6), read_only=True),
     P("speed_mode", "progressive", "progressive: the paper's staircase trial, until derailment; constant: "
@@ -82,6 +86,10 @@ PARAMETERS = (
     P("frame_id", "track", "header.frame_id of the published messages"),
     P("sensors", "none", "on-board sensors published under /railderail/sensors/ (docs/onboard.md): none, shipped "
       "(railderail_sim/config/sensors.yaml) or the path of a sensor file", read_only=True),
+    P("brake_on_command", True, "brake on the speed supervision's commands (/railderail/brake_command) by the "
+      "braking model, the forward speed following its braking curve (docs/supervision.md)", read_only=True),
+    P("adhesion", "dry", "the braking model's emergency decelerations: dry rail, or wet (degraded adhesion)",
+      choices=ADHESIONS, read_only=True),
     P("sensor_seed", -1, "seed of the sensors' noise, biases and lost samples; -1: the sensor file's", "",
       (-1, SEED_RANGE[1]), read_only=True),
 )
@@ -110,6 +118,8 @@ def build_scenario(p):
     base = scenario(radius=p["radius"], speed_kmh=p["speed_kmh"], contact_model=p["contact_model"],
                     friction=p["friction"])
     base = replace(base, track=replace(base.track, cant_height=p["cant_mm"] / 1000.0))
+    if p["approach_m"] > 0.0:
+        base = replace(base, track=replace(base.track, straight_in=p["approach_m"]))
     if p["line_length_m"] > 0.0:
         base = replace(base, track=base.track.with_line_length(p["line_length_m"]))
     if p["speed_mode"] == "progressive":
@@ -139,7 +149,7 @@ class SimulatorNode(Node):
         self.pending = self.sim.advance(self.period)      # compiles; the start sample and the first period
         self.convert = m.RowConverter(self.p["frame_id"])
         self.pubs = {topic: self.create_publisher(cls, topic, qos)
-                     for topic, (_, cls, qos, _) in m.TOPICS.items() if topic != m.ALERTS}
+                     for topic, (_, cls, qos, _) in m.TOPICS.items() if topic not in m.MONITOR_TOPICS}
         self.sensor_stream = self.sensor_messages = None
         if self.sensors is not None:
             from railderail_sim.sensors.measure import SensorStream
@@ -149,6 +159,9 @@ class SimulatorNode(Node):
             self.pubs.update({topic: self.create_publisher(cls, topic, qos)
                               for topic, (_, cls, qos, _) in sm.sensor_topics(self.sensors).items()})
             self.sensor_queue = []      # (stamp, topic, message) not yet due: a sample's latency after its instant
+        self.braking, self.brakes = BrakingModel(adhesion=self.p["adhesion"]).validated(), []
+        if self.p["brake_on_command"]:
+            self.create_subscription(m.BrakeCommand, m.BRAKE, self.on_brake, m.BRAKE_QOS)
         self.clock_pub = None
         self.sample = 0
         self.done = Future()
@@ -193,6 +206,31 @@ class SimulatorNode(Node):
             self.start()
         self.get_logger().info("parameters changed: " + ", ".join(f"{k} {v}" for k, v in changed.items())
                                + f" ({self.pace_text()})")
+
+    def on_brake(self, msg):
+        """The speed supervision's emergency brake: from the last published sample on, the speed follows the
+        braking model's curve down to the command's release speed (the forward speed stays prescribed, as in
+        the batch closed loop, railderail_sim/supervision/closed_loop.py); a command while a brake is on is
+        ignored. The brake starts where the command arrives, not where it was decided: the delay is DDS's."""
+        a, i = self.last_arrays, self.last_index
+        if a is None or self.done.done():
+            return
+        position, speed = float(a["position"][i]), float(a["speed"][i])
+        if self.brakes and position < self.sim.speed_table[-2, 0]:
+            return
+        if not msg.release_speed < speed:
+            self.get_logger().warning(f"brake command ignored: release speed {msg.release_speed * 3.6:.1f} km/h "
+                                      f"is not below the speed {speed * 3.6:.1f} km/h")
+            return
+        command = BrakeCommand(float(a["time"][i]), position, speed, float(msg.release_speed))
+        self.sim.speed_table = braked_table(self.sim.speed_table, command, self.braking)
+        if self.sensor_stream is not None:
+            self.sensor_stream.speed_table = self.sim.speed_table
+        self.brakes.append(command)
+        self.get_logger().warning(
+            f"EMERGENCY BRAKE at t = {command.time_s:.3f} s, s = {position:.1f} m, {speed * 3.6:.1f} km/h "
+            f"(commanded at sample {msg.sample}, {self.sample - 1 - msg.sample} samples ago), down to "
+            f"{msg.release_speed * 3.6:.1f} km/h: {msg.reason}")
 
     def wait_for_subscribers(self):
         if self._subscribers_ready():
