@@ -15,7 +15,7 @@ HELPERS = ("railderail_sim.ranges", "railderail_sim.jsonout", "railderail_sim.at
 CORE, MODEL, METHODS, TOP = range(4)
 LAYERS = [  # module name prefix -> layer (the first prefix that matches)
     ("railderail_sim.record", CORE), ("railderail_sim.jit", CORE), ("railderail_sim.lookup", CORE), ("railderail_sim.contact", CORE),
-    ("railderail_sim.track.irregularity", MODEL), ("railderail_sim.track", CORE),
+    ("railderail_sim.track.irregularity", MODEL), ("railderail_sim.track.spectra", MODEL), ("railderail_sim.track", CORE),
     ("railderail_sim.loads.wind", MODEL), ("railderail_sim.loads", CORE), ("railderail_sim.vehicle.layout", CORE),
     ("railderail_sim.vehicle.dynamics", CORE), ("railderail_sim.vehicle.integrator", CORE),
     ("railderail_sim.parameters", MODEL), ("railderail_sim.profiles", MODEL), ("railderail_sim.vehicle", MODEL),

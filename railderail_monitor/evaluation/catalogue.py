@@ -165,7 +165,8 @@ def entry(item, where, folder):
     """The Entry of one catalogue item (a dict), checked key by key."""
     from railderail_sim.loads.wind import GUSTS
     from railderail_sim.parameters import FRICTION_RANGE, TRACK_MODELS
-    from railderail_sim.track.irregularity import NONE, SEEDS, SPECTRA
+    from railderail_sim.track.irregularity import NONE, SEEDS
+    from railderail_sim.track.spectra import SPECTRA
     from railderail_sim.vehicle.assemble import FAULT_NAMES
     from railderail_sim.vehicle.simulate import RADIUS_RANGE, SPEED_RANGE_KMH
 
@@ -234,7 +235,7 @@ def entry(item, where, folder):
             raise ValueError(f"{where}: an ordinary run's cant deficiency must be within the permitted "
                              f"{permitted * 1e3:.0f} mm; at {e.speed_kmh:g} km/h it is "
                              f"{e.cant_deficiency_m() * 1e3:.0f} mm (give it another family, or a lower speed)")
-        from railderail_sim.track.irregularity import permitted_speed_kmh
+        from railderail_sim.track.spectra import permitted_speed_kmh
         top = permitted_speed_kmh(e.irregularity)
         if e.speed_kmh > top + 1e-9:
             raise ValueError(f"{where}: an ordinary run on {e.irregularity} track must be within its class's "

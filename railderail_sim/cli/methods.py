@@ -16,6 +16,7 @@ from ..atomic import atomic_write
 from ..parameters import (CANT_RANGE_MM, FRICTION_RANGE, TRACK_MODELS, VEHICLE_SETS, ContactParameters,
                           TrackParameters, vehicle_parameters)
 from ..track import irregularity as ir
+from ..track import spectra as sp
 from ..ranges import check_range
 from ..vehicle.assemble import CONTACT_GEOMETRIES, FAULTS
 from ..vehicle.simulate import Scenario, constant_speed
@@ -49,7 +50,7 @@ def _track_args(parser, line, cant=True):
                             help=f"cant height (mm, {CANT_RANGE_MM[0]:g}-{CANT_RANGE_MM[1]:g}; default: Table 2's "
                                  "175 mm)")
     parser.add_argument("--irregularity", default=ir.NONE, metavar="NAME|FILE.csv",
-                        help=f"track irregularity: none, a spectrum ({', '.join(ir.SPECTRA)}; a random sample {line}, "
+                        help=f"track irregularity: none, a spectrum ({', '.join(sp.SPECTRA)}; a random sample {line}, "
                              "from --irregularity-seed) or a CSV file (docs/track-irregularity.md)")
     parser.add_argument("--irregularity-seed", type=int, default=0,
                         help=f"seed of a generated irregularity (an integer in [{ir.SEEDS[0]}, {ir.SEEDS[1]}], "
@@ -444,7 +445,7 @@ def real_track_command(parser):
     parser.add_argument("--out", default="report", help="output directory (default %(default)s)")
     parser.add_argument("--tracks", default="rigid,elastic", help="track models, comma-separated")
     parser.add_argument("--spectra", default="erri-low,erri-high",
-                        help=f"irregularity spectra, comma-separated ({', '.join(ir.SPECTRA)})")
+                        help=f"irregularity spectra, comma-separated ({', '.join(sp.SPECTRA)})")
     parser.add_argument("--seeds", default="1,2,3", help="irregularity seeds, comma-separated")
     parser.add_argument("--radii", default="800,1000,1200,1400,1600,1800", help="curve radii (m), comma-separated")
     parser.add_argument("--no-sharp", action="store_true", help="leave out the sharp-curve case")
@@ -461,8 +462,8 @@ def real_track_command(parser):
                 raise ValueError(f"--tracks: {m!r} is not one of {', '.join(TRACK_MODELS)}")
         spectra = [s for s in args.spectra.split(",") if s]
         for s in spectra:
-            if s not in ir.SPECTRA:
-                raise ValueError(f"--spectra: {s!r} is not one of {', '.join(ir.SPECTRA)}")
+            if s not in sp.SPECTRA:
+                raise ValueError(f"--spectra: {s!r} is not one of {', '.join(sp.SPECTRA)}")
         try:
             seeds = [ir.check_seed(int(v)) for v in args.seeds.split(",") if v.strip()]
         except ValueError as e:

@@ -32,7 +32,8 @@ from railderail_sim.sensors.config import load as load_sensors
 from railderail_sim.sensors.sensor_set import SEED_RANGE
 from railderail_sim.supervision.braking import ADHESIONS, BrakingModel
 from railderail_sim.supervision.closed_loop import BrakeCommand, braked_table
-from railderail_sim.track.irregularity import SEEDS, SPECTRA, resolve
+from railderail_sim.track.irregularity import SEEDS, resolve
+from railderail_sim.track.spectra import SPECTRA
 from railderail_sim.vehicle.assemble import FAULT_NAMES, NORMAL_MODELS
 from railderail_sim.vehicle.simulate import (RADIUS_RANGE, SPEED_RANGE_KMH, Simulation, SimulationDiverged,
                                              output_arrays)
