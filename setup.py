@@ -54,12 +54,12 @@ setup(
     entry_points={
         "console_scripts": [
             "railderail = railderail_sim.cli:main",
-            "railderail-simulator = railderail_sim.node:main",
+            "railderail-simulator = railderail_sim.ros.node:main",
             "railderail-monitor = railderail_monitor.node:main",
         ],
         # subcommands and benchmark groups of railderail_monitor, found by railderail_sim.cli and .bench
         "railderail.commands": ["monitor = railderail_monitor.commands:COMMANDS"],
-        "railderail.bench": ["ros = railderail_monitor.benchmark:run",
-                             "warnings = railderail_monitor.warning_catalogue:bench"],
+        "railderail.bench": ["ros = railderail_monitor.bench.ros:run",
+                             "warnings = railderail_monitor.evaluation.over_catalogue:bench"],
     },
 )

@@ -1,8 +1,8 @@
 """`railderail demo`: the main job, as real ROS 2 nodes in separate processes.
 
-Starts the recorder (railderail_monitor.recording), the monitor (railderail_monitor.node), a second
+Starts the recorder (railderail_monitor.recording.recorder), the monitor (railderail_monitor.node), a second
 monitor in measured mode beside it (`railderail_onboard_monitor`, signals:=measured: the on-board
-sensors' topics only) and the simulator (railderail_sim.node, its shipped sensor set on) on the built-in
+sensors' topics only) and the simulator (railderail_sim.ros.node, its shipped sensor set on) on the built-in
 scenario — R = 1000 m, the paper's progressive trial from 200 km/h until a wheel derails — at 200 Hz of
 simulated time, faster than real time (`--real-time-factor`, with /clock). It prints the alerts of both
 as they arrive (/railderail/alerts and /railderail/onboard_alerts), each marked with its mode
@@ -14,6 +14,13 @@ warned. `--no-sensors` runs without the sensors and the second monitor. The run 
   summary.json  alerts, derailment, lead times, rates   logs/        one log per node
 
 `--rerun` (or `--rerun-connect URL`) also runs the viewer node, live, beside the others.
+
+`--closed-loop` runs the speed supervision in the loop instead (docs/supervision.md): a constant over-speed
+(`--speed-kmh`, default 320) on the curve after `--approach-m` of straight (default 3000 m), the monitor
+supervising the speed against the survey's safe speeds (`--survey`, default the shipped survey of the Table 2
+line) and commanding the emergency brake, which the simulator obeys; beside it, the same run without the
+supervisor (the batch core, no ROS), which derails. Both alert streams are printed: the supervision's
+(`speed_supervision`) and the response criteria's.
 
 Ctrl-C stops the nodes in order (simulator and monitor, then the recorder, so the MCAP is complete)
 and exits with status 130; the .rrd is then not written (`railderail replay demo.mcap --no-publish
@@ -30,18 +37,20 @@ import subprocess
 import sys
 import threading
 import time
+from importlib.resources import files
 from pathlib import Path
 
 from railderail_sim import jsonout
-from railderail_sim.ros_interface import REAL_TIME_FACTOR_RANGE
+from railderail_sim.ros.interface import REAL_TIME_FACTOR_RANGE
 
-from .criteria import SEVERITY_NAMES, default_limits, lead_times
+from .warning.alerts import lead_times
+from .warning.limits import SEVERITY_NAMES, default_limits
 
 NODES = {  # name: python -m module
-    "recorder": "railderail_monitor.recording",
+    "recorder": "railderail_monitor.recording.recorder",
     "monitor": "railderail_monitor.node",
     "onboard": "railderail_monitor.node",
-    "simulator": "railderail_sim.node",
+    "simulator": "railderail_sim.ros.node",
 }
 ONBOARD_NODE = "railderail_onboard_monitor"
 ONBOARD_ARGS = ["--ros-args", "-r", f"__node:={ONBOARD_NODE}", "-p", "signals:=measured"]
@@ -115,11 +124,16 @@ class Node:
 
 
 def simulator_parameters(args):
-    """The simulator node's parameters of the demo: the paper's staircase on --radius, or a catalogue's
-    scenario (--catalogue, --scenario, --seed)."""
+    """The simulator node's parameters of the demo: the paper's staircase on --radius, a catalogue's
+    scenario (--catalogue, --scenario, --seed), or the closed loop's over-speed approach (--closed-loop)."""
     run = {"publish_rate": float(args.rate), "real_time_factor": float(args.real_time_factor),
            "contact_model": args.contact_model, "wait_for_subscribers": SUBSCRIBERS,
            **({} if args.no_sensors else {"sensors": "shipped"})}
+    if args.closed_loop:
+        if args.scenario is not None or args.catalogue is not None:
+            raise ValueError("--closed-loop runs its own over-speed approach: give it without --catalogue")
+        return {"radius": float(args.radius), "speed_mode": "constant", "speed_kmh": float(args.speed_kmh),
+                "approach_m": float(args.approach_m), **run}
     if args.scenario is None and args.catalogue is None:
         return {"radius": float(args.radius), "speed_mode": "progressive", "speed_kmh": float(args.start_kmh), **run}
     return {**catalogue_parameters(args.catalogue, args.scenario, args.seed), **run}
@@ -128,7 +142,7 @@ def simulator_parameters(args):
 def catalogue_parameters(path, name, seed=None):
     """The simulator node's parameters of one catalogue scenario (its first seed unless `seed`); no faults
     given as no parameter (rcl cannot type an empty array on the command line)."""
-    from . import catalogue
+    from .evaluation import catalogue
     if name is None:
         raise ValueError("--catalogue needs --scenario NAME")
     entries = {e.name: e for e in catalogue.load(None if path in (None, "shipped") else path)}
@@ -160,19 +174,21 @@ def ros_args(parameters):
     return out
 
 
+# the survey the closed loop supervises by default: `railderail survey` of the Table 2 line
+SHIPPED_SURVEY = files("railderail_sim") / "config" / "lines" / "table2-survey.json"
 SUBSCRIBERS = 3          # the simulator starts once the monitor, the recorder and the demo's listener subscribe
 
 
 class Listener:
     """The demo's own rclpy node: alerts, the derailment event and the final status; the simulator counts
-    it among the subscribers it waits for (`ros_interface.count_as_subscriber`)."""
+    it among the subscribers it waits for (`ros.interface.count_as_subscriber`)."""
 
     def __init__(self, say):
         import rclpy
         from rclpy.executors import SingleThreadedExecutor
         from rclpy.signals import SignalHandlerOptions
 
-        from railderail_sim import ros_interface as m
+        from railderail_sim.ros import interface as m
 
         self.rclpy, self.m = rclpy, m
         rclpy.init(signal_handler_options=SignalHandlerOptions.NO)   # Ctrl-C stays a KeyboardInterrupt here
@@ -186,6 +202,8 @@ class Listener:
         self.node.create_subscription(m.Alert, m.ALERTS, self.on_alert, m.ALERT_QOS)
         self.node.create_subscription(m.Alert, m.ONBOARD_ALERTS, self.on_onboard_alert, m.ALERT_QOS)
         self.node.create_subscription(m.DerailmentEvent, m.DERAILMENT, self.on_derailment, m.LATCHED)
+        self.brakes = []
+        self.node.create_subscription(m.BrakeCommand, m.BRAKE, self.on_brake, m.BRAKE_QOS)
         self.node.create_subscription(m.VehicleStatus, m.FINAL_STATUS, self.on_final, m.LATCHED)
         m.count_as_subscriber(self.node)
 
@@ -200,6 +218,13 @@ class Listener:
         self.onboard_alerts.append(a)
         self.say(f"  ALERT  [measured]     t = {a['time_s']:7.3f} s  s = {a['track_position']:7.1f} m  "
                  f"{a['speed'] * 3.6:5.1f} km/h  {a['message']}")
+
+    def on_brake(self, msg):
+        b = dict(time_s=self.m.seconds(msg.header.stamp), sample=msg.sample, track_position_m=msg.track_position,
+                 speed_kmh=msg.speed * 3.6, release_speed_kmh=msg.release_speed * 3.6, reason=msg.reason)
+        self.brakes.append(b)
+        self.say(f"  BRAKE  [supervision]  t = {b['time_s']:7.3f} s  s = {b['track_position_m']:7.1f} m  "
+                 f"{b['speed_kmh']:5.1f} km/h  emergency brake commanded, down to {b['release_speed_kmh']:.1f} km/h")
 
     def on_derailment(self, msg):
         self.derailment = self.m.derailment_dict(msg)
@@ -259,8 +284,14 @@ def run_demo(args, say=print):
     mcap_path, rrd_path, summary_path = out / "demo.mcap", out / "demo.rrd", out / "summary.json"
     limits = default_limits()
     sim_params = simulator_parameters(args)
-    say(f"railderail demo: R = {args.radius:g} m, progressive trial from {args.start_kmh:g} km/h, "
-        f"{args.rate:g} Hz, {args.real_time_factor:g} x real time; run folder {out}")
+    survey = (args.survey or str(SHIPPED_SURVEY)) if args.closed_loop else None
+    if args.closed_loop:
+        say(f"railderail demo, closed loop: R = {args.radius:g} m at a constant {args.speed_kmh:g} km/h after "
+            f"{args.approach_m:g} m of straight, the speed supervised against {survey}; {args.rate:g} Hz, "
+            f"{args.real_time_factor:g} x real time; run folder {out}")
+    else:
+        say(f"railderail demo: R = {args.radius:g} m, progressive trial from {args.start_kmh:g} km/h, "
+            f"{args.rate:g} Hz, {args.real_time_factor:g} x real time; run folder {out}")
     say("starting the recorder, the monitor and the simulator (the first run in a fresh checkout also "
         "compiles the core: about a minute)")
     listener = Listener(say)
@@ -277,7 +308,8 @@ def run_demo(args, say=print):
     try:
         nodes["recorder"] = Node("recorder", [python, "-m", NODES["recorder"], str(mcap_path)]
                                  + [a for kv in metadata for a in ("--metadata", kv)], out / "logs")
-        nodes["monitor"] = Node("monitor", [python, "-m", NODES["monitor"]], out / "logs")
+        nodes["monitor"] = Node("monitor", [python, "-m", NODES["monitor"]]
+                                + (ros_args({"supervision": survey}) if survey else []), out / "logs")
         if not args.no_sensors:
             nodes["onboard"] = Node("onboard", [python, "-m", NODES["onboard"]] + ONBOARD_ARGS, out / "logs")
             # the simulator waits for the subscribers of the states, which this node is not among: wait for it
@@ -288,7 +320,7 @@ def run_demo(args, say=print):
                 listener.spin_once(0.05)
         if args.rerun or args.rerun_connect:
             sink = ["--connect", args.rerun_connect] if args.rerun_connect else ["--spawn"]
-            nodes["viewer"] = Node("viewer", [python, "-m", "railderail_monitor.viewer_node"] + sink, out / "logs")
+            nodes["viewer"] = Node("viewer", [python, "-m", "railderail_monitor.views.viewer_node"] + sink, out / "logs")
         nodes["simulator"] = Node("simulator", [python, "-m", NODES["simulator"]] + ros_args(sim_params),
                                   out / "logs", echo=echo_sim)
         deadline = time.monotonic() + args.timeout
@@ -359,6 +391,10 @@ def run_demo(args, say=print):
             say(f"  {key:32s} t = {v['time_s']:7.3f} s  {lead}")
     if not args.no_sensors:
         say(measured_summary(listener.onboard_alerts, d))
+    open_loop = None
+    if args.closed_loop:
+        open_loop = open_loop_run(sim_params)
+        say(closed_loop_summary(listener.brakes, d, open_loop))
     sim_log = (out / "logs" / "simulator.log").read_text()
     rate_line = next((l for l in sim_log.splitlines() if "published" in l), "")
     logs = {name: next((l for l in (out / "logs" / f"{name}.log").read_text().splitlines() if "processed" in l), "")
@@ -370,7 +406,7 @@ def run_demo(args, say=print):
             say(f"{name + ':':10s} " + line.split("] ", 1)[-1])
     mon_line = logs.get("monitor", "")
     if not args.no_rrd:
-        from .replay import read_recording, write_rrd
+        from .recording.replay import read_recording, write_rrd
         t0 = time.monotonic()
         write_rrd(read_recording(mcap_path), rrd_path, limits)
         say(f"wrote {rrd_path} in {time.monotonic() - t0:.1f} s")
@@ -380,13 +416,44 @@ def run_demo(args, say=print):
                    monitor_log=mon_line.split("] ", 1)[-1],
                    onboard_alerts=None if args.no_sensors else listener.onboard_alerts,
                    onboard_lead_times=None if args.no_sensors else measured_leads(listener.onboard_alerts, d),
-                   onboard_log=logs.get("onboard", "").split("] ", 1)[-1] or None, wall_time_s=time.monotonic() - started,
+                   onboard_log=logs.get("onboard", "").split("] ", 1)[-1] or None,
+                   closed_loop=None if not args.closed_loop else dict(survey=survey, brake_commands=listener.brakes,
+                                                                      without_supervision=open_loop),
+                   wall_time_s=time.monotonic() - started,
                    wall_time_run_s=wall_run)
     jsonout.write(summary_path, summary)
     say(f"run folder: {out}  (demo.mcap, {'' if args.no_rrd else 'demo.rrd, '}summary.json, logs/); "
         f"wall time {summary['wall_time_s']:.0f} s")
     say(f"review it: railderail replay {mcap_path} --no-publish   |   rerun {rrd_path}")
     return 0 if d is not None or listener.final_state is not None else 1
+
+
+def open_loop_run(sim_params):
+    """The closed loop's run without the supervisor: the simulator node's scenario in the batch core (no ROS):
+    {status, derailment (or None)}."""
+    from railderail_sim.ros.node import PARAMETERS, build_scenario
+    from railderail_sim.vehicle.simulate import simulate
+
+    params = {**{spec.name: spec.default for spec in PARAMETERS}, **sim_params}
+    result = simulate(build_scenario(params))
+    return dict(status=result.status, derailment=result.derailment)
+
+
+def closed_loop_summary(brakes, derailment, open_loop):
+    """Lines: the run with the supervisor in the loop against the same run without it."""
+    lines = ["speed supervision, closed loop:"]
+    for b in brakes:
+        lines.append(f"  emergency brake at t = {b['time_s']:.2f} s, s = {b['track_position_m']:.0f} m, "
+                     f"{b['speed_kmh']:.1f} km/h, down to {b['release_speed_kmh']:.1f} km/h ({b['reason']})")
+    if not brakes:
+        lines.append("  no brake command")
+    lines.append("  with the supervisor:    " + ("DERAILED" if derailment else "no derailment: the run ended at the "
+                                                 "end of the line"))
+    od = open_loop["derailment"]
+    lines.append("  without the supervisor: " + (f"derails at t = {od['time_s']:.2f} s, s = {od['position_m']:.0f} m, "
+                                                  f"{od['speed_kmh']:.1f} km/h (the batch core, no ROS)"
+                                                  if od else f"no derailment ({open_loop['status']})"))
+    return "\n".join(lines)
 
 
 def add_arguments(parser):
@@ -408,13 +475,23 @@ def add_arguments(parser):
                         help="run a scenario of a catalogue (no FILE: the shipped one) instead of the staircase")
     parser.add_argument("--scenario", metavar="NAME", help="the catalogue's scenario to run (with --catalogue)")
     parser.add_argument("--seed", type=int, default=None, help="its seed (default: the scenario's first)")
+    parser.add_argument("--closed-loop", action="store_true",
+                        help="the speed supervision in the loop: a constant over-speed after a straight approach, "
+                        "braked by the supervisor's command; beside it the same run without (docs/supervision.md)")
+    parser.add_argument("--speed-kmh", type=float, default=320.0,
+                        help="--closed-loop: the constant speed, km/h (default 320)")
+    parser.add_argument("--approach-m", type=float, default=3000.0,
+                        help="--closed-loop: straight before the curve's transition, m (default 3000)")
+    parser.add_argument("--survey", metavar="FILE.json",
+                        help="--closed-loop: the survey whose safe speeds are supervised (`railderail survey "
+                        "LINE.yaml --json`; default the shipped survey of the Table 2 line)")
 
 
 def command(parser: argparse.ArgumentParser):
     add_arguments(parser)
 
     def run(args):
-        from railderail_sim.node import PARAMETERS
+        from railderail_sim.ros.node import PARAMETERS
 
         table = {spec.name: spec for spec in PARAMETERS}     # the simulator node's own checks, before it starts
         for name, value in simulator_parameters(args).items():

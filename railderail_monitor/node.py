@@ -2,10 +2,10 @@
 `signals:=measured`, the on-board criteria over the sensors' topics only.
 
 Ground truth (`signals` ground_truth, the default): subscribes to /railderail/wheelset_states, /railderail/contact_forces (best effort, deep queue)
-and /railderail/vehicle_status (for the curve's side), runs `criteria.Monitor` on every sample and
+and /railderail/vehicle_status (for the curve's side), runs `warning.monitor.Monitor` on every sample and
 publishes each alert on /railderail/alerts (reliable, transient local). The criteria, their
 thresholds and the debounce/hysteresis are in railderail_monitor/criteria.py. Every threshold is a
-ROS parameter (the fields of `criteria.Limits`, `-p name:=value` or `--params-file FILE.yaml`; NaN
+ROS parameter (the fields of `warning.limits.Limits`, `-p name:=value` or `--params-file FILE.yaml`; NaN
 disables a level) whose default is the shipped parameter file's (railderail_monitor/config/
 monitor.yaml, `railderail monitor-params`); all may change while running (`ros2 param set`): the
 node checks them (`Limits.validated`) and starts a new Monitor with them. On exit it logs how many
@@ -28,12 +28,15 @@ from dataclasses import fields
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
-from railderail_sim import ros_interface as m
-from railderail_sim import sensor_messages as sm
 from railderail_sim.parameters import VEHICLE_SETS
+from railderail_sim.ros import interface as m
+from railderail_sim.ros import sensor_messages as sm
+from railderail_sim.supervision.braking import ADHESIONS
 from railderail_sim.vehicle.layout import RUNNING_GEARS
 
-from .criteria import SEVERITY_NAMES, SIGNALS as MODES, SIGNALS_MEANING, AlertRecord, Limits, Monitor, default_limits
+from .warning.alerts import AlertRecord
+from .warning.limits import SEVERITY_NAMES, SIGNALS as MODES, SIGNALS_MEANING, Limits, default_limits
+from .warning.monitor import Monitor
 
 
 # the measured mode's subscriber queue: 2.5 minutes of a 200 Hz sensor. A message costs this Python node about
@@ -50,9 +53,21 @@ MEASURED_SETUP = [
                     "the defaults of the levels", choices=VEHICLE_SETS, read_only=True)]
 
 
+SUPERVISION_SETUP = [
+    m.ParameterSpec("supervision", "", "ground truth: supervise the speed against a survey's safe speeds (the path "
+                    "of `railderail survey LINE.yaml --json`'s output, docs/supervision.md); empty: no speed "
+                    "supervision", read_only=True),
+    m.ParameterSpec("supervision_brake", True, "at the supervision's intervention, command the emergency brake on "
+                    "/railderail/brake_command (the simulator obeys it): the loop closed", read_only=True),
+    m.ParameterSpec("supervision_adhesion", "dry", "the braking model's emergency decelerations the supervision "
+                    "plans with: dry rail, or wet (degraded adhesion)", choices=ADHESIONS, read_only=True),
+    m.ParameterSpec("supervision_vehicle_set", "hs19", "the car whose leading wheelset is the train's front",
+                    choices=VEHICLE_SETS, read_only=True)]
+
+
 def parameter_table(defaults):
     """The node's parameters in the mode of `defaults`: `signals`, for measured mode (onboard MeasuredLimits)
-    its sensor set and car, then the fields of the limits (criteria.Limits, or MeasuredLimits) with their
+    its sensor set and car, then the fields of the limits (warning.limits.Limits, or MeasuredLimits) with their
     metadata, defaults from `defaults`; the limits may change while running."""
     setup = [] if isinstance(defaults, Limits) else MEASURED_SETUP
     return [SIGNALS] + setup + [
@@ -115,12 +130,27 @@ class MonitorNode(Node):
                                                  apply=self.on_limits)
         self.monitor = Monitor(Limits(**self.limit_values))
         self.publisher = self.create_publisher(m.Alert, m.ALERTS, m.ALERT_QOS)
+        self.supervision = self._supervision(m.declare_parameters(self, SUPERVISION_SETUP))
         self.create_subscription(m.WheelsetStates, m.STATES, self.on_states, m.SENSOR_SUBSCRIBER)
         self.create_subscription(m.ContactForces, m.FORCES, self.on_forces, m.SENSOR_SUBSCRIBER)
         self.create_subscription(m.VehicleStatus, m.STATUS, self.on_status, m.SENSOR_SUBSCRIBER)
         self.counts = {"states": [0, 0, None], "forces": [0, 0, None]}   # received, missed, last sample
         self.alerts = 0
         self.get_logger().info(f"railderail monitor: {self.monitoring()}")
+
+    def _supervision(self, setup):
+        """The speed supervision of the `supervision` parameters, or None."""
+        if not setup["supervision"]:
+            return None
+        from .supervision.on_line import OnLineSupervision
+        supervision = OnLineSupervision(setup["supervision"], setup["supervision_vehicle_set"],
+                                        setup["supervision_adhesion"])
+        self.brake_publisher = (self.create_publisher(m.BrakeCommand, m.BRAKE, m.BRAKE_QOS)
+                                if setup["supervision_brake"] else None)
+        targets = supervision.supervisor.base
+        self.get_logger().info(f"speed supervision: {len(targets)} targets of {setup['supervision']}"
+                               + ("" if self.brake_publisher else " (alerts only: no brake commands)"))
+        return supervision
 
     def _measured(self):
         """The measured mode: the sensor topics only, MeasuredMonitor, /railderail/onboard_alerts."""
@@ -205,8 +235,23 @@ class MonitorNode(Node):
 
     def on_states(self, msg):
         self._count("states", msg.sample)
-        self._publish(self.monitor.on_states(m.seconds(msg.header.stamp), msg.sample, msg.track_position, msg.speed,
-                                             msg.attack_angle, msg.wheel_lift))
+        t = m.seconds(msg.header.stamp)
+        if self.supervision is not None:
+            self._supervise(t, msg)
+        self._publish(self.monitor.on_states(t, msg.sample, msg.track_position, msg.speed, msg.attack_angle,
+                                             msg.wheel_lift))
+
+    def _supervise(self, t, msg):
+        alerts, brake = self.supervision.on_states(t, msg.sample, msg.track_position, msg.speed)
+        if brake is not None and self.brake_publisher is not None:      # the brake before anything else
+            command = m.stamp(m.BrakeCommand(), t)
+            command.header.frame_id = msg.header.frame_id
+            command.sample, command.speed, command.release_speed = msg.sample, msg.speed, brake
+            command.track_position, command.reason = msg.track_position, self.supervision.reason()
+            self.brake_publisher.publish(command)
+            self.get_logger().warning(f"t = {t:.3f} s, s = {msg.track_position:.1f} m: emergency brake commanded "
+                                      f"at {msg.speed * 3.6:.1f} km/h, down to {brake * 3.6:.1f} km/h")
+        self._publish(alerts)
 
     def on_forces(self, msg):
         self._count("forces", msg.sample)

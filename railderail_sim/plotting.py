@@ -244,24 +244,54 @@ def root_locus_figure(result, path):
 
 
 def limit_cycle_figure(result, path, threshold_m, linear_critical_speed_kmh=None):
-    """Final oscillation amplitude against speed of a `methods.limit_cycle.LimitCycle` (Yu 2022, Fig. 2)."""
+    """Final oscillation amplitude against speed of a `methods.limit_cycle.LimitCycle` (Yu 2022, Fig. 2), with
+    its bifurcation branches where it has them."""
     with figure(path, (7.0, 4.5)) as fig:
         ax = fig.subplots()
-        a = np.where(np.isfinite(result.amplitudes_m), result.amplitudes_m, np.nan) * 1e3
-        ax.plot(result.speeds_kmh, a, "o-", label="final amplitude after the excitation")
+        if len(result.speeds_kmh):
+            a = np.where(np.isfinite(result.amplitudes_m), result.amplitudes_m, np.nan) * 1e3
+            ax.plot(result.speeds_kmh, a, "o-", label="final amplitude after the excitation")
+        for branch, marker in zip(result.branches, ("^-", "v-")):
+            a = np.where(np.isfinite(branch.amplitudes_m), branch.amplitudes_m, np.nan) * 1e3
+            ax.plot(branch.speeds_kmh, a, marker, ms=4,
+                    label=f"{branch.name} branch (kick {branch.kick.amplitude_m * 1e3:g} mm)")
         ax.axhline(threshold_m * 1e3, color=REFERENCE_COLOUR, lw=0.8, ls=":",
                    label=f"{threshold_m * 1e3:g} mm criterion")
         if np.isfinite(result.nonlinear_critical_speed_kmh):
             ax.axvline(result.nonlinear_critical_speed_kmh, color=CRITICAL_SPEED_COLOURS["nonlinear"], ls="--",
-                       label=f"nonlinear critical speed {result.nonlinear_critical_speed_kmh:.0f} km/h")
+                       label=f"nonlinear critical speed ({result.method}) "
+                             f"{result.nonlinear_critical_speed_kmh:.0f} km/h")
         if linear_critical_speed_kmh is not None and np.isfinite(linear_critical_speed_kmh):
             ax.axvline(linear_critical_speed_kmh, color=CRITICAL_SPEED_COLOURS["linear"], ls="--",
                        label=f"linear critical speed {linear_critical_speed_kmh:.0f} km/h")
         ax.set_yscale("symlog", linthresh=0.01)
+        ax.set_ylim(bottom=0.0)
         ax.set_xlabel("speed (km/h)")
         ax.set_ylabel("wheelset lateral amplitude (mm)")
         ax.legend()
         ax.set_title(f"limit cycle after the excitation: {result.excitation}")
+
+
+def stability_figure(base, rows, path, required_kmh):
+    """The stability study (methods.stability): each one-at-a-time case's nonlinear (ramp-down) and linear
+    critical speeds beside the default set's, with the speed the car must be stable to."""
+    def kmh(v):
+        return np.nan if v is None else float(v)
+
+    with figure(path, (8.0, 0.32 * len(rows) + 1.8)) as fig:
+        ax = fig.subplots()
+        y = np.arange(len(rows))
+        ax.barh(y, [kmh(r["linear_kmh"]) for r in rows], color=CRITICAL_SPEED_COLOURS["linear"], alpha=0.35,
+                label="linear (root locus)")
+        ax.barh(y, [kmh(r["nonlinear_kmh"]) for r in rows], height=0.5, color=CRITICAL_SPEED_COLOURS["nonlinear"],
+                label="nonlinear (ramp-down)")
+        ax.axvline(kmh(base["nonlinear_kmh"]), color=CRITICAL_SPEED_COLOURS["nonlinear"], ls="--", lw=0.8,
+                   label="default set, nonlinear")
+        ax.axvline(required_kmh, color=REFERENCE_COLOUR, ls=":", lw=1.0, label=f"{required_kmh:.0f} km/h")
+        ax.set_yticks(y, [f"{r['input']}: {r['value'].split(';')[0].split(',')[0][:40]}" for r in rows], fontsize=7)
+        ax.invert_yaxis()
+        ax.set_xlabel("critical speed (km/h)")
+        ax.legend(fontsize=7, loc="lower right")
 
 
 def critical_speed_figure(results, path):

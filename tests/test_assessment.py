@@ -203,8 +203,8 @@ def test_bad_input_is_one_line(tmp_path, steady):
 
 
 def test_a_recording_gives_the_runs_force_quantities(tmp_path, steady):
-    from railderail_monitor.assess import run_signals
-    from railderail_monitor.recording import record_run
+    from railderail_monitor.recording.assess import run_signals
+    from railderail_monitor.recording.recorder import record_run
 
     result, path = steady
     mcap = tmp_path / "steady.mcap"

@@ -11,11 +11,11 @@ from rosbags.highlevel import AnyReader
 from rosbags.rosbag2 import Reader
 from rosbags.rosbag2.metadata import QosDurability, QosReliability
 
-from railderail_monitor.bag import bag_file
+from railderail_monitor.recording.bag import bag_file
 from railderail_sim.sensors.config import load as load_sensors
-from railderail_monitor.recording import msg_file
-from railderail_sim import ros_interface as m
-from railderail_sim import sensor_messages as sm
+from railderail_monitor.recording.recorder import msg_file
+from railderail_sim.ros import interface as m
+from railderail_sim.ros import sensor_messages as sm
 from test_recording import PUBLISHER, flushed
 from test_replay import error_line
 
@@ -34,7 +34,7 @@ def test_recorder_writes_a_rosbag2_bag_that_rosbags_reads(spawn, read_until, tmp
     publisher = spawn([sys.executable, "-c", PUBLISHER])
     read_until(publisher, "publishing", timeout=30)
     folder = tmp_path / "run1"
-    recorder = spawn([sys.executable, "-m", "railderail_monitor.recording", "--bag-dir", str(folder),
+    recorder = spawn([sys.executable, "-m", "railderail_monitor.recording.recorder", "--bag-dir", str(folder),
                       "--metadata", "case=bag"])
     read_until(recorder, "recording", timeout=30)
     deadline = time.monotonic() + 60

@@ -4,8 +4,9 @@ import math
 import numpy as np
 import pytest
 
-from railderail_monitor import climb_distance as CD
-from railderail_monitor import criteria as C
+from railderail_monitor.warning import climb_distance as CD
+from railderail_monitor.warning.monitor import Monitor
+from railderail_monitor.warning.limits import default_limits
 from railderail_sim import profiles
 
 
@@ -24,7 +25,7 @@ def test_eq_2_4_at_the_lm_flange_by_hand():
 
 
 def test_the_shipped_monitor_file_carries_the_lm_scales():
-    limits = C.default_limits()
+    limits = default_limits()
     # Nadal at LM/UIC60's 69.54 deg with mu 0.5: (2.676 - 0.5) / (1 + 0.5 x 2.676) = 0.931
     assert limits.climb_nadal_limit == pytest.approx(0.931, abs=1e-3)
     wheel = profiles.resolve("lm", "wheel")
@@ -49,7 +50,7 @@ def test_the_monitor_raises_it_where_the_batch_does_and_from_the_attack_angle_be
     """A wheel at 1.5 x Nadal from 1 m on, its wheelset at 10 mrad from sample 20: the running ratio equals
     the whole run's, bit for bit, and the alerts at 0.5 and 1 fall where the distance is half and all of
     TCRP's limit at 10 mrad. Feeding each sample's forces before its states changes nothing."""
-    limits = C.default_limits()
+    limits = default_limits()
     n, ds = 400, 0.02
     position = np.arange(n) * ds
     qp = np.zeros((n, 8))
@@ -58,7 +59,7 @@ def test_the_monitor_raises_it_where_the_batch_does_and_from_the_attack_angle_be
     aoa[20:, 1] = 0.010
     batch = CD.climb_distance_ratio(qp, aoa, position, limits.climb_nadal_limit,
                                     limits.climb_distance_scale, limits.climb_attack_angle_scale)
-    monitor = C.Monitor(limits)
+    monitor = Monitor(limits)
     running, alerts = [], []
     for i in range(n):
         alerts += monitor.on_forces(i * 0.001, i, position[i], 20.0, qp[i], np.full(8, limits.static_wheel_load))

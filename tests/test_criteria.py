@@ -5,7 +5,12 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from railderail_monitor import criteria as C
+from railderail_monitor.warning.alarms import Detector, alert_indices, nanoseconds
+from railderail_monitor.warning.alerts import lead_times
+from railderail_monitor.warning.limits import SEVERITY_WARNING, default_limits
+from railderail_monitor.warning.monitor import Monitor, alerts_of_run
+from railderail_monitor.warning.quantities import (SlidingMean, front_attack_angle, rail_side, sliding_mean,
+                                                   unloading_ratio)
 
 
 def test_static_wheel_load_carries_the_car():
@@ -16,33 +21,33 @@ def test_static_wheel_load_carries_the_car():
     sim = Simulation(replace(scenario(radius=1000.0, speed_kmh=100.0), output_rate=200.0))
     rows = sim.advance(2.0)                                   # 56 m, all on the first straight
     p = Result(rows=rows, scenario=sim.scenario, status="").arrays()["vertical_force"][100:]
-    assert p.mean() == pytest.approx(C.default_limits().static_wheel_load, rel=1e-6)
+    assert p.mean() == pytest.approx(default_limits().static_wheel_load, rel=1e-6)
 
 
 def test_unloading_ratio_by_hand():
     p0 = 56064.15
-    assert C.unloading_ratio([p0, 0.0, 0.5 * p0, 0.4 * p0], p0) == pytest.approx([0.0, 1.0, 0.5, 0.6])
-    assert C.unloading_ratio(1.2 * p0, p0) == pytest.approx(-0.2)       # an overloaded wheel
+    assert unloading_ratio([p0, 0.0, 0.5 * p0, 0.4 * p0], p0) == pytest.approx([0.0, 1.0, 0.5, 0.6])
+    assert unloading_ratio(1.2 * p0, p0) == pytest.approx(-0.2)       # an overloaded wheel
     with pytest.raises(ValueError, match="static wheel load"):
-        C.unloading_ratio([1.0], 0.0)
+        unloading_ratio([1.0], 0.0)
 
 
 def test_front_attack_angle_is_the_magnitude_of_wheelset_0():
     a = np.array([[0.01, 0.07, 0.0, 0.0], [-0.065, 0.0, 0.0, 0.0]])
-    assert C.front_attack_angle(a) == pytest.approx([0.01, 0.065])
+    assert front_attack_angle(a) == pytest.approx([0.01, 0.065])
 
 
 def test_rail_side():
-    assert C.rail_side("left", 1e-3) == "inner"          # curve to the left: the left rail is inner
-    assert C.rail_side("right", 1e-3) == "outer"
-    assert C.rail_side("left", -1e-3) == "outer"
-    assert C.rail_side("right", -1e-3) == "inner"
-    assert C.rail_side("left", 0.0) == ""                # straight track
+    assert rail_side("left", 1e-3) == "inner"          # curve to the left: the left rail is inner
+    assert rail_side("right", 1e-3) == "outer"
+    assert rail_side("left", -1e-3) == "outer"
+    assert rail_side("right", -1e-3) == "inner"
+    assert rail_side("left", 0.0) == ""                # straight track
 
 
 def test_default_levels_are_the_documented_ones():
-    lim = C.default_limits()
-    assert lim.levels("attack_angle") == [(C.SEVERITY_WARNING, 0.06)]                 # no critical level
+    lim = default_limits()
+    assert lim.levels("attack_angle") == [(SEVERITY_WARNING, 0.06)]                 # no critical level
     assert lim.levels("wheel_lift") == [(1, pytest.approx(0.027793 / 3, rel=1e-4)),
                                         (2, pytest.approx(2 * 0.027793 / 3, rel=1e-4))]
     assert lim.levels("derailment_coefficient") == [(1, 0.8), (2, pytest.approx(1.3193, abs=1e-4))]
@@ -51,7 +56,7 @@ def test_default_levels_are_the_documented_ones():
 
 
 def _limits(**changes):
-    return replace(C.default_limits(), **changes)
+    return replace(default_limits(), **changes)
 
 
 def test_limits_validation():
@@ -70,7 +75,7 @@ def test_limits_validation():
 
 def detect(values, positions, threshold, **behaviour):
     """Indices of the samples at which one channel's Detector raises its alert."""
-    detector = C.Detector(threshold, **behaviour)
+    detector = Detector(threshold, **behaviour)
     return [i for i, (value, position) in enumerate(zip(values, positions)) if detector.update(value, position)]
 
 
@@ -107,7 +112,7 @@ def synthetic_run(n=400):
     """Arrays of a made-up run: the left wheels unload, then the front-left wheel lifts."""
     t = np.arange(n) * 0.005
     s = 100.0 + 80.0 * t
-    p = np.full((n, 8), C.default_limits().static_wheel_load)
+    p = np.full((n, 8), default_limits().static_wheel_load)
     p[:, 0::2] *= np.clip(1.0 - t[:, None] / 1.2, 0.0, 1.0)        # dP/P0 = t / 1.2
     lift = np.zeros((n, 8))
     lift[:, 0] = np.clip((t - 1.0) * 0.03, 0.0, None)            # 0.03 m/s from t = 1 s
@@ -121,7 +126,7 @@ def synthetic_run(n=400):
 
 def test_monitor_by_hand():
     a = synthetic_run()
-    alerts = C.alerts_of_run(a, _limits(debounce_m=0.0))
+    alerts = alerts_of_run(a, _limits(debounce_m=0.0))
     first = {(x.criterion, x.severity, x.wheelset, x.wheel_side): x for x in alerts}
     # unloading 0.60 at t = 0.72 s and 0.65 at t = 0.78 s on every left wheel (inner: curve to the left)
     for ws in range(4):
@@ -152,7 +157,7 @@ def test_the_duration_rule_counts_time_not_track(speed):
     qp = np.zeros((n, 8))
     qp[(t >= 0.1) & (t < 0.14), 3] = 1.2                       # 40 ms (8 samples)
     qp[(t >= 0.5) & (t < 0.56), 3] = 1.2                       # 60 ms (12 samples)
-    monitor = C.Monitor(_limits(derailment_coefficient_critical=1.32))
+    monitor = Monitor(_limits(derailment_coefficient_critical=1.32))
     alerts = []
     for i in range(n):
         alerts += monitor.on_forces(t[i], i, speed * t[i], speed, qp[i],
@@ -168,14 +173,14 @@ def test_arrival_order_of_a_sample_s_topics_does_not_matter():
     same alerts as the batch, which feeds states, forces, then status."""
     a = synthetic_run()
     a["curvature"] = np.where(np.arange(len(a["time"])) < 150, 0.0, 1e-3)   # straight, then a curve
-    monitor = C.Monitor(C.default_limits())
+    monitor = Monitor(default_limits())
     streamed = []
     for i in range(len(a["time"])):
         monitor.set_curvature(i, a["curvature"][i])
         streamed += monitor.on_forces(a["time"][i], i, a["position"][i], 80.0, a["derailment_coefficient"][i],
                                       a["vertical_force"][i])
         streamed += monitor.on_states(a["time"][i], i, a["position"][i], 80.0, a["attack_angle"][i], a["wheel_lift"][i])
-    batch = C.alerts_of_run(a, C.default_limits())
+    batch = alerts_of_run(a, default_limits())
     key = lambda x: (x.sample, x.criterion, x.severity, x.wheelset, x.wheel_side)  # noqa: E731
     assert sorted(map(key, streamed)) == sorted(map(key, batch)) and len(batch) > 4
     assert [x.as_dict() for x in sorted(streamed, key=key)] == [x.as_dict() for x in sorted(batch, key=key)]
@@ -183,7 +188,7 @@ def test_arrival_order_of_a_sample_s_topics_does_not_matter():
 
 
 def test_rail_side_comes_from_the_status_before_the_sample():
-    monitor = C.Monitor(_limits(debounce_m=0.0))
+    monitor = Monitor(_limits(debounce_m=0.0))
     monitor.set_curvature(4, 0.0)
     monitor.set_curvature(5, 1e-3)       # arrives before the states of sample 5: not used for sample 5
     (alert,) = monitor.on_states(0.025, 5, 10.0, 80.0, [0, 0, 0, 0], [0.02, 0, 0, 0, 0, 0, 0, 0])[:1]
@@ -197,17 +202,17 @@ def test_lead_times_by_hand():
                    value=0.61, threshold=0.6, wheelset=1, wheel_side="left", rail_side="inner"),
               dict(criterion="wheel_unloading", severity=1, time_s=11.0, track_position=880.0, speed=80.0,
                    value=0.62, threshold=0.6, wheelset=3, wheel_side="left", rail_side="inner")]
-    leads = C.lead_times(alerts, dict(time_s=12.5, track_position_m=1000.0))
+    leads = lead_times(alerts, dict(time_s=12.5, track_position_m=1000.0))
     assert leads["wheel_unloading/warning"]["lead_s"] == pytest.approx(2.5)
     assert leads["wheel_unloading/warning"]["lead_m"] == pytest.approx(200.0)
     assert leads["wheel_unloading/warning"]["speed_kmh"] == pytest.approx(288.0)
-    assert math.isnan(C.lead_times(alerts, None)["wheel_unloading/warning"]["lead_s"])   # false alarm
+    assert math.isnan(lead_times(alerts, None)["wheel_unloading/warning"]["lead_s"])   # false alarm
 
 
 # --- warning-quality scoring (railderail warnings) -----------------------------------------------
 
 def test_operating_speeds_by_hand():
-    from railderail_monitor.warning_quality import cant_deficiency_speed_kmh
+    from railderail_monitor.evaluation.over_radii import cant_deficiency_speed_kmh
     theta = math.asin(0.175 / 1.5)
     # balance: v^2 / R cos(theta) = g sin(theta) -> sqrt(1000 * 9.81 * tan(theta)) = 33.98 m/s = 122.3 km/h
     assert cant_deficiency_speed_kmh(1000.0, 0.0) == pytest.approx(122.3, abs=0.1)
@@ -218,7 +223,7 @@ def test_operating_speeds_by_hand():
 
 
 def test_summary_counts_leads_and_false_alarms(tmp_path):
-    from railderail_monitor import warning_quality as W
+    from railderail_monitor.evaluation import over_radii as W
     lead = dict(lead_s=2.0, lead_m=160.0, time_s=1.0, speed_kmh=300.0)
     runs = [dict(radius_m=1000.0, case="critical", derailed=True, diverged="",
                  first={"wheel_unloading/warning": lead, "wheel_lift/warning": dict(lead, lead_s=0.5, lead_m=40.0)}),
@@ -256,10 +261,10 @@ def test_alert_indices_are_what_the_detector_says(seed):
     for threshold, debounce, rearm_fraction, rearm_m, time_based in [(0.5, 2.0, 0.9, 50.0, False),
                                                                        (0.8, 0.0, 0.5, 5.0, False),
                                                                        (0.3, 0.05, 0.9, 20.0, True)]:
-        detector = C.Detector(threshold, debounce, rearm_fraction, rearm_m)
+        detector = Detector(threshold, debounce, rearm_fraction, rearm_m)
         expected = [i for i in range(n)
                     if detector.update(values[i], position[i], clock[i] if time_based else None)]
-        found = C.alert_indices(values, position, threshold, debounce, rearm_fraction, rearm_m,
+        found = alert_indices(values, position, threshold, debounce, rearm_fraction, rearm_m,
                                 clock if time_based else None)
         assert found == expected
         counts.append(len(expected))
@@ -272,20 +277,20 @@ def test_the_sliding_mean_of_q_p_is_en_14363_s_and_the_monitor_s():
     position = np.array([0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 4.0])
     q = np.array([[0.0], [1.0], [2.0], [3.0], [4.0], [5.0], [6.0]])
     expected = [0.0, 0.5, 1.0, 1.5, 2.5, 3.5, 5.5]                 # samples with s > s_i - 2 m
-    assert C.sliding_mean(q, position, 2.0)[:, 0].tolist() == expected
+    assert sliding_mean(q, position, 2.0)[:, 0].tolist() == expected
     rng = np.random.default_rng(3)
     s = np.cumsum(rng.uniform(0.0, 0.6, 2000))
     values = rng.uniform(0.0, 1.2, (2000, 8))
-    running = C.SlidingMean(2.0, 8)
+    running = SlidingMean(2.0, 8)
     online = np.array([running.update(values[i], s[i]) for i in range(2000)])
-    assert np.array_equal(online, C.sliding_mean(values, s, 2.0))
+    assert np.array_equal(online, sliding_mean(values, s, 2.0))
 
 
 def test_the_duration_rule_decides_alike_on_the_simulator_s_clock_and_on_the_node_s_stamps():
     """The node sees each sample's time as a stamp (integer nanoseconds, then sec + 1e-9 nanosec), a batch
     the simulator's float clock: on floats, a 50 ms span of 10 samples is >= 50 ms on one clock and not on the
     other for many spans; on the integer nanoseconds of both the monitor raises the same alerts."""
-    from railderail_sim.ros_interface import seconds, set_time
+    from railderail_sim.ros.interface import seconds, set_time
     from builtin_interfaces.msg import Time
     n = 3000
     t_sim = np.cumsum(np.full(n, 0.005)) + 4.0                     # the simulator's float clock
@@ -293,7 +298,7 @@ def test_the_duration_rule_decides_alike_on_the_simulator_s_clock_and_on_the_nod
     spans = [(i, i + 10) for i in range(n - 10)]
     differ = sum((t_sim[j] - t_sim[i] >= 0.05) != (t_node[j] - t_node[i] >= 0.05) for i, j in spans)
     assert differ > 0                                             # why the clock is integer nanoseconds
-    assert np.array_equal(C.nanoseconds(t_sim), C.nanoseconds(t_node))
+    assert np.array_equal(nanoseconds(t_sim), nanoseconds(t_node))
     rng = np.random.default_rng(3)
     qp = np.full((n, 8), 0.2)
     for k in range(8):                      # excursions of 8-12 samples (35-55 ms), 130-200 samples apart (re-armed)
@@ -303,7 +308,7 @@ def test_the_duration_rule_decides_alike_on_the_simulator_s_clock_and_on_the_nod
             i += int(rng.integers(130, 200))
     alerts = {}
     for name, clock in (("sim", t_sim), ("node", t_node)):
-        monitor = C.Monitor(C.default_limits())
+        monitor = Monitor(default_limits())
         alerts[name] = [(a.sample, a.criterion, a.severity, a.wheelset, a.wheel_side)
                         for i in range(n) for a in monitor.on_forces(clock[i], i, 80.0 * i * 0.005, 80.0, qp[i],
                                                                        np.full(8, monitor.limits.static_wheel_load))]

@@ -136,7 +136,7 @@ def test_stops_not_engaged_leave_the_run_bit_identical():
 
 
 def test_the_simulator_node_takes_faults_as_a_string_array():
-    from railderail_sim.node import PARAMETERS
+    from railderail_sim.ros.node import PARAMETERS
     (spec,) = [spec for spec in PARAMETERS if spec.name == "faults"]
     assert spec.checked(None) == []                   # [] in a parameter file: rcl leaves it unset
     assert spec.checked(["yaw-dampers-failed@both", "air-spring-deflated@rear"]) == \

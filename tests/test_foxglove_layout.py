@@ -9,14 +9,15 @@ from pathlib import Path
 import pytest
 from rosidl_adapter.parser import parse_message_file
 
-from railderail_monitor.criteria import default_limits
+from railderail_monitor.warning.limits import default_limits
 from railderail_monitor.onboard.measured import measured_limits
-from railderail_monitor.recording import msg_file
-from railderail_monitor.viewer import SENSOR_GROUPS, WHEELSET_COLORS, sensor_group, sensor_levels
-from railderail_sim import ros_interface as m
-from railderail_sim import sensor_messages as sm
+from railderail_monitor.recording.recorder import msg_file
+from railderail_monitor.views.rerun_views import SENSOR_GROUPS, WHEELSET_COLORS, sensor_group, sensor_levels
+from railderail_sim.ros import interface as m
+from railderail_sim.ros import sensor_messages as sm
 from railderail_sim.parameters import VehicleParameters
-from railderail_sim.sensors.config import MOUNTS, default_set
+from railderail_sim.sensors.sensor_set import MOUNTS
+from railderail_sim.sensors.config import default_set
 
 ROOT = Path(__file__).resolve().parents[1]
 LAYOUT = json.loads((ROOT / "foxglove" / "railderail-layout.json").read_text())
@@ -152,6 +153,6 @@ def test_the_estimator_plots_are_the_measured_monitor_s_beside_each_bogie_s_whee
 
 
 def test_the_sensors_tab_is_the_one_railderail_monitor_foxglove_writes():
-    from railderail_monitor.foxglove import with_sensors_tab
+    from railderail_monitor.views.foxglove import with_sensors_tab
 
-    assert with_sensors_tab(LAYOUT) == LAYOUT, "python -m railderail_monitor.foxglove writes the tab anew"
+    assert with_sensors_tab(LAYOUT) == LAYOUT, "python -m railderail_monitor.views.foxglove writes the tab anew"

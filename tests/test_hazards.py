@@ -8,10 +8,10 @@ import math
 import numpy as np
 import pytest
 
-from railderail_monitor import scoring
-from railderail_monitor.criteria import alarm_intervals, alert_indices
-from railderail_monitor.hazards import (Car, HazardRules, braking_time, hazards, track_shift_force, useful_lead,
-                                        windows)
+from railderail_monitor.evaluation import scoring
+from railderail_monitor.evaluation.hazards import (Car, HazardRules, braking_time, hazards, track_shift_force,
+                                                   useful_lead, windows)
+from railderail_monitor.warning.alarms import alarm_intervals, alert_indices
 
 P0 = 56064.15
 RULES = HazardRules()
@@ -49,7 +49,7 @@ def test_a_margin_falls_at_its_place_and_labels_its_window():
 
 
 def test_margins_are_judged_on_the_forces_low_passed_20_hz():
-    from railderail_monitor.hazards import filtered_forces
+    from railderail_monitor.evaluation.hazards import filtered_forces
     # a wheel fully unloaded for 35 ms (7 samples, 1.75 m at 50 m/s): a spike of the rigid track's contact, gone
     # through the 20 Hz low-pass; the same for 0.5 s is a margin fallen either way, later by about the filter's
     # group delay when filtered (a 4-pole Butterworth: 2.61 / (2 pi 20 Hz) = 21 ms at low frequency)

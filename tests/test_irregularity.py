@@ -11,6 +11,7 @@ from scipy.signal import welch
 
 from railderail_sim import cli
 from railderail_sim.track import irregularity as ir
+from railderail_sim.track import spectra as sp
 
 # Each published formula with its constants typed from the tables (not read from the module), at one
 # frequency. Cross-level as the rails' height difference: ERRI's angle times 2b = 1.5 m, squared.
@@ -57,31 +58,31 @@ PUBLISHED = [
 
 @pytest.mark.parametrize("name, component, expected", PUBLISHED, ids=lambda x: x if isinstance(x, str) else "")
 def test_each_spectrum_is_the_published_formula(name, component, expected):
-    assert ir.SPECTRA[name].psd(component, W) == pytest.approx(expected, rel=1e-12)
+    assert sp.SPECTRA[name].psd(component, W) == pytest.approx(expected, rel=1e-12)
 
 
 def test_tbt3352_unit_conversion_by_hand():
     # vertical, f = 0.1 1/m (third piece, 0.0474 <= f < 0.1533): 1.9784e-2 / 0.1^1.3643 = 0.45773 mm^2/(1/m);
     # per rad/m: / (2 pi) = 0.072851 mm^2/(rad/m) = 7.2851e-8 m^2/(rad/m), at Omega = 2 pi 0.1 = 0.62832 rad/m
-    assert ir.tbt3352_psd_f("vertical", 0.1) == pytest.approx(0.45773, rel=1e-4)
-    assert ir.tbt3352_psd("vertical", 0.62832) == pytest.approx(7.2851e-8, rel=1e-4)
+    assert sp.tbt3352_psd_f("vertical", 0.1) == pytest.approx(0.45773, rel=1e-4)
+    assert sp.tbt3352_psd("vertical", 0.62832) == pytest.approx(7.2851e-8, rel=1e-4)
     # the pieces switch at the breaks; outside 0.005 .. 0.5 1/m the fit is undefined
-    assert ir.tbt3352_psd_f("gauge", 0.3) == pytest.approx(1.8778e-4 / 0.3 ** 4.5948, rel=1e-12)
-    assert ir.tbt3352_psd_f("alignment", 0.02) == pytest.approx(3.9513e-3 / 0.02 ** 1.8670, rel=1e-12)
-    assert np.isnan(ir.tbt3352_psd_f("vertical", [0.004, 0.6])).all()
+    assert sp.tbt3352_psd_f("gauge", 0.3) == pytest.approx(1.8778e-4 / 0.3 ** 4.5948, rel=1e-12)
+    assert sp.tbt3352_psd_f("alignment", 0.02) == pytest.approx(3.9513e-3 / 0.02 ** 1.8670, rel=1e-12)
+    assert np.isnan(sp.tbt3352_psd_f("vertical", [0.004, 0.6])).all()
 
 
 def test_erri_cross_level_is_an_angle_and_the_track_gets_the_height_difference():
-    angle = ir.erri_psd("cross_level", W, "low")
+    angle = sp.erri_psd("cross_level", W, "low")
     assert angle == pytest.approx(4.032e-7 / 0.75 ** 2 * erri_shape() * W ** 2 / (W ** 2 + 0.4380 ** 2))
-    assert ir.SPECTRA["erri-low"].psd("cross_level", W) == pytest.approx(1.5 ** 2 * angle)
+    assert sp.SPECTRA["erri-low"].psd("cross_level", W) == pytest.approx(1.5 ** 2 * angle)
 
 
 def test_every_constant_has_a_unit_a_source_and_a_confidence():
-    rows = ir.constants_table()
+    rows = sp.constants_table()
     assert len({row[0] for row in rows}) == len(rows)
     for name, value, unit, source, sure, note in rows:
-        assert unit and source in ir.SOURCES and sure in "VSA", name
+        assert unit and source in sp.SOURCES and sure in "VSA", name
 
 
 def octave_errors(omega, estimate, formula, lo, hi):
@@ -95,11 +96,11 @@ def octave_errors(omega, estimate, formula, lo, hi):
     return out
 
 
-@pytest.mark.parametrize("name", list(ir.SPECTRA))
+@pytest.mark.parametrize("name", list(sp.SPECTRA))
 def test_welch_psd_of_a_sample_follows_the_spectrum_in_every_octave(name):
-    spectrum = ir.SPECTRA[name]
+    spectrum = sp.SPECTRA[name]
     step = 0.25
-    sample = ir.generate(name, 40e3, seed=list(ir.SPECTRA).index(name), step_m=step)
+    sample = ir.generate(name, 40e3, seed=list(sp.SPECTRA).index(name), step_m=step)
     assert sample.band_m == pytest.approx(spectrum.band_m)
     lo, hi = 2 * math.pi / spectrum.band_m[1], 2 * math.pi / spectrum.band_m[0]
     for component, x in sample.components().items():
@@ -112,7 +113,7 @@ def test_welch_psd_of_a_sample_follows_the_spectrum_in_every_octave(name):
 
 @pytest.mark.parametrize("name", ["erri-high", "fra-3", "china-hsr"])
 def test_variance_is_the_integral_of_the_psd_over_the_band(name):
-    spectrum = ir.SPECTRA[name]
+    spectrum = sp.SPECTRA[name]
     sample = ir.generate(name, 20e3, seed=5)
     lo, hi = 2 * math.pi / sample.band_m[1], 2 * math.pi / sample.band_m[0]
     breaks = [2 * math.pi * b for b in (0.0187, 0.0474, 0.1533, 0.045, 0.1234, 0.0258, 0.1163, 0.109, 0.2938)]
@@ -146,7 +147,7 @@ def test_slopes_are_the_derivatives_of_the_channels():
 
 
 def test_components_and_rails_follow_the_sign_conventions():
-    unit = {c: np.zeros(1) for c in ir.COMPONENTS}
+    unit = {c: np.zeros(1) for c in sp.COMPONENTS}
     widening = ir.rails_from_components({**unit, "gauge": np.ones(1)})[0]
     assert widening.tolist() == [0.5, 0.0, -0.5, 0.0]          # left rail further left, right rail further right
     left_high = ir.rails_from_components({**unit, "cross_level": np.ones(1)})[0]

@@ -11,10 +11,10 @@ from pathlib import Path
 import pytest
 import yaml
 
-from railderail_monitor.criteria import default_limits
+from railderail_monitor.warning.limits import default_limits
 from railderail_monitor.node import parameter_table
 from railderail_monitor.onboard.measured import measured_limits
-from railderail_sim.node import PARAMETERS
+from railderail_sim.ros.node import PARAMETERS
 from railderail_sim.parameters import vehicle_parameters
 
 ROOT = Path(__file__).resolve().parents[1]

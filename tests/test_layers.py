@@ -1,7 +1,7 @@
 """The dependency rule of docs/design.md, walked over every import statement of the package:
-numba core <- model building <- methods <- the top (cli, bench, the ROS interface and node) <- railderail_monitor;
-nothing imports upward, package __init__ files import nothing, and importing a core module does not load
-the model."""
+numba core <- model building <- methods <- the top (cli, bench, ros/) <- railderail_monitor, whose rooms are
+ordered too (ROOMS); nothing imports upward, package __init__ files import nothing, and importing a core module
+does not load the model."""
 import ast
 import subprocess
 import sys
@@ -15,14 +15,13 @@ HELPERS = ("railderail_sim.ranges", "railderail_sim.jsonout", "railderail_sim.at
 CORE, MODEL, METHODS, TOP = range(4)
 LAYERS = [  # module name prefix -> layer (the first prefix that matches)
     ("railderail_sim.record", CORE), ("railderail_sim.jit", CORE), ("railderail_sim.lookup", CORE), ("railderail_sim.contact", CORE),
-    ("railderail_sim.track.irregularity", MODEL), ("railderail_sim.track", CORE),
+    ("railderail_sim.track.irregularity", MODEL), ("railderail_sim.track.spectra", MODEL), ("railderail_sim.track", CORE),
     ("railderail_sim.loads.wind", MODEL), ("railderail_sim.loads", CORE), ("railderail_sim.vehicle.layout", CORE),
     ("railderail_sim.vehicle.dynamics", CORE), ("railderail_sim.vehicle.integrator", CORE),
     ("railderail_sim.parameters", MODEL), ("railderail_sim.profiles", MODEL), ("railderail_sim.vehicle", MODEL),
-    ("railderail_sim.sensors", MODEL), ("railderail_sim.line", MODEL), ("railderail_sim.methods", METHODS), ("railderail_sim.assessment", METHODS),
-    ("railderail_sim.cli", TOP), ("railderail_sim.bench", TOP), ("railderail_sim.ros_interface", TOP),
-    ("railderail_sim.sensor_messages", TOP),
-    ("railderail_sim.node", TOP),
+    ("railderail_sim.sensors", MODEL), ("railderail_sim.line", MODEL), ("railderail_sim.methods", METHODS),
+    ("railderail_sim.assessment", METHODS), ("railderail_sim.supervision", METHODS),
+    ("railderail_sim.cli", TOP), ("railderail_sim.bench", TOP), ("railderail_sim.ros", TOP),
 ]
 
 
@@ -150,6 +149,48 @@ def cycles(graph):
         if v not in index:
             visit(v)
     return sorted(out)
+
+
+# railderail_monitor's rooms (docs/design.md) by level: a room imports only rooms of lower levels
+ROOMS = {"warning": 0, "onboard": 1, "supervision": 1, "evaluation": 2, "views": 2, "node": 2, "recording": 3,
+         "demo": 4, "bench": 4, "commands": 4}
+
+
+def room(module):
+    """The room of a railderail_monitor module (its first name under the package), None for the package."""
+    parts = module.split(".")
+    return parts[1] if parts[0] == "railderail_monitor" and len(parts) > 1 else None
+
+
+def room_violations(graph):
+    bad = []
+    for module, targets in sorted(graph.items()):
+        own = room(module)
+        if own is None:
+            continue
+        if own not in ROOMS:
+            bad.append(f"{module} is in no room of tests/test_layers.py ROOMS (add it, and to docs/design.md)")
+            continue
+        for target in sorted(targets):
+            other = room(target)
+            if other not in (None, own) and ROOMS.get(other, 99) >= ROOMS[own]:
+                bad.append(f"{module} imports {target} (room {other} is not below room {own})")
+    return bad
+
+
+def test_the_monitor_s_rooms_import_only_rooms_below_them():
+    assert room_violations(import_graph()) == []
+
+
+def test_the_rooms_walk_catches_an_import_sideways_and_upward():
+    graph = {"railderail_monitor.warning.alarms": {"railderail_monitor.evaluation.scoring"},
+             "railderail_monitor.views.rerun_views": {"railderail_monitor.node", "railderail_monitor.warning.limits"},
+             "railderail_monitor.attic.old": set()}
+    assert room_violations(graph) == [
+        "railderail_monitor.attic.old is in no room of tests/test_layers.py ROOMS (add it, and to docs/design.md)",
+        "railderail_monitor.views.rerun_views imports railderail_monitor.node (room node is not below room views)",
+        "railderail_monitor.warning.alarms imports railderail_monitor.evaluation.scoring "
+        "(room evaluation is not below room warning)"]
 
 
 def test_no_module_imports_one_that_imports_it_back():

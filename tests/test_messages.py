@@ -82,6 +82,14 @@ SAMPLES = {
         "lateral_force": [41e3, 12e3],
         "derailment_coefficient": [-0.43, 0.28, -0.12, 0.08],
     },
+    "BrakeCommand": {
+        "header": HEADER,
+        "sample": 2052,
+        "speed": 88.89,
+        "release_speed": 70.83,
+        "track_position": 1016.4,
+        "reason": "curve R 1000 m: critical derailment speed 270.0 km/h (given)",
+    },
 }
 
 # Runs in the child process: publishes the messages of SAMPLES (argv[1], JSON) every 0.1 s on

@@ -7,8 +7,8 @@ from dataclasses import fields
 
 import pytest
 
-from railderail_monitor import criteria as C
-from railderail_monitor.monitor_params import REGENERATE, SHIPPED, limits_of_car, read_limits
+from railderail_monitor.warning.limits import SHIPPED, Limits, default_limits, read_limits
+from railderail_monitor.warning.monitor_params import REGENERATE, limits_of_car
 from railderail_sim.cli import main
 from test_replay import error_line
 
@@ -22,7 +22,7 @@ def test_shipped_file_is_what_the_model_gives(capsys):
 
 def test_default_limits_are_the_model_s():
     limits, basis = limits_of_car()
-    assert repr(C.default_limits()) == repr(limits)         # exactly (repr: NaN equals NaN); the file holds repr()
+    assert repr(default_limits()) == repr(limits)         # exactly (repr: NaN equals NaN); the file holds repr()
     assert basis["flange_height"] == pytest.approx(0.027793, abs=1e-6)    # LM (TB/T 449): 27.8 mm
     assert math.degrees(basis["max_contact_angle"]) == pytest.approx(69.5, abs=0.1)
     assert limits.wheel_lift == pytest.approx(basis["flange_height"] / 3.0, rel=1e-15)
@@ -32,7 +32,7 @@ def test_another_wheel_and_friction_give_other_limits(tmp_path):
     out = tmp_path / "s1002.yaml"
     assert main(["monitor-params", "--wheel", "s1002", "--friction", "0.4", "--out", str(out)]) == 0
     s1002 = read_limits(out)
-    lm = C.default_limits()
+    lm = default_limits()
     assert s1002.wheel_lift != lm.wheel_lift
     assert s1002.derailment_coefficient_critical < lm.derailment_coefficient_critical   # more friction, lower
     assert s1002.static_wheel_load == lm.static_wheel_load
@@ -53,7 +53,7 @@ def test_bad_input_is_one_line(capsys, tmp_path):
 
 def test_every_parameter_has_its_comment():
     text = SHIPPED.read_text().splitlines()
-    for f in fields(C.Limits):
+    for f in fields(Limits):
         line = next(i for i, t in enumerate(text) if t.strip().startswith(f"{f.name}:"))
         comment = text[line - 1].strip()
         assert comment.startswith(f"# {f.metadata['unit'] or '-'}: ") and "Source: " in comment, f.name
@@ -79,7 +79,7 @@ def test_monitor_node_starts_without_numba(tmp_path):
     assert done.returncode == 0, done.stderr
     imported, values = done.stdout.splitlines()
     assert imported == "[]", f"the monitor node imported {imported}"
-    assert values == f"{C.default_limits().wheel_lift!r} nan"
+    assert values == f"{default_limits().wheel_lift!r} nan"
 
 
 def test_monitor_node_takes_a_parameter_file(tmp_path, spawn, read_until):

@@ -9,7 +9,7 @@ import pytest
 from railderail_sim.assessment import filters
 from railderail_sim.parameters import vehicle_parameters
 from railderail_monitor.onboard import criteria as oc
-from railderail_monitor.scoring import in_alarm
+from railderail_monitor.evaluation.scoring import in_alarm
 
 RATE = 200.0
 SPEED = 250.0 / 3.6

@@ -8,7 +8,7 @@ import pytest
 
 from railderail_sim.parameters import GRAVITY, TrackParameters, vehicle_parameters
 from railderail_sim.sensors import config
-from railderail_sim.sensors.config import AIR_SPRING_EFFECTIVE_AREA
+from railderail_sim.sensors.sensor_set import AIR_SPRING_EFFECTIVE_AREA
 from railderail_sim.sensors.measure import SensorLog
 from railderail_sim.vehicle.simulate import constant_speed, scenario, simulate
 from railderail_monitor.onboard import estimator as est

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from railderail_sim.parameters import vehicle_parameters
-from railderail_sim.sensors.config import AIR_SPRING_EFFECTIVE_AREA, MOUNTS
-from railderail_monitor import criteria as gt
+from railderail_sim.sensors.sensor_set import AIR_SPRING_EFFECTIVE_AREA, MOUNTS
+from railderail_monitor.warning.limits import SEVERITY_WARNING, default_limits
 from railderail_monitor.onboard import criteria as oc
 from railderail_monitor.onboard import measured as me
 from railderail_monitor.onboard.monitor import MeasuredMonitor
@@ -62,9 +62,9 @@ def test_the_limits_come_from_the_car_and_the_ground_truth_monitor():
     v = 300.0 / 3.6
     assert lim.hunting_frequency == pytest.approx(v / (2 * math.pi) * math.sqrt(
         0.1164 * 0.7465 / (0.46 * (0.7465 ** 2 + 1.25 ** 2))))
-    assert lim.estimated_running_gear_unloading == gt.default_limits().running_gear_unloading
-    assert lim.estimated_side_ratio == gt.default_limits().derailment_coefficient
-    assert lim.levels("bogie_rms") == [(gt.SEVERITY_WARNING, lim.bogie_rms)]
+    assert lim.estimated_running_gear_unloading == default_limits().running_gear_unloading
+    assert lim.estimated_side_ratio == default_limits().derailment_coefficient
+    assert lim.levels("bogie_rms") == [(SEVERITY_WARNING, lim.bogie_rms)]
     assert me.measured_limits(VP, car_body_lateral=math.nan).levels("car_body_lateral") == []
     with pytest.raises(ValueError, match="bids_band_low 9 Hz must be below bids_band_high 8 Hz"):
         me.measured_limits(VP, bids_band_low=9.0)

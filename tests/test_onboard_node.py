@@ -7,8 +7,8 @@ import rclpy
 from rclpy.serialization import deserialize_message, serialize_message
 from rclpy.signals import SignalHandlerOptions
 
-from railderail_sim import ros_interface as m
-from railderail_sim import sensor_messages as sm
+from railderail_sim.ros import interface as m
+from railderail_sim.ros import sensor_messages as sm
 from railderail_sim.parameters import vehicle_parameters
 from railderail_sim.sensors.config import load as load_sensors
 from railderail_monitor.onboard import measured as me

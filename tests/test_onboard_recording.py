@@ -6,16 +6,16 @@ import json
 import pytest
 from rclpy.serialization import serialize_message
 
-from railderail_sim import ros_interface as m
-from railderail_sim import sensor_messages as sm
+from railderail_sim.ros import interface as m
+from railderail_sim.ros import sensor_messages as sm
 from railderail_sim.cli import main
 from railderail_sim.parameters import vehicle_parameters
 from railderail_sim.sensors.config import load as load_sensors
 from railderail_monitor.node import measured_alert_message
 from railderail_monitor.onboard.monitor import MeasuredMonitor
-from railderail_monitor.recording import McapRecording
-from railderail_monitor.recover import recover, sensors_only
-from railderail_monitor.replay import measured_key, read_recording, review_measured
+from railderail_monitor.recording.recorder import McapRecording
+from railderail_monitor.recording.recover import recover, sensors_only
+from railderail_monitor.recording.replay import measured_key, read_recording, review_measured
 from test_onboard_node import _messages
 from test_onboard_measured import _record
 

@@ -8,14 +8,14 @@ import sys
 import pytest
 from rclpy.serialization import deserialize_message, serialize_message
 
-from railderail_sim import node as sim_node
-from railderail_sim import ros_interface as m
-from railderail_sim import sensor_messages as sm
+from railderail_sim.ros import node as sim_node
+from railderail_sim.ros import interface as m
+from railderail_sim.ros import sensor_messages as sm
 from railderail_sim.parameters import vehicle_parameters
 from railderail_sim.sensors.measure import SensorStream
 from railderail_sim.vehicle.simulate import run_to_stop
-from railderail_monitor.benchmark import MEASURED_LEVELS
-from railderail_monitor.criteria import nanoseconds
+from railderail_monitor.bench.ros import MEASURED_LEVELS
+from railderail_monitor.warning.alarms import nanoseconds
 from railderail_monitor.demo import wait_idle
 from railderail_monitor.onboard import measured as me
 from railderail_monitor.onboard.monitor import MeasuredMonitor
@@ -56,7 +56,7 @@ def _live_run(spawn, read_until):
                         + [a for k, v in MEASURED_LEVELS.items() for a in ("-p", f"{k}:={v!r}")])
         read_until(monitor, "monitoring", timeout=60)
         assert listener.spin_until(lambda: listener.node.count_subscribers(f"{m.SENSORS_NS}/odometer") >= 1, 30)
-        simulator = spawn([PY, "-m", "railderail_sim.node", "--ros-args", "-p", "real_time_factor:=1.0",
+        simulator = spawn([PY, "-m", "railderail_sim.ros.node", "--ros-args", "-p", "real_time_factor:=1.0",
                            "-p", "wait_for_subscribers:=1"] + [a for k, v in RUN.items() for a in ("-p", f"{k}:={v}")])
         assert listener.spin_until(lambda: listener.final is not None, timeout=300), simulator.stderr.read()
         assert simulator.wait(timeout=30) == 0

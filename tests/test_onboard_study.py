@@ -1,11 +1,11 @@
-"""`railderail onboard-study` (railderail_monitor/onboard/study.py): the bogie-instability rules of the on-board
+"""`railderail onboard-study` (railderail_monitor/evaluation/onboard_study.py): the bogie-instability rules of the on-board
 monitor on every frame mount of a hunting car (both yaw dampers failed, straight erri-low track) against the
 healthy car, the study's table and files, and its refusals."""
 import json
 
 import pytest
 
-from railderail_monitor.onboard import study
+from railderail_monitor.evaluation import onboard_study as study
 
 SPEED = 325.0        # km/h
 

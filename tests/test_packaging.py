@@ -16,7 +16,7 @@ import railderail_sim
 ROOT = Path(__file__).resolve().parents[1]
 CONSOLE_SCRIPTS = {
     "railderail": "railderail_sim.cli:main",
-    "railderail-simulator": "railderail_sim.node:main",
+    "railderail-simulator": "railderail_sim.ros.node:main",
     "railderail-monitor": "railderail_monitor.node:main",
 }
 

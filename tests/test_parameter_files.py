@@ -7,12 +7,12 @@ import pytest
 import yaml
 from rclpy.parameter import parameter_value_to_python
 
-from railderail_monitor.criteria import default_limits
-from railderail_monitor.monitor_params import SHIPPED as MONITOR_FILE
-from railderail_monitor.node import parameter_table
+from railderail_monitor.warning.limits import default_limits
+from railderail_monitor.warning.limits import SHIPPED as MONITOR_FILE
+from railderail_monitor.node import SUPERVISION_SETUP, parameter_table
 from railderail_sim.cli import main
 from railderail_sim.cli.nodes import REGENERATE, SHIPPED as SIMULATOR_FILE
-from railderail_sim.node import PARAMETERS
+from railderail_sim.ros.node import PARAMETERS
 from test_parameters import Client
 
 TABLES = {"railderail_simulator": (SIMULATOR_FILE, PARAMETERS),
@@ -46,7 +46,7 @@ def test_file_holds_every_declared_parameter_with_its_default_and_a_comment(node
 
 RCLPY_OWN = {"use_sim_time", "start_type_description_service"}      # every rclpy node declares these
 # node, module, the parameter changed, its value, the log line that shows it used, the line once it is up
-SIMULATOR = ("railderail_simulator", "railderail_sim.node", "radius", 1234.0, "R = 1234 m", "ready:")
+SIMULATOR = ("railderail_simulator", "railderail_sim.ros.node", "radius", 1234.0, "R = 1234 m", "ready:")
 MONITOR = ("railderail_monitor", "railderail_monitor.node", "wheel_lift", 0.012, "wheel_lift 0.012/", "monitoring")
 
 
@@ -57,6 +57,8 @@ def test_node_started_with_its_file_uses_it(node, module, name, changed, log, up
     path, specs = TABLES[node]
     data = yaml.safe_load(path.read_text())
     expected = dict(data[node]["ros__parameters"], **{name: changed})
+    if node == "railderail_monitor":     # the speed supervision's, off by default, are not in the thresholds' file
+        expected.update({spec.name: spec.default for spec in SUPERVISION_SETUP})
     if how == "edited file":
         text = path.read_text()
         line = f"    {name}: {data[node]['ros__parameters'][name]!r}\n"

@@ -13,8 +13,8 @@ from rclpy.parameter import Parameter, parameter_value_to_python
 from rclpy.parameter_client import AsyncParameterClient
 from rclpy.signals import SignalHandlerOptions
 
-from railderail_monitor.criteria import default_limits
-from railderail_sim import ros_interface as m
+from railderail_monitor.warning.limits import default_limits
+from railderail_sim.ros import interface as m
 
 PY = sys.executable
 
@@ -77,7 +77,7 @@ class Client:
 
 @pytest.mark.timeout(300)
 def test_running_simulator_refuses_bad_changes_and_applies_good_ones(spawn, read_until):
-    simulator = spawn([PY, "-m", "railderail_sim.node", "--ros-args", "-p", "speed_mode:=constant",
+    simulator = spawn([PY, "-m", "railderail_sim.ros.node", "--ros-args", "-p", "speed_mode:=constant",
                        "-p", "exit_when_done:=false"])
     read_until(simulator, "ready:", timeout=240)           # a cold numba compile included
     client = Client("railderail_simulator")

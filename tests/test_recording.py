@@ -12,9 +12,9 @@ from mcap_ros2.decoder import DecoderFactory
 from rclpy.serialization import serialize_message
 
 import railderail_msgs.msg as msgs
-from railderail_sim import ros_interface as m
-from railderail_monitor.recording import cdr_stamp_ns, record_run, schema_definitions, schema_text, stamped
-from railderail_monitor.replay import RecordingError, message_decoders, read_recording
+from railderail_sim.ros import interface as m
+from railderail_monitor.recording.recorder import cdr_stamp_ns, record_run, schema_definitions, schema_text, stamped
+from railderail_monitor.recording.replay import RecordingError, message_decoders, read_recording
 
 SEPARATOR = "=" * 80
 
@@ -131,8 +131,8 @@ def test_record_run_is_a_ros2_mcap(short_run, tmp_path):
 UNCLOSED = """
 import sys
 from rclpy.serialization import serialize_message
-from railderail_sim import ros_interface as m
-from railderail_monitor.recording import McapRecording
+from railderail_sim.ros import interface as m
+from railderail_monitor.recording.recorder import McapRecording
 rec = McapRecording(sys.argv[1])
 rec.add_topic(m.STATES, m.TOPICS[m.STATES][0])
 rec.write(m.STATES, serialize_message(m.WheelsetStates(sample=7)))
@@ -154,7 +154,7 @@ def test_a_recording_nobody_closed_is_finished_when_the_process_ends(tmp_path):
 PUBLISHER = """
 import rclpy, numpy as np
 from rclpy.executors import ExternalShutdownException
-from railderail_sim import ros_interface as m
+from railderail_sim.ros import interface as m
 rclpy.init()
 try:
     node = rclpy.create_node("railderail_test_states")
@@ -194,8 +194,8 @@ def test_recorder_survives_ctrl_c_and_sigkill(spawn, read_until, tmp_path):
     publisher = spawn([sys.executable, "-c", PUBLISHER])
     read_until(publisher, "publishing", timeout=30)
     complete, killed = tmp_path / "complete.mcap", tmp_path / "killed.mcap"
-    rec_int = spawn([sys.executable, "-m", "railderail_monitor.recording", str(complete)])
-    rec_kill = spawn([sys.executable, "-m", "railderail_monitor.recording", str(killed), "--flush-period", "0.5"])
+    rec_int = spawn([sys.executable, "-m", "railderail_monitor.recording.recorder", str(complete)])
+    rec_kill = spawn([sys.executable, "-m", "railderail_monitor.recording.recorder", str(killed), "--flush-period", "0.5"])
     read_until(rec_int, "recording", timeout=30)
     read_until(rec_kill, "recording", timeout=30)
     deadline = time.monotonic() + 60          # discovery, then 1 s of stamps (200 messages) flushed in both files

@@ -12,9 +12,9 @@ from mcap.stream_reader import StreamReader, breakup_chunk
 from rclpy.serialization import serialize_message
 from rosbags.highlevel import AnyReader
 
-from railderail_monitor.recording import McapRecording, cut_off
-from railderail_monitor.recover import recover
-from railderail_sim import ros_interface as m
+from railderail_monitor.recording.recorder import McapRecording, cut_off
+from railderail_monitor.recording.recover import recover
+from railderail_sim.ros import interface as m
 from railderail_sim.cli import main
 from test_recording import PUBLISHER, flushed
 from test_replay import error_line
@@ -112,7 +112,7 @@ def test_a_killed_recorder_s_file_recovers_and_is_not_overwritten(spawn, read_un
     publisher = spawn([sys.executable, "-c", PUBLISHER])
     read_until(publisher, "publishing", timeout=30)
     killed = tmp_path / "killed.mcap"
-    recorder = spawn([sys.executable, "-m", "railderail_monitor.recording", str(killed), "--flush-period", "0.2"])
+    recorder = spawn([sys.executable, "-m", "railderail_monitor.recording.recorder", str(killed), "--flush-period", "0.2"])
     read_until(recorder, "recording", timeout=30)
     deadline = time.monotonic() + 60
     while flushed(killed) < 300:
@@ -125,7 +125,7 @@ def test_a_killed_recorder_s_file_recovers_and_is_not_overwritten(spawn, read_un
     readable = flushed(killed)                                 # what a streaming reader gets: the complete chunks
 
     # the recorder refuses to overwrite it and names the command
-    again = spawn([sys.executable, "-m", "railderail_monitor.recording", str(killed)])
+    again = spawn([sys.executable, "-m", "railderail_monitor.recording.recorder", str(killed)])
     assert again.wait(timeout=60) == 2
     err = again.stderr.read()
     assert "is a cut-off recording" in err

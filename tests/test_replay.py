@@ -4,9 +4,9 @@ from dataclasses import replace
 
 import pytest
 
-from railderail_monitor.criteria import default_limits
-from railderail_monitor.recording import McapRecording, record_run
-from railderail_monitor.replay import RecordingError, read_recording, review
+from railderail_monitor.warning.limits import default_limits
+from railderail_monitor.recording.recorder import McapRecording, record_run
+from railderail_monitor.recording.replay import RecordingError, read_recording, review
 from railderail_sim.cli import main
 
 

@@ -18,14 +18,16 @@ import rclpy
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.signals import SignalHandlerOptions
 
-from railderail_sim import ros_interface as m
-from railderail_monitor.criteria import CRITERIA, alerts_of_run, default_limits, nanoseconds
-from railderail_monitor.replay import read_recording, review
+from railderail_sim.ros import interface as m
+from railderail_monitor.warning.limits import CRITERIA, default_limits
+from railderail_monitor.warning.monitor import alerts_of_run
+from railderail_monitor.warning.alarms import nanoseconds
+from railderail_monitor.recording.replay import read_recording, review
 
 PY = sys.executable
 # a constant over-speed on R = 1000 m: the car derails about 5 s after the start (in the transition);
 # published as fast as possible (about 1000 samples)
-SIMULATOR = [PY, "-m", "railderail_sim.node", "--ros-args", "-p", "speed_mode:=constant", "-p", "speed_kmh:=310.0",
+SIMULATOR = [PY, "-m", "railderail_sim.ros.node", "--ros-args", "-p", "speed_mode:=constant", "-p", "speed_kmh:=310.0",
              "-p", "radius:=1000.0", "-p", "real_time_factor:=0.0", "-p", "wait_for_subscribers:=3"]
 
 
@@ -77,7 +79,7 @@ def test_nodes_warn_before_the_derailment_and_the_recording_replays_to_the_same_
     mcap = tmp_path / "e2e.mcap"
     listener = Listener()
     try:
-        recorder = spawn([PY, "-m", "railderail_monitor.recording", str(mcap)])
+        recorder = spawn([PY, "-m", "railderail_monitor.recording.recorder", str(mcap)])
         monitor = spawn([PY, "-m", "railderail_monitor.node"])
         read_until(recorder, "recording", timeout=60)
         read_until(monitor, "monitoring", timeout=60)
@@ -152,8 +154,8 @@ def alert_keys(alerts):
 def test_every_criterion_alerts_through_the_nodes_as_on_the_simulator_s_own_arrays(spawn, read_until, tmp_path):
     from dataclasses import replace
 
-    from railderail_monitor.monitor_params import limits_of_car, parameter_file
-    from railderail_sim import node
+    from railderail_monitor.warning.monitor_params import limits_of_car, parameter_file
+    from railderail_sim.ros import node
     from railderail_sim.vehicle.simulate import run_to_stop
 
     limits = replace(default_limits(), **LOWERED).validated()
@@ -171,7 +173,7 @@ def test_every_criterion_alerts_through_the_nodes_as_on_the_simulator_s_own_arra
         read_until(monitor, "monitoring", timeout=60)
         # paced at real time (the run takes 72 s): as fast as possible, a monitor on a busy machine falls
         # behind 14000 samples and its queue drops some, and then no comparison can hold
-        simulator = spawn([PY, "-m", "railderail_sim.node", "--ros-args", "-p", "real_time_factor:=1.0",
+        simulator = spawn([PY, "-m", "railderail_sim.ros.node", "--ros-args", "-p", "real_time_factor:=1.0",
                            "-p", "wait_for_subscribers:=2"]
                           + [arg for k, v in TWIST.items() for arg in ("-p", f"{k}:={v}")])
         assert listener.spin_until(lambda: listener.final is not None, timeout=420), simulator.stderr.read()
@@ -205,8 +207,8 @@ def test_demo_command(tmp_path):
     # the measured-mode monitor beside it: its alerts marked, recorded, and the same from the sensor topics alone
     assert all(a["signals"] == "measured" for a in summary["onboard_alerts"]) and "[measured]" in done.stdout
     assert all(a["signals"] == "ground_truth" for a in summary["alerts"])
-    from railderail_monitor.recover import recover, sensors_only
-    from railderail_monitor.replay import measured_key, review_measured
+    from railderail_monitor.recording.recover import recover, sensors_only
+    from railderail_monitor.recording.replay import measured_key, review_measured
     recover(out / "demo.mcap", out / "sensors.mcap", keep=sensors_only)
     found, recorded = review_measured(read_recording(out / "sensors.mcap"))
     assert recorded == [] and sorted(map(measured_key, found)) == sorted(map(measured_key, summary["onboard_alerts"]))
@@ -227,7 +229,7 @@ def failing_advance(self, duration):
     return advance(self, duration)
 
 simulate.Simulation.advance = failing_advance
-from railderail_sim.node import main
+from railderail_sim.ros.node import main
 sys.exit(main())
 """
 

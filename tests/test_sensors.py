@@ -10,9 +10,9 @@ import pytest
 
 from railderail_sim.parameters import GRAVITY as G, TrackParameters
 from railderail_sim.sensors import config
-from railderail_sim.sensors.config import Mount, Odometer, Sampling, SensorSet
 from railderail_sim.sensors.instruments import INSTRUMENTS, Instrument
 from railderail_sim.sensors.measure import SensorLog, SensorStream, noise_bandwidth, filter_sections
+from railderail_sim.sensors.sensor_set import AIR_SPRING_EFFECTIVE_AREA, MOUNTS, Mount, Odometer, Sampling, SensorSet
 from railderail_sim.vehicle.layout import N_BODY, Body, BodyMotion, Dof
 from railderail_sim.vehicle.simulate import Scenario, constant_speed, scenario, simulate
 
@@ -86,7 +86,7 @@ def test_steady_curving_reads_the_uncompensated_acceleration(steady_curving):
         np.mean(v / 1000.0 * np.cos(theta - roll[late])), rel=1e-3)
     # the air springs carry the car body's weight and its centripetal force along the track normal
     springs = _settled(s["sensor_air_springs_time"], 3.0)
-    load = np.sum(s["sensor_air_springs_pressure"][springs], axis=1) * config.AIR_SPRING_EFFECTIVE_AREA
+    load = np.sum(s["sensor_air_springs_pressure"][springs], axis=1) * AIR_SPRING_EFFECTIVE_AREA
     assert np.mean(load) == pytest.approx(sc.vehicle.car_body_mass * normal, rel=0.01)
     # the outer (right) springs are compressed more than the inner ones
     deflection = np.mean(s["sensor_air_springs_deflection"][springs], axis=0)
@@ -224,7 +224,7 @@ def test_the_frame_over_each_wheelset_reads_the_frame_s_yaw_acceleration_times_h
 def test_the_shipped_sensor_file_is_the_default_set_written_out():
     assert config.SHIPPED.read_text() == config.file_text(config.default_set())
     assert config.load() == config.default_set()
-    assert [m.name for m in config.default_set().mounts] == list(config.MOUNTS)
+    assert [m.name for m in config.default_set().mounts] == list(MOUNTS)
 
 
 @pytest.mark.parametrize("text, message", [

@@ -12,16 +12,17 @@ import pytest
 from rosbags.highlevel import AnyReader
 from rosbags.typesys import Stores, get_typestore
 
-from railderail_sim import ros_interface as m
-from railderail_sim import sensor_messages as sm
 from railderail_sim.cli import main
 from railderail_sim.parameters import GRAVITY
-from railderail_sim.sensors.config import AIR_SPRING_EFFECTIVE_AREA, AIR_SPRINGS, load
-from railderail_sim.sensors.measure import noise_variance
 from railderail_sim.parameters import vehicle_parameters
+from railderail_sim.ros import interface as m
+from railderail_sim.ros import sensor_messages as sm
+from railderail_sim.sensors.config import load
+from railderail_sim.sensors.measure import noise_variance
+from railderail_sim.sensors.sensor_set import AIR_SPRING_EFFECTIVE_AREA, AIR_SPRINGS
 
 PY = sys.executable
-SIMULATOR = [PY, "-m", "railderail_sim.node", "--ros-args", "-p", "speed_mode:=constant", "-p", "speed_kmh:=310.0",
+SIMULATOR = [PY, "-m", "railderail_sim.ros.node", "--ros-args", "-p", "speed_mode:=constant", "-p", "speed_kmh:=310.0",
              "-p", "radius:=1000.0", "-p", "real_time_factor:=0.0", "-p", "wait_for_subscribers:=1",
              "-p", "sensors:=shipped", "-p", "sensor_seed:=4"]
 
@@ -61,7 +62,7 @@ def assert_as_simulate(messages, sensors, npz):
 @pytest.mark.timeout(700)
 def test_the_simulator_publishes_the_sensors_on_standard_messages_that_rosbags_decodes(spawn, read_until, tmp_path):
     folder = tmp_path / "bag"
-    recorder = spawn([PY, "-m", "railderail_monitor.recording", "--bag-dir", str(folder)])
+    recorder = spawn([PY, "-m", "railderail_monitor.recording.recorder", "--bag-dir", str(folder)])
     read_until(recorder, "recording", timeout=60)
     simulator = spawn(SIMULATOR)
     assert simulator.wait(timeout=400) == 0, simulator.stderr.read()

@@ -138,4 +138,5 @@ def test_curve_row_takes_the_lowest_case_and_changes_against_the_reference():
     assert c["critical_derailment_speed_kmh"] == 284.0 and c["spread_kmh"] == 7.0
     assert c["lowest_case"] == dict(vehicle_set="zhai", friction=0.2) and len(c["cases"]) == 4
     assert c["safe_speed_kmh"] == pytest.approx(269.0)
+    assert c["safe_speed_by_friction_kmh"] == pytest.approx({"0.2": 269.0, "0.6": 271.0})
     assert c["crosswind"][0]["change_kmh"] == -20.0 and c["faults"][0]["change_kmh"] == 1.0

@@ -7,8 +7,8 @@ from pathlib import Path
 import pytest
 from rerun.chunk import RrdReader
 
-from railderail_monitor.recording import record_run
-from railderail_monitor.replay import read_recording, write_rrd
+from railderail_monitor.recording.recorder import record_run
+from railderail_monitor.recording.replay import read_recording, write_rrd
 from railderail_sim.cli import main
 
 
@@ -84,7 +84,7 @@ def test_live_viewer_node_writes_rrd(spawn, read_until, tmp_path):
     out = tmp_path / "live.rrd"
     viewer = spawn([sys.executable, "-m", "railderail_sim.cli", "view", "--rrd", str(out)])
     read_until(viewer, "showing /railderail in Rerun", timeout=60)
-    simulator = spawn([sys.executable, "-m", "railderail_sim.node", "--ros-args", "-p", "speed_mode:=constant",
+    simulator = spawn([sys.executable, "-m", "railderail_sim.ros.node", "--ros-args", "-p", "speed_mode:=constant",
                        "-p", "speed_kmh:=310.0", "-p", "real_time_factor:=0.0", "-p", "wait_for_subscribers:=1"])
     assert simulator.wait(timeout=300) == 0         # a cold numba compile included
     import signal
@@ -99,7 +99,7 @@ def synthetic(viewer, t, attack=0.0, lift=0.0, qp=0.2, load=56_000.0):
     """One sample of states and forces into a RunViewer (every wheel alike)."""
     import numpy as np
 
-    from railderail_sim import ros_interface as m
+    from railderail_sim.ros import interface as m
 
     states = m.WheelsetStates(sample=int(t * 200), track_position=80.0 * t, speed=80.0)
     m.stamp(states, t)
@@ -117,9 +117,9 @@ def synthetic(viewer, t, attack=0.0, lift=0.0, qp=0.2, load=56_000.0):
 
 
 def test_attack_angle_line_appears_at_half_its_level_and_patches_show_the_worst_level():
-    from railderail_monitor.criteria import default_limits
-    from railderail_monitor.viewer import GREEN, ORANGE, RED, RunViewer
-    from railderail_sim import ros_interface as m
+    from railderail_monitor.warning.limits import default_limits
+    from railderail_monitor.views.rerun_views import GREEN, ORANGE, RED, RunViewer
+    from railderail_sim.ros import interface as m
 
     limits = default_limits()
     viewer = RunViewer(scene_rate=1000.0, flush_every=10**6)
@@ -154,9 +154,9 @@ def test_the_sensors_tab_comes_with_the_first_sensor_message_and_not_without():
     import numpy as np
     import rerun.blueprint as rrb
 
-    from railderail_monitor.viewer import RunViewer
-    from railderail_sim import ros_interface as m
-    from railderail_sim import sensor_messages as sm
+    from railderail_monitor.views.rerun_views import RunViewer
+    from railderail_sim.ros import interface as m
+    from railderail_sim.ros import sensor_messages as sm
     from railderail_sim.sensors.config import default_set
 
     viewer = RunViewer(flush_every=10**6)
@@ -188,10 +188,10 @@ def test_rrd_has_the_sensors_views_and_the_estimate_beside_the_truth(run):
     import numpy as np
 
     from railderail_monitor.onboard import estimator
-    from railderail_monitor.replay import feed_viewer
-    from railderail_monitor.viewer import RunViewer
+    from railderail_monitor.recording.replay import feed_viewer
+    from railderail_monitor.views.rerun_views import RunViewer
     from railderail_sim.parameters import VehicleParameters
-    from railderail_sim.sensors.config import AIR_SPRING_EFFECTIVE_AREA, MOUNTS
+    from railderail_sim.sensors.sensor_set import AIR_SPRING_EFFECTIVE_AREA, MOUNTS
 
     path, samples, log, result = run
     measured = {mount: {"time": log.arrays()[f"sensor_{mount}_time"]} for mount in MOUNTS}
@@ -229,7 +229,7 @@ def test_rrd_has_the_sensors_views_and_the_estimate_beside_the_truth(run):
 def test_sensor_topics_decode_back_into_the_run_s_sensor_arrays(run):
     import numpy as np
 
-    from railderail_sim import sensor_messages as sm
+    from railderail_sim.ros import sensor_messages as sm
 
     path, _, log, _ = run
     record = sm.SensorRecord()

@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from railderail_monitor import catalogue, warning_catalogue as wc
-from railderail_monitor.hazards import HazardRules
+from railderail_monitor.evaluation import catalogue, over_catalogue as wc
+from railderail_monitor.evaluation.hazards import HazardRules
 from railderail_monitor.onboard import measured
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -295,8 +295,8 @@ def test_the_recommended_file_keeps_its_budgets_when_read_back_and_scored_again(
     """Each level of monitor-recommended.yaml, scored again on the test part, keeps its budget (the upper 95 %
     bound of its false alarms) and its share of derailments usefully warned; a level without a recommendation
     is disabled; a criterion's CRITICAL level lies above its WARNING level."""
-    from railderail_monitor.criteria import critical_name
-    from railderail_monitor.monitor_params import read_limits
+    from railderail_monitor.warning.limits import critical_name
+    from railderail_monitor.warning.limits import read_limits
     _, _, result = small
     wc.write(result, tmp_path)
     assert (tmp_path / "warnings-catalogue.png").stat().st_size > 10_000
@@ -355,7 +355,7 @@ def test_a_catalogue_scenario_becomes_the_simulator_node_s_parameters(name):
     checks and build the scenario the evaluation runs (its track, speeds, rails, wind and faults)."""
     import numpy as np
     from railderail_monitor.demo import catalogue_parameters
-    from railderail_sim.node import PARAMETERS, build_scenario
+    from railderail_sim.ros.node import PARAMETERS, build_scenario
     table = {spec.name: spec for spec in PARAMETERS}
     given = catalogue_parameters(None, name)
     p = {spec.name: spec.default for spec in PARAMETERS}
@@ -385,7 +385,7 @@ def test_the_demo_refuses_what_the_node_cannot_run():
 
 def test_a_catalogue_without_a_derailment_is_still_reported(small):
     """Ordinary running only (from the cache): the report says what there is."""
-    from railderail_monitor.warning_report import markdown
+    from railderail_monitor.evaluation.report import markdown
     folder, entries, _ = small
     result = wc.evaluate([e for e in entries if e.name == "ordinary"], cache=folder / "cache", workers=1,
                          progress=False)

@@ -3,7 +3,7 @@ bogie frames and the car body, the odometer), each from its source with the stan
 
 Every criterion is a plain function over arrays (time in s, signal in SI) returning a `Measured`: a value
 per sample and the level it is compared with, so that `Measured.alarm_mask` (through the monitor's
-`criteria.alarm_intervals`, as `scoring.in_alarm` uses it) gives the channel's alarm state sample by sample,
+`warning.alarms.alarm_intervals`, as `scoring.in_alarm` uses it) gives the channel's alarm state sample by sample,
 and the warning evaluation can score it beside the ground-truth criteria.
 
 The filters are EN 14363's (railderail_sim.assessment.filters), applied causally: the analog design is
@@ -35,7 +35,7 @@ from scipy import signal as sps
 from railderail_sim.assessment import en14363, filters
 from railderail_sim.ranges import check_range
 
-from ..criteria import alarm_intervals
+from ..warning.alarms import alarm_intervals
 
 # UIC 515-5 as stated in EP 2166333 A1 (Bombardier, 2010) [0004]: band about 4-8 Hz, "e.g." N = 6 peaks
 # over 8 m/s^2 (A for what the patent states; the UIC leaflet itself not read)
@@ -206,7 +206,7 @@ class Measured:
     places: tuple = ()
 
     def alarm_intervals(self, position, rearm_fraction=0.9, rearm_m=50.0):
-        """[(alert, rearm)] of the monitor's Detector fed this value (`criteria.alarm_intervals`)."""
+        """[(alert, rearm)] of the monitor's Detector fed this value (`warning.alarms.alarm_intervals`)."""
         return alarm_intervals(self.value, position, self.level, self.debounce, rearm_fraction, rearm_m)
 
     def channel_intervals(self, position=None, rearm_fraction=0.9, rearm_m=50.0):

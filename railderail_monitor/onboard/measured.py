@@ -46,10 +46,11 @@ import numpy as np
 from railderail_sim.assessment import en14363
 from railderail_sim.parameters import VehicleParameters
 from railderail_sim.ranges import check_range
-from railderail_sim.sensors.config import AIR_SPRING_EFFECTIVE_AREA, ODOMETER, default_set
+from railderail_sim.sensors.config import default_set
 from railderail_sim.sensors.instruments import INSTRUMENTS
+from railderail_sim.sensors.sensor_set import AIR_SPRING_EFFECTIVE_AREA, ODOMETER
 
-from .. import criteria as gt
+from ..warning.limits import Limits, SEVERITY_WARNING, SIDES, default_limits
 from . import criteria as oc
 from . import estimator as est
 
@@ -58,7 +59,7 @@ FRAMES = ("bogie_front_frame", "bogie_rear_frame")
 FLOORS = ("car_body_front", "car_body_rear")
 ROLL_GYRO = "car_body_centre"
 AIR_SPRINGS = "air_springs"
-GEAR_SIDES = tuple(f"bogie_{bogie}_{side}" for bogie in est.BOGIES for side in gt.SIDES)
+GEAR_SIDES = tuple(f"bogie_{bogie}_{side}" for bogie in est.BOGIES for side in SIDES)
 PLACES = {"bogie_rms": FRAMES, "bogie_peak": FRAMES, "bids_peak_count": FRAMES, "bids_peak_count_china": FRAMES,
           "car_body_lateral": FLOORS, "car_body_lateral_qst": FLOORS, "car_body_roll": (AIR_SPRINGS,),
           "car_body_roll_rate": (ROLL_GYRO,), "estimated_running_gear_unloading": GEAR_SIDES,
@@ -92,7 +93,7 @@ def bogie_mass(vehicle: VehicleParameters):
 
 
 def _value(unit, meaning, source, sure, default=MISSING, accepted=(0.0, math.inf), lo_open=True, nan_disables=False):
-    """A field of MeasuredLimits with what the node's parameters say about it (as criteria.Limits' fields)."""
+    """A field of MeasuredLimits with what the node's parameters say about it (as warning.limits.Limits' fields)."""
     return field(default=default, metadata=dict(unit=unit, meaning=meaning, source=source, sure=sure,
                                                 accepted=accepted, lo_open=lo_open, nan_disables=nan_disables))
 
@@ -101,7 +102,7 @@ def _level(unit, meaning, source, sure, default=MISSING, accepted=(0.0, math.inf
     return _value(unit, meaning, source, sure, default, accepted, nan_disables=True)
 
 
-_GROUND = {f.name: f for f in fields(gt.Limits)}
+_GROUND = {f.name: f for f in fields(Limits)}
 
 
 def _ground(name):
@@ -166,7 +167,7 @@ class MeasuredLimits:
     qst_window_m: float = _value("m", "window of the floor's quasi-static mean", "EN 14363: the shortest curve "
                                  "section, 100 m", "C", en14363.MIN_SECTION_M, (1.0, 10000.0), False)
     air_spring_effective_area: float = _value("m^2", "air spring's effective area: force over gauge pressure",
-                                              "a 0.46 m bellows (sensors.config.AIR_SPRING_EFFECTIVE_AREA)", "A",
+                                              "a 0.46 m bellows (sensors.sensor_set.AIR_SPRING_EFFECTIVE_AREA)", "A",
                                               AIR_SPRING_EFFECTIVE_AREA, (0.0, 10.0))
     axle_box_corner: float = _value("Hz", "corner of the axle-box accelerometers' AC coupling: the estimator's "
                                     "crossover from the frame's reading to theirs", "the IEPE sensor's lower -3 dB "
@@ -179,7 +180,7 @@ class MeasuredLimits:
     def levels(self, criterion):
         """[(severity, level)] of a criterion, enabled levels only (all WARNING)."""
         level = float(getattr(self, criterion))
-        return [(gt.SEVERITY_WARNING, level)] if math.isfinite(level) else []
+        return [(SEVERITY_WARNING, level)] if math.isfinite(level) else []
 
     def debounce(self, criterion):
         """m of track a criterion's value must stay at or above its level before the alert."""
@@ -202,11 +203,11 @@ class MeasuredLimits:
         return asdict(self)
 
 
-def measured_limits(vehicle: VehicleParameters, ground_truth: gt.Limits = None, **changes):
+def measured_limits(vehicle: VehicleParameters, ground_truth: Limits = None, **changes):
     """MeasuredLimits of a car: the frame limits from its bogie mass, the roll levels from its air springs,
     f0 from its bogie (`kinematic_bogie_frequency`), the estimator's levels from the ground-truth monitor's
-    (default: its shipped parameter file, criteria.default_limits); `changes` override any field."""
-    ground_truth = ground_truth or gt.default_limits()
+    (default: its shipped parameter file, warning.limits.default_limits); `changes` override any field."""
+    ground_truth = ground_truth or default_limits()
     peak, rms = oc.bogie_limits(bogie_mass(vehicle))
     roll = oc.roll_level(vehicle)
     values = dict(bogie_rms=rms, bogie_peak=peak, car_body_roll=roll,
@@ -219,7 +220,7 @@ def measured_limits(vehicle: VehicleParameters, ground_truth: gt.Limits = None, 
 
 
 def sample_rates(sensors=None):
-    """{sensor unit: sample rate (Hz)} of a sensor set (sensors.config.SensorSet; default the shipped one)."""
+    """{sensor unit: sample rate (Hz)} of a sensor set (sensors.sensor_set.SensorSet; default the shipped one)."""
     sensors = sensors or default_set()
     rates = {m.name: m.sampling.sample_rate_hz for m in sensors.mounts}
     if sensors.air_springs is not None:
@@ -350,7 +351,7 @@ class MeasuredAlert:
 
 
 def alerts(results, limits: MeasuredLimits):
-    """Every alert of `evaluate`'s results under the monitor's alarm logic (criteria.alarm_intervals, a
+    """Every alert of `evaluate`'s results under the monitor's alarm logic (warning.alarms.alarm_intervals, a
     Detector per channel), ordered by time, then criterion (CRITERIA's order), then place."""
     found = []
     for c in CRITERIA:
@@ -359,7 +360,7 @@ def alerts(results, limits: MeasuredLimits):
         m = results[c]
         for k, intervals in enumerate(m.channel_intervals(None, limits.rearm_fraction, limits.rearm_m)):
             for a, _ in intervals:
-                found.append(MeasuredAlert(float(m.time[a]), int(a), c, gt.SEVERITY_WARNING,
+                found.append(MeasuredAlert(float(m.time[a]), int(a), c, SEVERITY_WARNING,
                                            float(m.value[a, k]), m.level, m.places[k], float(m.position[a])))
     order = {c: i for i, c in enumerate(CRITERIA)}
     return sorted(found, key=lambda a: (a.time_s, order[a.criterion], PLACES[a.criterion].index(a.place)))

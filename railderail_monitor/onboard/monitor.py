@@ -15,8 +15,8 @@ every stream (the rest of the record is decided). A unit whose stamps jitter by 
 stamp decided before a sample at or before it arrives: then stream and batch differ (the simulator's and a
 logger's stamps on a fixed clock do not).
 
-Each channel has the monitor's Detector (criteria.Detector: debounce, re-arm), fed the criterion's value and
-the odometer's position at each stamp, as `measured.alerts` runs `criteria.alarm_intervals`.
+Each channel has the monitor's Detector (warning.alarms.Detector: debounce, re-arm), fed the criterion's value and
+the odometer's position at each stamp, as `measured.alerts` runs `warning.alarms.alarm_intervals`.
 """
 from __future__ import annotations
 
@@ -25,9 +25,10 @@ import math
 import numpy as np
 
 from railderail_sim.ranges import check_range
-from railderail_sim.sensors.config import ODOMETER
+from railderail_sim.sensors.sensor_set import ODOMETER
 
-from ..criteria import SEVERITY_WARNING, Detector
+from ..warning.limits import SEVERITY_WARNING
+from ..warning.alarms import Detector
 from . import criteria as oc
 from . import estimator as est
 from . import measured as me

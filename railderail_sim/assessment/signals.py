@@ -1,6 +1,6 @@
 """The signals an assessment reads, from a run's output arrays (`vehicle.simulate.output_arrays`, the
 `.npz` of `railderail simulate --out`, docs/output-format.md) or from any other source that fills them
-(a recording: railderail_monitor.assess).
+(a recording: railderail_monitor.recording.assess).
 
 Forces per wheel in track axes, as `contact-case` reports a wheel's force on its rail: Y lateral, + left
 (the left wheel's Q toward its rail's field side is + left, the right wheel's is - left), Q vertical, + down.

@@ -42,7 +42,7 @@ _COLD = "from railderail_sim.vehicle.simulate import scenario, Simulation; Simul
 
 
 def _rtf(sc, sensors=None):
-    """(simulated time / wall time, the Simulation); with `sensors` (a sensors.config.SensorSet) each second's
+    """(simulated time / wall time, the Simulation); with `sensors` (a sensors.sensor_set.SensorSet) each second's
     rows also go through the sensors' models (sensors.measure.SensorStream)."""
     sim = Simulation(sc)
     stream = None if sensors is None else SensorStream(sensors, sc, sim.model, sim.speed_table)

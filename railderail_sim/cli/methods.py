@@ -16,6 +16,7 @@ from ..atomic import atomic_write
 from ..parameters import (CANT_RANGE_MM, FRICTION_RANGE, TRACK_MODELS, VEHICLE_SETS, ContactParameters,
                           TrackParameters, vehicle_parameters)
 from ..track import irregularity as ir
+from ..track import spectra as sp
 from ..ranges import check_range
 from ..vehicle.assemble import CONTACT_GEOMETRIES, FAULTS
 from ..vehicle.simulate import Scenario, constant_speed
@@ -49,7 +50,7 @@ def _track_args(parser, line, cant=True):
                             help=f"cant height (mm, {CANT_RANGE_MM[0]:g}-{CANT_RANGE_MM[1]:g}; default: Table 2's "
                                  "175 mm)")
     parser.add_argument("--irregularity", default=ir.NONE, metavar="NAME|FILE.csv",
-                        help=f"track irregularity: none, a spectrum ({', '.join(ir.SPECTRA)}; a random sample {line}, "
+                        help=f"track irregularity: none, a spectrum ({', '.join(sp.SPECTRA)}; a random sample {line}, "
                              "from --irregularity-seed) or a CSV file (docs/track-irregularity.md)")
     parser.add_argument("--irregularity-seed", type=int, default=0,
                         help=f"seed of a generated irregularity (an integer in [{ir.SEEDS[0]}, {ir.SEEDS[1]}], "
@@ -125,14 +126,18 @@ def simulate_command(parser):
                         help="seed of the sensors' noise, biases and lost samples (default: the sensor file's)")
     _track_args(parser, "along the line")
     _wind_args(parser)
+    _supervision_args(parser)
 
     def run(args):
+        if args.supervision is None and (args.closed_loop or args.odometer or args.critical_speed_kmh is not None):
+            raise ValueError("--closed-loop, --odometer and --critical-speed-kmh need --supervision")
+        if args.supervision is not None:
+            return _supervised(args)
         from ..sensors import config as sensor_config
         from ..sensors.measure import SensorLog
         from ..vehicle.simulate import simulate
         plot = _plot_path(args)
-        sc = base_scenario(args, radius=args.radius, direction=-1 if args.right else 1)
-        sc = replace(sc, speed_table=constant_speed(args.speed_kmh), output_rate=args.rate).validated()
+        sc = _simulate_scenario(args)
         if args.out and not args.out.endswith(".npz"):
             raise ValueError(f"output file {args.out!r} must end in .npz")
         log = None
@@ -153,6 +158,56 @@ def simulate_command(parser):
         human = "\n".join(f"{k:28s} {v}" for k, v in s.items())
         _emit(args, s, human)
     return run
+
+
+def _supervision_args(parser):
+    """--supervision, --closed-loop, --critical-speed-kmh, --approach-m, --adhesion (docs/supervision.md)."""
+    from ..supervision.braking import ADHESIONS
+    parser.add_argument("--supervision", nargs="?", const="", metavar="SURVEY.json",
+                        help="supervise the speed against the targets of a survey's JSON, or without one the "
+                             "scenario's curve under --critical-speed-kmh (railderail_monitor's supervisor)")
+    parser.add_argument("--closed-loop", action="store_true",
+                        help="with --supervision: brake on the supervisor's emergency brake command")
+    parser.add_argument("--critical-speed-kmh", type=float, default=None,
+                        help="the critical derailment speed of the scenario's curve (km/h; `railderail trial` "
+                             "or the survey computes it)")
+    parser.add_argument("--approach-m", type=float, default=None,
+                        help="metres of straight before the curve's entry transition (default: Table 2's 200)")
+    parser.add_argument("--odometer", action="store_true",
+                        help="with --supervision: the measured mode, the shipped odometer's speed and the position "
+                             "integrated from it, supervised at the pessimistic end of its confidence interval")
+    parser.add_argument("--adhesion", default="dry", choices=ADHESIONS,
+                        help="the braking model's emergency decelerations: dry or wet rail; default %(default)s")
+
+
+SUPERVISION_HOOK = "SUPERVISION"    # the name, in a command table's module, of the supervised run's "module:function"
+
+
+def _supervised(args):
+    """`simulate --supervision`: the run through the supervisor a command table's module names (railderail_monitor
+    registers it), so that this package never imports the supervisor."""
+    import importlib
+    from importlib.metadata import entry_points
+    from . import ENTRY_POINTS, _load
+    targets = [getattr(importlib.import_module(p.module), SUPERVISION_HOOK, None)
+               for p in sorted(entry_points(group=ENTRY_POINTS), key=lambda p: p.name)]
+    targets = [t for t in targets if t]
+    if not targets:
+        raise ValueError("--supervision needs railderail_monitor's supervisor, which is not installed")
+    if args.out or args.plot or args.sensors is not None:
+        raise ValueError("--out, --plot and --sensors do not go with --supervision")
+    if args.critical_speed_kmh is not None:
+        check_range("critical derailment speed", args.critical_speed_kmh, 50.0, 800.0, "km/h")
+    sc = _simulate_scenario(args)
+    out, human = _load(targets[0])(args, sc)
+    _emit(args, out, human)
+
+
+def _simulate_scenario(args):
+    """The Scenario of `simulate`'s options."""
+    track = {} if args.approach_m is None else dict(straight_in=check_range("approach", args.approach_m, 0.0, 1e5, "m"))
+    sc = base_scenario(args, radius=args.radius, direction=-1 if args.right else 1, **track)
+    return replace(sc, speed_table=constant_speed(args.speed_kmh), output_rate=args.rate).validated()
 
 
 def root_locus_command(parser):
@@ -182,31 +237,55 @@ def root_locus_command(parser):
 def limit_cycle_command(parser):
     from ..methods import limit_cycle as lc
     _common(parser)
+    parser.add_argument("--method", default="bisection", choices=lc.METHODS,
+                        help="bisection: the lowest speed at which the car keeps hunting after the kick; ramp-down: "
+                             "a kick at the top speed, then the speed lowered in steps until the limit cycle dies "
+                             "(the lowest speed holding one); default %(default)s")
     parser.add_argument("--from-kmh", type=float, default=200.0)
     parser.add_argument("--to-kmh", type=float, default=600.0)
-    parser.add_argument("--step-kmh", type=float, default=50.0, help="scan step before the bisection")
-    parser.add_argument("--tolerance-kmh", type=float, default=1.0, help="bisection tolerance")
+    parser.add_argument("--step-kmh", type=float, default=50.0, help="scan step before the bisection or refinement")
+    parser.add_argument("--tolerance-kmh", type=float, default=1.0, help="bisection tolerance, or the descent's "
+                                                                          "finer step")
     parser.add_argument("--kink-mm", type=float, default=10.0,
-                        help="lateral kink's amplitude (mm), the excitation unless --irregularity gives one")
+                        help="the kick's amplitude (mm), the excitation unless --irregularity gives one")
+    parser.add_argument("--kick-length-m", type=float, default=20.0, help="the kick's period length (m)")
+    parser.add_argument("--kick-shape", default="kink", choices=tuple(lc.KICK_SHAPES),
+                        help="kink: one cosine period to the left; s-kink: left then right; default %(default)s")
     _track_args(parser, f"over the first {lc.EXCITATION_M:g} m, smooth track after it", cant=False)
-    parser.add_argument("--plot", metavar="FILE.png", help="amplitude-speed diagram (.png, .pdf or .svg)")
+    parser.add_argument("--plot", metavar="FILE.png",
+                        help="bifurcation diagram, both branches (.png, .pdf or .svg)")
+    parser.add_argument("--sensitivity", action="store_true",
+                        help="the stability study instead (docs/report/stability.md): what sets the hunting speed, "
+                             "one sourced input at a time; needs --out")
+    parser.add_argument("--out", help="with --sensitivity: the report folder (its cache/ keeps each run)")
 
     def run(args):
         import numpy as np
+        if args.sensitivity:
+            from ..methods import stability
+            if not args.out:
+                raise ValueError("--sensitivity needs --out DIR")
+            res = stability.study(args.out, progress=None if args.json else lambda m: print(m, file=sys.stderr))
+            _emit(args, res, f"stability study written to {args.out}")
+            return
+        if args.out:
+            raise ValueError("--out is the --sensitivity study's folder; give --sensitivity too, or --plot")
         check_range("excitation amplitude", args.kink_mm, 0.1, 30.0, "mm")
         if args.step_kmh <= 0 or args.from_kmh >= args.to_kmh:
             raise ValueError(f"scan {args.from_kmh:g}-{args.to_kmh:g} km/h by {args.step_kmh:g} is empty")
         plot = _plot_path(args)
         res = lc.limit_cycle(base_scenario(args, line_length_m=lc.EXCITATION_M),
                              np.arange(args.from_kmh, args.to_kmh + 1e-9, args.step_kmh),
-                             args.tolerance_kmh, amplitude=args.kink_mm / 1000.0,
+                             args.tolerance_kmh, amplitude=args.kink_mm / 1000.0, length=args.kick_length_m,
+                             method=args.method, shape=args.kick_shape, branches=True,
                              progress=None if args.json else
-                             lambda v, a: print(f"  {v:7.2f} km/h: final amplitude {a * 1e3:.4f} mm", file=sys.stderr))
+                             lambda v, a, u: print(f"  {v:7.2f} km/h: amplitude {a * 1e3:.4f} mm"
+                                                   f"{' (hunting)' if u else ''}", file=sys.stderr))
         if plot:
             plotting.limit_cycle_figure(res, plot, lc.THRESHOLD_M)
         v = res.nonlinear_critical_speed_kmh
-        human = (f"nonlinear critical speed: {v:.1f} km/h (+/- {args.tolerance_kmh:g})" if math.isfinite(v)
-                 else f"stable up to {args.to_kmh:g} km/h")
+        human = (f"nonlinear critical speed ({args.method}): {v:.1f} km/h (+/- {args.tolerance_kmh:g})"
+                 if math.isfinite(v) else f"no limit cycle from {args.from_kmh:g} to {args.to_kmh:g} km/h")
         _emit(args, res.as_json(), human)
     return run
 
@@ -366,7 +445,7 @@ def real_track_command(parser):
     parser.add_argument("--out", default="report", help="output directory (default %(default)s)")
     parser.add_argument("--tracks", default="rigid,elastic", help="track models, comma-separated")
     parser.add_argument("--spectra", default="erri-low,erri-high",
-                        help=f"irregularity spectra, comma-separated ({', '.join(ir.SPECTRA)})")
+                        help=f"irregularity spectra, comma-separated ({', '.join(sp.SPECTRA)})")
     parser.add_argument("--seeds", default="1,2,3", help="irregularity seeds, comma-separated")
     parser.add_argument("--radii", default="800,1000,1200,1400,1600,1800", help="curve radii (m), comma-separated")
     parser.add_argument("--no-sharp", action="store_true", help="leave out the sharp-curve case")
@@ -383,8 +462,8 @@ def real_track_command(parser):
                 raise ValueError(f"--tracks: {m!r} is not one of {', '.join(TRACK_MODELS)}")
         spectra = [s for s in args.spectra.split(",") if s]
         for s in spectra:
-            if s not in ir.SPECTRA:
-                raise ValueError(f"--spectra: {s!r} is not one of {', '.join(ir.SPECTRA)}")
+            if s not in sp.SPECTRA:
+                raise ValueError(f"--spectra: {s!r} is not one of {', '.join(sp.SPECTRA)}")
         try:
             seeds = [ir.check_seed(int(v)) for v in args.seeds.split(",") if v.strip()]
         except ValueError as e:

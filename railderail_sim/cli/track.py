@@ -34,9 +34,10 @@ def _csv_path(text):
 
 def irregularity_command(parser: argparse.ArgumentParser):
     from ..track import irregularity as ir
+    from ..track import spectra as sp
 
-    parser.add_argument("--spectrum", required=True, choices=tuple(ir.SPECTRA), metavar="NAME",
-                        help=f"one of {', '.join(ir.SPECTRA)}")
+    parser.add_argument("--spectrum", required=True, choices=tuple(sp.SPECTRA), metavar="NAME",
+                        help=f"one of {', '.join(sp.SPECTRA)}")
     parser.add_argument("--seed", type=int, required=True,
                         help=f"seed of the random phases (an integer in [{ir.SEEDS[0]}, {ir.SEEDS[1]}])")
     parser.add_argument("--length-m", type=float, required=True,
@@ -78,10 +79,11 @@ def _paragraph(summary):
 
 def _draw(ir, sample, path):
     """Each component's Welch estimate (segments of four longest wavelengths) beside the formula."""
-    spectrum = ir.SPECTRA[sample.spectrum]
+    from ..track import spectra as sp
+    spectrum = sp.SPECTRA[sample.spectrum]
     segment_m = 4.0 * sample.band_m[1]
     psds = []
-    for component in ir.COMPONENTS:
+    for component in sp.COMPONENTS:
         omega, estimate = ir.welch_psd(sample, component, segment_m)
         lo, hi = 2.0 * math.pi / sample.band_m[1], 2.0 * math.pi / sample.band_m[0]
         held = (omega >= lo) & (omega <= hi)

@@ -355,11 +355,14 @@ def _curve_row(line: Line, i, rows, settings: Settings):
     faults = [dict(fault=r["fault"], critical_derailment_speed_kmh=r["critical_derailment_speed_kmh"],
                    derailed=r["derailed"], change_kmh=change(r)) for r in rows if r["fault"]]
     sensitivity = margin_sensitivity(critical)
+    by_friction = {f"{f:g}": MARGIN.safe_speed(min(r["critical_derailment_speed_kmh"] for r in base
+                                                   if r["friction"] == f) * KMH) / KMH for f in settings.frictions}
     return dict(index=i, start_m=curve.start_m, end_m=curve.end_m, radius_m=curve.radius_m, cant_mm=curve.cant_m * 1e3,
                 direction=curve.direction, permitted_speed_kmh=line.permitted_speed_kmh(curve),
                 critical_derailment_speed_kmh=critical, derailed=low["derailed"], spread_kmh=spread,
                 lowest_case=dict(vehicle_set=low["vehicle_set"], friction=low["friction"]),
-                safe_speed_kmh=sensitivity["etcs_dv_ebi"], safe_speed_sensitivity_kmh=sensitivity,
+                safe_speed_kmh=sensitivity["etcs_dv_ebi"], safe_speed_by_friction_kmh=by_friction,
+                safe_speed_sensitivity_kmh=sensitivity,
                 mechanism=low["mechanism"], side=low["side"], section=low["section"], cases=base,
                 reference_case=dict(vehicle_set=settings.reference_set, friction=settings.reference_friction),
                 crosswind=wind, faults=faults)

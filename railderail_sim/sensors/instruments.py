@@ -10,7 +10,7 @@ the constant bias (drawn once per axis from the seed, 1-sigma `bias`) and its ra
 coupling (first-order high-pass at `high_pass_hz`, IEPE sensors) and the anti-alias low-pass (Butterworth
 of `anti_alias_order` at `anti_alias_ratio` times the mount's sample rate) filter it; it is sampled at the
 mount's rate, clipped to [range_low, range_high] and quantised to `bits` over that range. The mount adds
-its latency and drops samples (config.Mount).
+its latency and drops samples (sensor_set.Mount).
 """
 from dataclasses import dataclass, fields, replace
 import math

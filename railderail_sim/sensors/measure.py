@@ -23,7 +23,7 @@ from ..vehicle.dynamics import K_COLS
 from ..vehicle.layout import CAR_BODY, N_BODY, N_STATE
 from ..vehicle.motion import points_motion
 from ..vehicle.simulate import output_arrays
-from .config import ODOMETER, SensorSet, mount_point
+from .sensor_set import ODOMETER, SensorSet, mount_point
 from .springs import spring_rise
 
 AXES = 3

@@ -11,26 +11,6 @@ lateral yL, left vertical zL, right lateral yR, right vertical zR. The spectra d
 so that zL = v + c/2, zR = v - c/2, yL = a + g/2, yR = a - g/2. (The spectra are those of zero-mean Gaussian
 processes and carry no sign; the signs matter for files and for the core's geometry.)
 
-Spectra: one-sided power spectral densities S(Omega) of the spatial angular frequency Omega (rad/m), the
-variance being the integral of S over 0 < Omega < infinity; `Spectrum.psd` gives every component in
-m^2/(rad/m), the cross-level as the height difference c.
-  erri-low, erri-high  ERRI B176 (ORE), the levels of low and high disturbance (`erri_psd`). Its cross-level
-                       is an angle (rad^2/(rad/m)); c = 2b times the angle, b = 0.75 m the half distance of
-                       the rails, so 2b is the 1.500 m rail spacing of TrackParameters (EN 13803).
-  fra-1 .. fra-6       FRA track classes (Hamid et al. 1983, `fra_psd`), A in cm^2 rad/m; cross-level and
-                       gauge as height and width differences.
-  china-hsr            TB/T 3352-2014, ballastless high-speed track (`tbt3352_psd_f` in the standard's own
-                       units: f in 1/m, S in mm^2/(1/m); its cross-level is a height difference in mm, not an
-                       angle). S_Omega(Omega) = S_f(Omega / 2 pi) / (2 pi) with mm^2 -> m^2 (`tbt3352_psd`).
-Every constant is in ERRI, FRA or TBT3352 below with its unit, source and how sure it is (V verified in a
-primary source, S documented in secondary sources, A assumed), as in parameters.py. No primary table was
-reachable for this work (docs/track-irregularity.md says what was checked where). Where public
-implementations disagree we follow the values the ones citing the primary sources agree on: ERRI low A_v
-4.032e-7, high 10.80e-7 m rad, every high-level amplitude above the low one (some scripts swap the levels or
-write 1.08e-7 for 10.80e-7); FRA Hamid's profile table with k = 0.25 and Omega_c = 0.8245 (some scripts
-invent class values or give the FRA classes ERRI's formula); China the piecewise power law of TB/T 3352
-(some scripts give it ERRI's form with an invented A).
-
 Samples (`generate`): each component an independent sum of cosines, sum_k a_k cos(Omega_k s + phi_k), on
 the lines Omega_k = k dOmega of a period P = N step, N the first fast FFT length (2^a 3^b 5^c) not below
 the n points of the sample, so that dOmega = 2 pi / P < 2 pi / length (no repetition within the sample);
@@ -45,19 +25,17 @@ from __future__ import annotations
 
 from array import array
 from dataclasses import dataclass
-from functools import partial
 import math
 import warnings
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 
 from ..atomic import atomic_write
 from ..ranges import check_range
 from .rails import HERMITE, RailDeviation, pack_rails, rail_deviation, rail_deviations
+from .spectra import COMPONENTS, SPECTRA, checked_component, spectrum_named
 
-COMPONENTS = ("vertical", "cross_level", "alignment", "gauge")
 COMPONENT_TITLES = {"vertical": "vertical profile", "cross_level": "cross-level (rails' height difference)",
                     "alignment": "alignment", "gauge": "gauge"}
 CHANNELS = tuple(RailDeviation.names())
@@ -70,191 +48,8 @@ STEP_WARNING_MM = 1.0            # a record that starts or ends further off zero
 SEEDS = (0, 999_999)             # accepted seeds
 TAPER_M = 50.0                   # a generated sample's fade-in and fade-out (`taper`)
 NONE = "none"                    # no irregularity: the ideal rails
-MPH_KMH = 1.609344               # km/h per mph (exact)
 LINE_MARGIN_M = 25.0             # a run's sample reaches this far beyond the end of its line
 UNIFORM_TOLERANCE_M = 1e-9       # steps equal to this are one uniform step (Welch needs one)
-
-SOURCES = {
-    "ERRI": "ERRI B176/DT 290, Bogies with steered or steering wheelsets, Report 1, Utrecht 1993 (the ORE B176 "
-            "spectra, after Frederich, Rail International 1985), as tabulated by Claus H., Schiehlen W., "
-            "Modeling and simulation of railway bogie structural vibrations, Vehicle System Dynamics "
-            "(IAVSD 1997 supplement), 1998; the same values in public implementations that agree",
-    "FRA": "Hamid A., Rasmussen K., Baluja M., Yang T-L., Analytical descriptions of track geometry "
-           "variations, US Federal Railroad Administration report (1983), as reproduced in Garg V.K., "
-           "Dukkipati R.V., Dynamics of Railway Vehicle Systems (1984) and in public implementations",
-    "TBT3352": "TB/T 3352-2014, PSD of ballastless track irregularities of high-speed railway (China), "
-               "the average spectrum, as quoted by three public implementations that agree",
-    "CFR": "49 CFR 213.9(a) (classes 1-5) and 213.307(a) (class 6 and higher), Track Safety Standards, "
-           "the maximum allowable operating speed for passenger trains of each class (the regulation's text, "
-           "public mirrors)",
-    "model": "modelling choice of this project (docs/track-irregularity.md)",
-}
-
-
-@dataclass(frozen=True)
-class Constant:
-    """A constant of a spectrum: value (a number, or a tuple such as one value per level or class), unit,
-    source (a key of SOURCES), sure (V, S or A) and a note."""
-    value: object
-    unit: str
-    source: str
-    sure: str
-    note: str = ""
-
-
-ERRI_LEVELS = ("low", "high")
-ERRI = {
-    "omega_c": Constant(0.8246, "rad/m", "ERRI", "S", "break frequency of every component"),
-    "omega_r": Constant(0.0206, "rad/m", "ERRI", "S", "low-frequency roll-off"),
-    "omega_s": Constant(0.4380, "rad/m", "ERRI", "S", "break of the cross-level and gauge spectra"),
-    "b": Constant(0.75, "m", "ERRI", "S", "half the distance of the rails; 2b = 1.500 m, the rail spacing"),
-    "A_v": Constant((4.032e-7, 10.80e-7), "m rad", "ERRI", "S", "vertical profile (and cross-level), low, high"),
-    "A_a": Constant((2.119e-7, 6.125e-7), "m rad", "ERRI", "S", "alignment, low, high"),
-    "A_g": Constant((0.532e-7, 1.032e-7), "m rad", "ERRI", "S", "gauge, low, high"),
-    "band": Constant((1.0, 150.0), "m", "model", "A", "no band found in the sources reached"),
-}
-FRA_CLASSES = (1, 2, 3, 4, 5, 6)
-FRA = {
-    "k": Constant(0.25, "-", "FRA", "S", "the report's factor of every formula"),
-    "omega_c": Constant(0.8245, "rad/m", "FRA", "S", "break frequency of every class"),
-    "A_v": Constant((1.2107, 1.0181, 0.6816, 0.5376, 0.2095, 0.0339), "cm^2 rad/m", "FRA", "S",
-                    "vertical profile (and cross-level), classes 1..6"),
-    "A_a": Constant((3.3634, 1.2107, 0.4128, 0.3027, 0.0762, 0.0339), "cm^2 rad/m", "FRA", "A",
-                    "alignment, classes 1..6; unconfirmed: found in no source reached"),
-    "omega_s": Constant((0.6046, 0.9308, 0.8520, 1.1312, 0.8209, 0.4380), "rad/m", "FRA", "A",
-                        "break of cross-level and gauge, classes 1..6; unconfirmed: found in no source "
-                        "reached"),
-    "band": Constant((1.524, 304.8), "m", "FRA", "S", "5 ft .. 1000 ft, the wavelengths of the report's fits"),
-    "passenger_speed": Constant((15.0, 30.0, 60.0, 80.0, 90.0, 110.0), "mph", "CFR", "V",
-                                "the highest speed a passenger train may run on track of each class 1..6: the "
-                                "line speed of a class's geometry"),
-}
-FRA_CROSS_LEVEL_FACTOR = Constant(4.0, "-", "FRA", "A", "cross-level and gauge S = 4 k A_v Omega_c^2 / "
-                                  "((Omega^2 + Omega_c^2)(Omega^2 + Omega_s^2)), the gauge with A_v too; "
-                                  "unconfirmed: found in no source reached")
-TBT3352 = {  # S_f = A_i / f^n_i between the breaks, f in 1/m, S_f in mm^2/(1/m)
-    "vertical": Constant(((0.0187, 0.0474, 0.1533), (1.0544e-5, 3.5588e-3, 1.9784e-2, 3.9488e-4),
-                          (3.3891, 1.9271, 1.3643, 3.4516)), "1/m; mm^2 (1/m)^(n-1); -", "TBT3352", "S",
-                         "breaks, A, n; adjacent pieces meet at the breaks within 0.4 %"),
-    "alignment": Constant(((0.0450, 0.1234), (3.9513e-3, 1.1047e-2, 7.5633e-4), (1.8670, 1.5354, 2.8171)),
-                          "1/m; mm^2 (1/m)^(n-1); -", "TBT3352", "S", "breaks, A, n; pieces meet within 0.03 %"),
-    "cross_level": Constant(((0.0258, 0.1163), (3.6148e-3, 4.3685e-2, 4.5867e-3), (1.7278, 1.0461, 2.0939)),
-                            "1/m; mm^2 (1/m)^(n-1); -", "TBT3352", "S",
-                            "breaks, A, n of the rails' height difference in mm; pieces meet within 0.13 %"),
-    "gauge": Constant(((0.1090, 0.2938), (5.4978e-2, 5.0701e-3, 1.8778e-4), (0.8282, 1.9037, 4.5948)),
-                      "1/m; mm^2 (1/m)^(n-1); -", "TBT3352", "S", "breaks, A, n; pieces meet within 0.04 %"),
-    "frequencies": Constant((0.005, 0.5), "1/m", "TBT3352", "S",
-                            "where the fit holds: wavelengths 2 .. 200 m; the standard's text (as reproduced "
-                            "publicly) excludes wavelengths below 2 m and extrapolates beyond 120 m"),
-}
-
-
-def constants_table():
-    """Rows (name, value, unit, source, sure, note) of every constant, for documentation."""
-    groups = {"erri": ERRI, "fra": FRA, "tbt3352": TBT3352}
-    rows = [(f"{group}.{key}", c.value, c.unit, c.source, c.sure, c.note)
-            for group, table in groups.items() for key, c in table.items()]
-    c = FRA_CROSS_LEVEL_FACTOR
-    return rows + [("fra.cross_level_factor", c.value, c.unit, c.source, c.sure, c.note)]
-
-
-def _component(component):
-    if component not in COMPONENTS:
-        raise ValueError(f"component {component!r} is not one of {', '.join(COMPONENTS)}")
-    return component
-
-
-def erri_psd(component, omega, level):
-    """ERRI B176 PSD of a component at omega (rad/m) for level 'low' or 'high': m^2/(rad/m), the cross-level
-    as an angle in rad^2/(rad/m)."""
-    i = ERRI_LEVELS.index(level)
-    w2 = np.square(np.asarray(omega, dtype=float))
-    wc2, wr2, ws2 = ERRI["omega_c"].value ** 2, ERRI["omega_r"].value ** 2, ERRI["omega_s"].value ** 2
-    shape = wc2 / ((w2 + wr2) * (w2 + wc2))
-    if _component(component) == "vertical":
-        return ERRI["A_v"].value[i] * shape
-    if component == "alignment":
-        return ERRI["A_a"].value[i] * shape
-    amplitude = ERRI["A_v"].value[i] / ERRI["b"].value ** 2 if component == "cross_level" else ERRI["A_g"].value[i]
-    return amplitude * shape * w2 / (w2 + ws2)
-
-
-def permitted_speed_kmh(spectrum):
-    """The highest speed (km/h) a passenger train may run on the track a spectrum (a name of SPECTRA, or
-    any other source: inf) describes (`Spectrum.permitted_speed_kmh`)."""
-    return SPECTRA[spectrum].permitted_speed_kmh if spectrum in SPECTRA else math.inf
-
-
-def fra_psd(component, omega, track_class):
-    """FRA PSD of a component at omega (rad/m) for track class 1..6: m^2/(rad/m), the cross-level and the
-    gauge as height and width differences."""
-    i = FRA_CLASSES.index(track_class)
-    w2 = np.square(np.asarray(omega, dtype=float))
-    k, wc2, cm2 = FRA["k"].value, FRA["omega_c"].value ** 2, 1e-4
-    if _component(component) in ("vertical", "alignment"):
-        amplitude = FRA["A_v" if component == "vertical" else "A_a"].value[i] * cm2
-        return k * amplitude * wc2 / (w2 * (w2 + wc2))
-    amplitude = FRA_CROSS_LEVEL_FACTOR.value * k * FRA["A_v"].value[i] * cm2
-    return amplitude * wc2 / ((w2 + wc2) * (w2 + FRA["omega_s"].value[i] ** 2))
-
-
-def tbt3352_psd_f(component, f):
-    """TB/T 3352 PSD in the standard's units: f in 1/m, S in mm^2/(1/m) (cross-level: the rails' height
-    difference in mm); NaN outside the frequencies where the fit holds."""
-    breaks, amplitudes, exponents = TBT3352[_component(component)].value
-    f = np.asarray(f, dtype=float)
-    piece = np.searchsorted(breaks, f, side="right")
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s = np.asarray(amplitudes)[piece] / f ** np.asarray(exponents)[piece]
-    lo, hi = TBT3352["frequencies"].value
-    return np.where((f >= lo) & (f <= hi), s, np.nan)
-
-
-def tbt3352_psd(component, omega):
-    """TB/T 3352 PSD at omega (rad/m) in m^2/(rad/m): S_f(omega / 2 pi) / (2 pi), mm^2 -> m^2."""
-    return tbt3352_psd_f(component, np.asarray(omega, dtype=float) / (2.0 * math.pi)) * 1e-6 / (2.0 * math.pi)
-
-
-@dataclass(frozen=True)
-class Spectrum:
-    """A named spectrum: `psd(component, omega)` in m^2/(rad/m) with the cross-level as the height
-    difference c; `band_m` its default band (shortest, longest wavelength in m); `validity_m` the
-    wavelengths outside which it is undefined (None: the formula holds for every wavelength);
-    `permitted_speed_kmh` the highest passenger speed on the track it describes, where its source gives one
-    (the FRA classes: FRA["passenger_speed"]), else inf."""
-    name: str
-    title: str
-    band_m: tuple
-    validity_m: tuple | None
-    psd: Callable
-    permitted_speed_kmh: float = math.inf
-
-
-def _erri_rail_psd(component, omega, level):
-    scale = (2.0 * ERRI["b"].value) ** 2 if component == "cross_level" else 1.0
-    return scale * erri_psd(component, omega, level)
-
-
-def _spectra():
-    table = {f"erri-{level}": Spectrum(f"erri-{level}", f"ERRI B176, {level} level", ERRI["band"].value, None,
-                                       partial(_erri_rail_psd, level=level)) for level in ERRI_LEVELS}
-    table.update({f"fra-{c}": Spectrum(f"fra-{c}", f"FRA track class {c}", FRA["band"].value, None,
-                                       partial(fra_psd, track_class=c), mph * MPH_KMH)
-                  for c, mph in zip(FRA_CLASSES, FRA["passenger_speed"].value)})
-    lo, hi = TBT3352["frequencies"].value
-    table["china-hsr"] = Spectrum("china-hsr", "TB/T 3352-2014, ballastless high-speed track", (1 / hi, 1 / lo),
-                                  (1 / hi, 1 / lo), tbt3352_psd)
-    return table
-
-
-SPECTRA = _spectra()
-
-
-def spectrum_named(name):
-    if name not in SPECTRA:
-        raise ValueError(f"spectrum {name!r} is not one of {', '.join(SPECTRA)}")
-    return SPECTRA[name]
-
 
 def checked_band(spectrum, band_m, step_m):
     """The band (shortest, longest wavelength, m) checked: inside BAND_LIMITS_M and the spectrum's validity,
@@ -363,22 +158,28 @@ def taper(s, values, slopes, taper_m):
     return w[:, None] * values, w[:, None] * slopes + dw[:, None] * values
 
 
-def lateral_kink(start, length, amplitude, step=0.25):
+def lateral_kink(start, length, amplitude, step=0.25, periods=1):
     """Both rails moved sideways by one period of a cosine, A/2 (1 - cos(2 pi (s - start) / L)) over
     start <= s <= start + L (m): a smooth (C1) alignment defect of peak A to the left in the middle, the
-    limit-cycle method's excitation. Cubic Hermite on a `step` grid with the exact slopes (the largest
-    error of the shape, A (2 pi step / L)^4 / 384, is 2e-9 m for 10 mm over 20 m)."""
-    if not (length > 0.0 and step > 0.0):
-        raise ValueError(f"lateral kink: length {length:g} m and step {step:g} m must be positive")
-    n = max(int(round(length / step)), 2) + 1
-    s = np.linspace(start, start + length, n)
+    limit-cycle method's excitation. With `periods` > 1 that many such periods follow each other with
+    alternating sign (2: an S, left then right, which leaves the car no net lateral offset to follow). Cubic
+    Hermite on a `step` grid with the exact slopes (the largest error of the shape, A (2 pi step / L)^4 / 384,
+    is 2e-9 m for 10 mm over 20 m)."""
+    if not (length > 0.0 and step > 0.0) or periods not in (1, 2):
+        raise ValueError(f"lateral kink: length {length:g} m and step {step:g} m must be positive and periods "
+                         f"{periods!r} 1 or 2")
+    n = periods * max(int(round(length / step)), 2) + 1
+    s = np.linspace(start, start + periods * length, n)
     w = 2.0 * np.pi / length
-    lateral = 0.5 * amplitude * (1.0 - np.cos(w * (s - start)))
-    slope = 0.5 * amplitude * w * np.sin(w * (s - start))
+    sign = np.where(s - start < length, 1.0, -1.0)
+    lateral = 0.5 * amplitude * sign * (1.0 - np.cos(w * (s - start)))
+    slope = 0.5 * amplitude * sign * w * np.sin(w * (s - start))
     zero = np.zeros(n)
+    shape = "" if periods == 1 else "S-"
     return Irregularity(s, np.column_stack((lateral, zero, lateral, zero)),
-                        np.column_stack((slope, zero, slope, zero)), name=f"kink {amplitude * 1e3:g} mm",
-                        description=f"lateral kink of {amplitude * 1e3:g} mm over {length:g} m from s = {start:g} m")
+                        np.column_stack((slope, zero, slope, zero)), name=f"{shape}kink {amplitude * 1e3:g} mm",
+                        description=f"lateral {shape}kink of {amplitude * 1e3:g} mm over {periods * length:g} m "
+                                    f"from s = {start:g} m")
 
 
 def twist(start, length, amplitude, hold, side, step=0.25):
@@ -525,7 +326,7 @@ def welch_psd(irregularity, component, segment_m):
     step = irregularity.uniform_step()
     if step == 0.0:
         raise ValueError(f"irregularity {irregularity.name!r}: a Welch estimate needs uniformly spaced points")
-    x = irregularity.components()[_component(component)]
+    x = irregularity.components()[checked_component(component)]
     f, p = welch(x, fs=1.0 / step, nperseg=min(len(x), int(round(segment_m / step))))
     return 2.0 * math.pi * f[1:], p[1:] / (2.0 * math.pi)
 

@@ -1,0 +1,169 @@
+"""`railderail simulate --supervision`: the supervisor beside a batch run, and with --closed-loop braking it
+(railderail_sim.supervision.closed_loop). The simulate command finds `simulate_supervised` through the
+command table's SUPERVISION (railderail_monitor/commands.py), so railderail_sim never imports this package.
+
+Targets: a survey's JSON (`railderail survey LINE.yaml --json`: `curves`, each with `start_m`, `end_m`,
+`safe_speed_kmh` and, where it gives them, `safe_speed_by_friction_kmh` {friction: km/h}), or the scenario's
+own curve from its entry transition to the end of its exit transition under a given critical derailment
+speed (`--critical-speed-kmh`; the survey computes it by the paper's method, `railderail trial` for one
+curve), its target speed from `curves.target_limit`.
+"""
+import json
+import math
+import time
+
+import numpy as np
+
+from railderail_sim.sensors import config as sensor_config
+from railderail_sim.sensors.measure import SensorStream
+from railderail_sim.sensors.sensor_set import ODOMETER, SensorSet
+from railderail_sim.supervision.braking import BrakingModel
+from railderail_sim.supervision.closed_loop import BrakeCommand, run_closed_loop
+from railderail_sim.vehicle.layout import WHEELSETS, BodyTable, OutputRow
+from railderail_sim.vehicle.simulate import output_arrays
+
+from .curves import INTERVENTION, KMH, SupervisionLimits, Target, target_limit
+from .odometry import Odometry
+from .supervisor import LiveInputs, Supervisor
+
+
+def scenario_targets(track, critical_speed, limits):
+    """The target of a scenario's curve (transition in to transition out) under its critical derailment speed
+    (m/s)."""
+    start = track.straight_in
+    end = start + track.transition_in + track.curve_length + track.transition_out
+    return [Target(start, end, target_limit(critical_speed, limits),
+                   f"curve R {track.radius:g} m: critical derailment speed {critical_speed / KMH:.1f} km/h "
+                   "(given)")]
+
+
+def survey_targets(path):
+    """The targets of a survey's JSON file: one per curve under its safe speed."""
+    try:
+        with open(path) as f:
+            curves = json.load(f)["curves"]
+    except (OSError, ValueError, KeyError, TypeError) as error:
+        raise ValueError(f"survey {path}: not a survey's JSON with 'curves' ({error})") from None
+    targets = []
+    for i, c in enumerate(curves):
+        try:
+            by_friction = tuple((float(f), float(v) * KMH) for f, v in c.get("safe_speed_by_friction_kmh", {}).items())
+            targets.append(Target(float(c["start_m"]), float(c["end_m"]), float(c["safe_speed_kmh"]) * KMH,
+                                  f"curve {i} of {path}: safe speed {float(c['safe_speed_kmh']):.1f} km/h (survey)",
+                                  by_friction).validated())
+        except (KeyError, TypeError, ValueError) as error:
+            raise ValueError(f"survey {path}, curve {i}: {error}") from None
+    return targets
+
+
+class Controller:
+    """The supervisor fed a run's rows; a BrakeCommand when it first intervenes for a brake not yet commanded
+    (at the true place and speed of the row it decided on). Ground truth: the front (the leading wheelset) and
+    the speed of every output row. Measured (`odometer`, a railderail_sim.sensors Odometer): the odometer's
+    speed samples only, the position integrated from a balise at the first sample (`odometry.Odometry`), the
+    pessimistic end of its confidence interval supervised. `step_s`: the supervisor's own time."""
+
+    def __init__(self, supervisor, odometer=None, seed=0):
+        self.supervisor = supervisor
+        self.odometer, self.seed = odometer, seed
+        self.stream = self.odometry = None
+        self.issued = False
+        self.step_s = 0.0
+        self.steps = 0
+        self.lowest_speed = math.inf
+
+    def samples(self, sim, rows):
+        """(row index, time, front m, speed m/s, position error m, speed error m/s) of each sample the
+        supervisor sees in these rows."""
+        station = float(sim.model.bodies[WHEELSETS[0], BodyTable.station])
+        truth = rows[:, [OutputRow.time, OutputRow.position, OutputRow.speed]].tolist()
+        if self.odometer is None:
+            return [(k, t, s + station, v, 0.0, 0.0) for k, (t, s, v) in enumerate(truth)]
+        if self.stream is None:
+            sensors = SensorSet(seed=self.seed, odometer=self.odometer)
+            self.stream = SensorStream(sensors.validated(sim.scenario.output_rate), sim.scenario)
+        odo = self.stream.process(output_arrays(rows)).get(ODOMETER, dict(time=[], speed=[]))
+        out = []
+        for t, v in zip(np.asarray(odo["time"]).tolist(), np.asarray(odo["speed"]).tolist()):
+            k = int(np.searchsorted(rows[:, OutputRow.time], t - self.odometer.sampling.latency_s + 1e-9)) - 1
+            if self.odometry is None:
+                self.odometry = Odometry(self.supervisor.limits, truth[k][1] + station, t, v)
+            else:
+                self.odometry.update(t, v)
+            o = self.odometry
+            out.append((k, t, o.position, v, o.position_error, o.speed_error))
+        return out
+
+    def __call__(self, sim, rows):
+        command = None
+        start = time.perf_counter()
+        for k, t, front, v, position_error, speed_error in self.samples(sim, rows):
+            level = self.supervisor.step(t, front, v, position_error, speed_error)
+            if level == INTERVENTION and not self.issued and command is None:
+                row = rows[k]
+                command = BrakeCommand(float(row[OutputRow.time]), float(row[OutputRow.position]),
+                                       float(row[OutputRow.speed]), self.supervisor.release_speed)
+            self.issued = self.supervisor.release_speed is not None
+            self.steps += 1
+        self.step_s += time.perf_counter() - start
+        self.lowest_speed = min(self.lowest_speed, float(np.min(rows[:, OutputRow.speed], initial=math.inf)))
+        return command
+
+
+def watching(controller):
+    """The controller of an open loop: it sees every row, its commands are not applied."""
+    def watch(sim, rows):
+        controller(sim, rows)
+    return watch
+
+
+def simulate_supervised(args, sc):
+    """The run of `railderail simulate --supervision` (open loop: alerts only; --closed-loop: braked) as
+    (JSON object, human text)."""
+    limits = SupervisionLimits()
+    braking = BrakingModel(adhesion=args.adhesion).validated()
+    if args.supervision:
+        targets = survey_targets(args.supervision)
+    elif args.critical_speed_kmh is not None:
+        targets = scenario_targets(sc.track, args.critical_speed_kmh * KMH, limits)
+    else:
+        raise ValueError("--supervision needs a survey's JSON file or --critical-speed-kmh for the scenario's curve")
+    supervisor = Supervisor(targets, braking, limits)
+    shipped = sensor_config.load(None)
+    controller = Controller(supervisor, shipped.odometer if args.odometer else None,
+                            seed=shipped.seed if args.sensor_seed is None else args.sensor_seed)
+    front = sc.start_position + sc.vehicle.bogie_semi_distance + sc.vehicle.wheelbase_semi
+    if not args.odometer:
+        # on ground truth the friction is known: it picks a survey's per-friction limits
+        supervisor.inputs(LiveInputs(friction=sc.contact.friction_coefficient), front)
+    inside = supervisor.behind_intervention(front, float(np.interp(sc.start_position, *sc.speed_table.T)))
+    run = run_closed_loop(sc, controller if args.closed_loop else watching(controller), braking)
+    result, commands = run.result, run.commands
+    out = dict(status=result.status, derailment=result.derailment, closed_loop=bool(args.closed_loop),
+               signals="odometer" if args.odometer else "ground_truth",
+               brake_commands=[dict(time_s=c.time_s, position_m=c.position_m, speed_kmh=c.speed_m_s / KMH,
+                                    release_speed_kmh=c.release_speed_m_s / KMH) for c in commands],
+               lowest_speed_kmh=controller.lowest_speed / KMH,
+               started_inside_braking_distance=inside,
+               alerts=[a.as_dict() for a in supervisor.alerts],
+               targets=[dict(start_m=t.start_m, end_m=t.end_m, speed_limit_kmh=t.speed_limit_m_s / KMH,
+                             reason=t.reason) for t in targets],
+               supervisor_step_us=1e6 * controller.step_s / max(controller.steps, 1))
+    lines = [f"status                       {result.status}"]
+    if result.derailment:
+        d = result.derailment
+        lines.append(f"derailment                   t = {d['time_s']:.2f} s at {d['position_m']:.1f} m, "
+                     f"{d['speed_kmh']:.1f} km/h, wheelset {d['wheelset']} ({d['mechanism']})")
+    for t in targets:
+        lines.append(f"target                       {t.start_m:.0f}-{t.end_m:.0f} m at {t.speed_limit_m_s / KMH:.1f} "
+                     f"km/h: {t.reason}")
+    for reason in inside:
+        lines.append(f"starts inside its braking distance to: {reason}; it intervenes at once")
+    for a in supervisor.alerts:
+        lines.append(f"{a.level:12s} t = {a.time_s:6.2f} s  front {a.position_m:8.1f} m  {a.speed_kmh:6.1f} km/h  "
+                     f"margin {a.margin_kmh:+6.1f} km/h  to EBI {a.time_to_intervention_s:5.1f} s")
+    for c in commands:
+        lines.append(f"emergency brake              t = {c.time_s:.2f} s at {c.position_m:.1f} m, "
+                     f"{c.speed_m_s / KMH:.1f} km/h, held down to {c.release_speed_m_s / KMH:.1f} km/h")
+    lines.append(f"lowest speed                 {controller.lowest_speed / KMH:.1f} km/h")
+    return out, "\n".join(lines)

@@ -1,0 +1,135 @@
+"""The `sensors` tab of the Foxglove layout (foxglove/railderail-layout.json), made from the sensor set's
+mounts (sensors.sensor_set.MOUNTS) and the Rerun views' groups, colours and on-board levels (rerun_views.py), so that
+the two views show the same, and the measured-mode monitor's estimates (/railderail/onboard_estimates) beside
+the ground truth's wheel loads; `python -m railderail_monitor.views.foxglove` writes it into the layout file (the
+`run` tab, hand-made, is kept). tests/test_foxglove_layout.py checks that the file holds what this gives.
+"""
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+from railderail_sim.parameters import VehicleParameters
+from railderail_sim.ros.interface import FORCES, ONBOARD_ESTIMATES, SENSORS_NS
+from railderail_sim.sensors.sensor_set import MOUNTS
+from railderail_sim.vehicle.layout import RUNNING_GEARS
+
+from ..onboard.estimator import BOGIES
+from ..onboard.measured import GEAR_SIDES, measured_limits
+from .rerun_views import MOUNT_COLORS, RED, SENSOR_GROUPS, sensor_group, sensor_levels
+
+LAYOUT = Path(__file__).resolve().parents[2] / "foxglove" / "railderail-layout.json"
+TABS = "Tab!views"
+# what each plot of a group shows: (plot, the Imu's field, unit, what)
+PLOTS = (("lateral", "linear_acceleration.y", "m/s²", "lateral acceleration"),
+         ("vertical", "linear_acceleration.z", "m/s²", "vertical acceleration"),
+         ("roll_rate", "angular_velocity.x", "rad/s", "roll rate"))
+# the estimates of the four running-gear sides (GEAR_SIDES' order), in hues apart from the wheels' and mounts'
+GEAR_SIDE_COLORS = ((23, 190, 207), (227, 119, 194), (44, 160, 44), (255, 127, 14))
+GREY = (127, 127, 127)
+
+
+def _hex(colour):
+    return "#%02x%02x%02x" % colour
+
+
+def sensor_panels(style, vehicle=None):
+    """{panel id: config} of the sensors tab: per mount group its lateral and vertical acceleration (and
+    the car body's roll rate), every mount of the group in the Rerun views' colours, the rules' levels +-
+    as reference lines; `style` the plot settings shared with the run tab's plots."""
+    levels = sensor_levels(vehicle or VehicleParameters())
+    panels = {}
+    for group, title in SENSOR_GROUPS:
+        mounts = [mount for mount in MOUNTS if sensor_group(mount) == group]
+        for plot, field, unit, what in PLOTS:
+            if plot == "roll_rate" and group != "car_body":
+                continue
+            paths = [_series(f"{SENSORS_NS}/{mount}/imu.{field}", mount, _hex(MOUNT_COLORS[k % len(MOUNT_COLORS)]))
+                     for k, mount in enumerate(mounts)]
+            lines = levels.get((group, plot), [])
+            paths += [_series(repr(sign * level), label, _hex(colour), lineSize=1)
+                      for _, level, colour, label in lines for sign in (1, -1)]
+            name = f"{title} {what} ({unit}, measured)" + (": ± " + ", ".join(line[3] for line in lines)
+                                                            if lines else "")
+            panels[f"Plot!sensors_{group}_{plot}"] = {"foxglove.panelTitle": name, "paths": paths, **style}
+    return panels
+
+
+def _series(value, label, color, **style):
+    """A plot's series: a message path, or a number (a reference line)."""
+    return dict(value=value, enabled=True, timestampMethod="receiveTime", label=label, color=color, **style)
+
+
+def estimator_panels(style, wheel_colours, vehicle=None):
+    """{panel id: config} of the estimator's plots: the four sides' unloading and Q/P at the measured
+    monitor's levels, and per bogie the sides' wheel loads beside the ground truth's P of each of its
+    wheels (`wheel_colours` {wheel: colour}, the run tab's)."""
+    vehicle = vehicle or VehicleParameters()
+    limits, p0 = measured_limits(vehicle), vehicle.static_wheel_load
+    panels = {}
+    for name, field, criterion, what in (("unloading", "unloading", "estimated_running_gear_unloading",
+                                          "unloading dQ/Q0"),
+                                         ("ratio", "derailment_coefficient", "estimated_side_ratio", "Q/P")):
+        level = getattr(limits, criterion)
+        paths = [_series(f"{ONBOARD_ESTIMATES}.{field}[{k}]", side.replace("_", " "), _hex(GEAR_SIDE_COLORS[k]))
+                 for k, side in enumerate(GEAR_SIDES)]
+        paths.append(_series(repr(level), f"{criterion} {level:g}", _hex(RED), lineSize=1))
+        panels[f"Plot!sensors_estimator_{name}"] = {
+            "foxglove.panelTitle": f"running gear {what}, estimated from the sensors: warning at {level:g}",
+            "paths": paths, **style}
+    unloading = limits.estimated_running_gear_unloading
+    for j, bogie in enumerate(BOGIES):
+        paths = [_series(f"{ONBOARD_ESTIMATES}.wheel_load[{2 * j + s}]", f"{side} estimated",
+                         _hex(GEAR_SIDE_COLORS[2 * j + s]), lineSize=3) for s, side in enumerate(("left", "right"))]
+        paths += [_series(f"{FORCES}.vertical_force[{2 * w + s}]", f"ws{w} {side} (truth)", wheel_colours[2 * w + s])
+                  for w in RUNNING_GEARS[j] for s, side in enumerate(("left", "right"))]
+        paths += [_series(repr((1.0 - unloading) * p0), f"unloading {unloading:g}", _hex(RED), lineSize=1),
+                  _series(repr(p0), "static wheel load P0", _hex(GREY), lineSize=1)]
+        panels[f"Plot!sensors_estimator_{bogie}_loads"] = {
+            "foxglove.panelTitle": f"{bogie} bogie wheel loads (N): each side's estimated from the sensors (its two "
+                                   "wheels alike) beside the ground truth's P", "paths": paths, **style}
+    return panels
+
+
+def sensors_layout():
+    """The tab's arrangement: the car body's three plots, the frames' two, the axle boxes' two."""
+    def column(*panels):
+        node = panels[-1]
+        for k, panel in reversed(list(enumerate(panels[:-1]))):
+            node = dict(first=panel, second=node, direction="column", splitPercentage=100.0 / (len(panels) - k))
+        return node
+    measured = dict(first=column(*(f"Plot!sensors_car_body_{p}" for p in ("lateral", "vertical", "roll_rate"))),
+                    second=dict(first=column("Plot!sensors_bogie_frame_lateral", "Plot!sensors_bogie_frame_vertical"),
+                                second=column("Plot!sensors_axle_box_lateral", "Plot!sensors_axle_box_vertical"),
+                                direction="row", splitPercentage=50.0),
+                    direction="row", splitPercentage=34.0)
+    estimated = column("Plot!sensors_estimator_unloading", "Plot!sensors_estimator_ratio",
+                       *(f"Plot!sensors_estimator_{bogie}_loads" for bogie in BOGIES))
+    return dict(first=measured, second=estimated, direction="row", splitPercentage=75.0)
+
+
+def with_sensors_tab(layout):
+    """The layout (a parsed file) with its sensors tab made anew, its run tab kept."""
+    config = dict(layout["configById"])
+    tabs = config[TABS]["tabs"]
+    style = {k: v for k, v in config["Plot!speed"].items() if k not in ("foxglove.panelTitle", "paths")}
+    config = {k: v for k, v in config.items() if not k.startswith("Plot!sensors_")}
+    config.update(sensor_panels(style))
+    wheel_colours = {int(p["value"].rsplit("[", 1)[1][:-1]): p["color"] for p in config["Plot!wheel_unloading"]["paths"]
+                     if p["value"].startswith(f"{FORCES}.vertical_force[")}
+    config.update(estimator_panels(style, wheel_colours))
+    config[TABS] = dict(config[TABS], tabs=[tab for tab in tabs if tab["title"] != "sensors"]
+                        + [dict(title="sensors", layout=sensors_layout())])
+    return dict(layout, configById=config)
+
+
+def main(argv=None):
+    layout = json.loads(LAYOUT.read_text())
+    LAYOUT.write_text(json.dumps(with_sensors_tab(layout), indent=2, ensure_ascii=False) + "\n")
+    print(f"{LAYOUT}: sensors tab written ({len(MOUNTS)} mounts)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

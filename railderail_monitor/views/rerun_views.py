@@ -1,0 +1,565 @@
+"""Rerun views of a run: time series with their thresholds, the alerts as a text log and a 3-D
+schematic of the car on the track with its contact patches, under a blueprint that opens ready to
+read. Live (the viewer node, viewer_node.py: `railderail view` spawns a viewer, `--connect URL` streams to
+one, `--rrd FILE.rrd` writes a file) or from a recording (`railderail replay FILE.mcap --rerun` or
+`--rrd OUT.rrd`).
+
+Entities (timeline `sim_time`, simulation time):
+  plots/attack_angle_mrad/values   front-to-rear wheelsets, mrad; the warning line once the
+                                   attack angle reaches half of it (so that the data sets the scale)
+  plots/NAME/left, plots/NAME/right    the left and the right wheels of the four wheelsets, for NAME
+                                   wheel_lift_mm, derailment_coefficient (Q/P), unloading_ratio (dP/P0),
+                                   lateral_force_kN (Q), vertical_force_kN (P); levels in
+                                   plots/NAME/limit_warning and limit_critical, named as the alerts
+                                   round them (warning.alerts.level_text)
+  plots/speed_kmh
+  alerts                       text log (WARN = warning level, ERROR = critical, CRITICAL = derailment)
+  sensors/GROUP/lateral/MOUNT, sensors/GROUP/vertical/MOUNT    with the simulator's sensors on (or a
+                               recording of their topics): each mount's measured acceleration (m/s^2, its
+                               body's axes), GROUP car_body, bogie_frame or axle_box; on the lateral plots the
+                               on-board rules' levels +- (onboard/criteria.py: car-body ydd* 2.5 and ydd*_qst
+                               1.5; bogie-frame peak 12 - M_b/5, its r.m.s. half, BIDS 8), each applying to the
+                               rule's filtered signal (docs/onboard-criteria.md)
+  sensors/car_body/roll_rate/MOUNT    the car body's roll rate (gyro x, rad/s) and the roll-rate rule's level
+  sensors/estimator/BOGIE/estimated, .../ground_truth    a running gear's unloading dQ/Q0 per side (left,
+                               right): onboard.estimator's estimate from the recorded sensor topics beside the
+                               simulator's wheel loads, with the monitor's running_gear_unloading levels
+                               (computed over the record so far every `estimate_period` s of simulated time)
+  scene/...                    the track frame at the car: rails, a wire-frame car body, bogies, labelled
+                               wheelsets (wheels coloured by their lift levels) and the contact patches
+                               (coloured by the worst level their wheel reached: Q/P, lift, unloading);
+                               displacements and angles drawn `exaggeration` times (10) larger, patches 10 times
+One colour per wheelset in every plot; left and right wheels in side-by-side panels. Every plot shows
+the run so far (from its start to the time cursor). Scene frames are drawn at `scene_rate` (25 Hz of
+simulated time); plots take every sample. The sensors' plots are a second tab, "sensors", present once a
+sensor topic's message has come (no sensors, no tab).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import rerun as rr
+import rerun.blueprint as rrb
+
+from railderail_sim.assessment import en14363
+from railderail_sim.parameters import TrackParameters, VehicleParameters
+from railderail_sim.ros import interface as m
+from railderail_sim.ros import sensor_messages as sm
+from railderail_sim.ros.interface import seconds
+from railderail_sim.sensors.sensor_set import AIR_SPRING_EFFECTIVE_AREA
+
+from ..onboard import criteria as onboard, estimator
+from ..warning.alerts import level_text
+from ..warning.limits import Limits, default_limits, SEVERITY_CRITICAL
+from ..warning.quantities import unloading_ratio
+
+WHEELSETS = [f"ws{w}" for w in range(4)]
+SIDES = ("left", "right")                  # wheel k is wheelset k // 2, side k % 2
+TIMELINE = "sim_time"
+# schematic geometry (m) of the built-in car and track; body sizes only for the picture
+_CAR, _TRACK = VehicleParameters(), TrackParameters()
+BOGIES = (_CAR.bogie_semi_distance, -_CAR.bogie_semi_distance)              # bogie centres from the car's
+STATIONS = tuple(b + w for b in BOGIES for w in (_CAR.wheelbase_semi, -_CAR.wheelbase_semi))   # wheelsets 0..3
+RAIL_Y = _TRACK.rail_spacing / 2.0                                          # rail centre from the track centre line
+WHEEL_RADIUS = _CAR.rolling_radius
+GREEN, ORANGE, RED, GREY = (60, 180, 75), (245, 130, 48), (230, 25, 75), (128, 128, 128)
+LEVEL_COLORS = (ORANGE, RED)
+# one colour per wheelset in every plot, none of them the levels' orange and red (the Foxglove layout
+# uses the same hues)
+WHEELSET_COLORS = [(31, 119, 180), (188, 189, 34), (148, 103, 189), (140, 86, 75)]   # blue, olive, purple, brown
+# per-wheel plots: (entity, criterion of its levels or None, scale from SI, title)
+WHEEL_PLOTS = (("wheel_lift_mm", "wheel_lift", 1e3, "lift (mm)"),
+               ("derailment_coefficient", "derailment_coefficient", 1.0, "Q/P"),
+               ("unloading_ratio", "wheel_unloading", 1.0, "dP/P0"),
+               ("lateral_force_kN", None, 1e-3, "Q (kN)"),
+               ("vertical_force_kN", None, 1e-3, "P (kN)"))
+ATTACK = "attack_angle_mrad"
+# the sensors' mount groups (sensors.sensor_set.MOUNTS by their prefix) and the colours of their mounts in order
+SENSOR_GROUPS = (("car_body", "car body"), ("bogie_frame", "bogie frame"), ("axle_box", "axle box"))
+MOUNT_COLORS = WHEELSET_COLORS + [(23, 190, 207), (227, 119, 194), (127, 127, 127), (255, 187, 120)]
+ESTIMATE_COLORS = ((31, 119, 180), (148, 103, 189))          # left, right; the ground truth in grey tones
+TRUTH_COLORS = ((90, 90, 90), (170, 170, 170))
+YELLOW = (200, 160, 0)
+
+
+def sensor_group(mount):
+    """The plot group of a mount (car_body, bogie_frame, axle_box), None for another name."""
+    if mount.startswith("bogie_") and mount.endswith("_frame"):
+        return "bogie_frame"
+    return next((group for group, _ in SENSOR_GROUPS if mount.startswith(group + "_")), None)
+
+
+def sensor_levels(vehicle):
+    """{(group, plot): [(entity name, level, colour, label)]} of the on-board rules' levels drawn +- on the
+    sensors' plots (onboard/criteria.py), each rule's filter named in its label."""
+    peak, rms = onboard.bogie_limits(vehicle.bogie_frame_mass + 2.0 * vehicle.wheelset_mass)
+    ydd, qst = en14363.LIMITS["ydd_car_body"].value, en14363.LIMITS["ydd_qst"].value
+    # car_body_roll_rate's level: a roll at its emergency-spring level oscillating at the body's roll frequency
+    roll_rate = 2.0 * math.pi * onboard.car_body_roll_frequency(vehicle) * onboard.roll_level(vehicle)
+    return {("car_body", "lateral"): [("limit_ydd", ydd, RED, f"ydd* {ydd:g} (0.4-10 Hz band)"),
+                                      ("limit_ydd_qst", qst, ORANGE, f"ydd*_qst {qst:g} (100 m mean)")],
+            ("bogie_frame", "lateral"): [("limit_peak", peak, RED, f"peak {peak:.2f} (f0 +- 2 Hz band)"),
+                                         ("limit_bids", onboard.BIDS_LIMIT, ORANGE,
+                                          f"BIDS {onboard.BIDS_LIMIT:g} x {onboard.BIDS_PEAKS} peaks (4-8 Hz band)"),
+                                         ("limit_rms", rms, YELLOW, f"r.m.s. {rms:.2f} (f0 +- 2 Hz, 100 m)")],
+            ("car_body", "roll_rate"): [("limit_roll_rate", roll_rate, RED, f"{roll_rate:.3f} (0.4-10 Hz band)")]}
+
+
+def _arr(x):
+    return np.asarray(x, dtype=float)
+
+
+# every plot shows the run so far, from its start to the time cursor: the data it draws and the x range it
+# opens with (else a plot of a long run opens zoomed on a few seconds)
+SO_FAR = dict(start=rrb.TimeRangeBoundary.infinite(), end=rrb.TimeRangeBoundary.cursor_relative())
+
+
+def plot(origin, name, contents="$origin/**", legend=True):
+    return rrb.TimeSeriesView(origin=origin, name=name, contents=contents,
+                              time_ranges=[rrb.VisibleTimeRange(TIMELINE, **SO_FAR)],
+                              axis_x=rrb.TimeAxis(view_range=rrb.TimeRange(**SO_FAR)),
+                              plot_legend=rrb.PlotLegend(corner=rrb.Corner2D.LeftTop, visible=legend))
+
+
+def _quat_xz(roll, yaw):
+    """Quaternion (x, y, z, w) of yaw about z after roll about x (small-angle schematic)."""
+    cr, sr = math.cos(roll / 2), math.sin(roll / 2)
+    cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
+    return [cy * sr, sy * sr, sy * cr, cy * cr]
+
+
+class RunViewer:
+    """Feed it messages (rclpy or decoded from MCAP: attribute access) with on_states/on_forces/
+    on_status/on_alert/on_derailment; choose a sink first (save/spawn/connect); close() at the end."""
+
+    def __init__(self, limits: Limits = None, exaggeration=10.0, scene_rate=25.0, flush_every=100,
+                 application="railderail", recording_id=None, vehicle=None, effective_area=AIR_SPRING_EFFECTIVE_AREA,
+                 air_spring_height=None, estimate_period=1.0):
+        self.limits = limits or default_limits()
+        # the sensors' tab: the vehicle and air springs of the estimator and the rules' levels
+        self.vehicle, self.effective_area, self.estimate_period = vehicle or _CAR, effective_area, estimate_period
+        self.sensors = sm.SensorRecord(air_spring_height)
+        self.sensor_levels = sensor_levels(self.vehicle)
+        self.sensor_series = set()       # entities whose series styles have been logged
+        self.wheel_loads = ([], [], [])  # time, vertical and lateral forces of the ground truth's unloading
+        self.estimated_until = self.truth_until = -math.inf
+        self.sensor_time = self.next_estimate = -math.inf
+        self.sink = False
+        self.exaggeration = float(exaggeration)
+        self.scene_period = 1.0 / scene_rate if scene_rate > 0 else math.inf
+        self.flush_every = flush_every
+        self.rec = rr.RecordingStream(application, recording_id=recording_id)
+        self.buffers = {}          # entity -> (times, values)
+        self.last_scene = -math.inf
+        self.status = None
+        self.forces = None
+        self.curve_sign = 0.0
+        self.attack_limit_shown = False
+        self.derailed_at = None          # time of the derailment event, once it came
+        self.final_entry = None          # a derailed run's final status waiting for the derailment event
+        self.pending = 0
+        self.closed = False
+        self.scene = self._new_scene()
+
+    # --- sinks ------------------------------------------------------------------------------
+    def blueprint(self):
+        """The run's views; with sensor messages seen, in a tab "run" beside the tab "sensors"."""
+        run = self.run_view()
+        if not self.sensors.messages:
+            layout = run
+        else:
+            layout = rrb.Tabs(run, self.sensors_view(), active_tab=0)
+        return rrb.Blueprint(
+            layout,
+            # the time cursor follows the data: at the latest sample live, at the end (the derailment) of a file
+            rrb.TimePanel(timeline=TIMELINE, play_state="following", state="collapsed"),
+            collapse_panels=True)
+
+    def run_view(self):
+        # the wheel panels carry no legend (it covered a third of each): the wheelsets' colours are the attack
+        # angle's legend, the same in every plot, and the level lines (orange warning / red critical) are given
+        # in the panel's title, short enough to be read whole
+        def sides(entity, criterion, title):
+            limits = ["$origin/limit_warning", "$origin/limit_critical"]
+            levels = "" if criterion is None else ": " + " / ".join(
+                level_text(criterion, thr) for _, thr in self.limits.levels(criterion))
+            return rrb.Horizontal(*(plot(f"/plots/{entity}", f"{title}, {side}{levels}", [f"$origin/{side}", *limits],
+                                         legend=False) for side in SIDES))
+
+        rows = {entity: sides(entity, criterion, title) for entity, criterion, _, title in WHEEL_PLOTS}
+        attack = plot(f"/plots/{ATTACK}", "attack angle (mrad), warning "
+                      + level_text("attack_angle", self.limits.attack_angle))
+        # the car looked at from behind its outer side, a little above: the whole car and its patches in view
+        eye = rrb.EyeControls3D(kind=rrb.Eye3DKind.Orbital, position=[-15.0, -13.0, 6.0], look_target=[0.0, 0.0, 0.8],
+                                eye_up=[0.0, 0.0, 1.0])
+        scene = rrb.Spatial3DView(origin="/scene", name=f"car on the track (displacements x{self.exaggeration:g})",
+                                  eye_controls=eye)
+        return rrb.Vertical(
+            rrb.Horizontal(
+                rrb.Vertical(scene, plot("/plots/speed_kmh", "speed (km/h)"), attack, row_shares=[4, 1, 2]),
+                rrb.Vertical(rows["wheel_lift_mm"], rows["derailment_coefficient"], rows["unloading_ratio"]),
+                rrb.Vertical(rows["lateral_force_kN"], rows["vertical_force_kN"]),
+                column_shares=[4, 5, 4]),
+            # the whole width, so that an alert's sentence is read whole
+            rrb.TextLogView(origin="/alerts", name="alerts"),
+            row_shares=[4, 1], name="run")
+
+    def sensors_view(self):
+        """What the sensors measure, each lateral plot with its rules' levels in the legend, and the
+        estimator's unloading beside the ground truth's."""
+        rows = []
+        for group, title in SENSOR_GROUPS:
+            panels = [plot(f"/sensors/{group}/lateral", f"{title} lateral acceleration (m/s^2)"),
+                      plot(f"/sensors/{group}/vertical", f"{title} vertical acceleration (m/s^2)")]
+            if group == "car_body":
+                panels.append(plot("/sensors/car_body/roll_rate", "car body roll rate (rad/s)"))
+            rows.append(rrb.Horizontal(*panels))
+        unloading = " / ".join(level_text("running_gear_unloading", thr)
+                               for _, thr in self.limits.levels("running_gear_unloading"))
+        rows.append(rrb.Horizontal(*(plot(f"/sensors/estimator/{bogie}", f"{bogie} running gear unloading dQ/Q0, "
+                                          f"estimated from the sensors and ground truth: {unloading}")
+                                     for bogie in estimator.BOGIES)))
+        return rrb.Vertical(*rows, name="sensors")
+
+    def save(self, path):
+        self.rec.save(str(path), default_blueprint=self.blueprint())
+        self._static()
+
+    def spawn(self):
+        self.rec.spawn(default_blueprint=self.blueprint())
+        self._static()
+
+    def connect(self, url=None):
+        self.rec.connect_grpc(url, default_blueprint=self.blueprint())
+        self._static()
+
+    def _static(self):
+        self.sink = True
+        self._static_scene()
+
+    def _static_scene(self):
+        log = self.rec.log
+        log("/scene", rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
+        rails = [[[-16.0, y, 0.0], [16.0, y, 0.0]] for y in (RAIL_Y, -RAIL_Y)]
+        log("/scene/track/rails", rr.LineStrips3D(rails, radii=0.035, colors=[GREY, GREY]), static=True)
+        sleepers = [[[x, -1.3, -0.1], [x, 1.3, -0.1]] for x in np.arange(-15.0, 15.01, 0.6)]
+        log("/scene/track/sleepers", rr.LineStrips3D(sleepers, radii=0.04, colors=[(150, 110, 80)]), static=True)
+        # a wire frame: a solid body hides the bogies and patches and takes every hover
+        log("/scene/track/car/body", rr.Boxes3D(half_sizes=[[12.8, 1.65, 1.3]], centers=[[0.0, 0.0, 2.45]],
+                                                colors=[(70, 110, 200)], radii=0.02, fill_mode="majorwireframe"),
+            static=True)
+        for b, name in enumerate(("front", "rear")):
+            log(f"/scene/track/car/bogie_{name}", rr.Boxes3D(half_sizes=[[1.7, 1.1, 0.2]], colors=[(90, 90, 90)],
+                                                             fill_mode="solid"), static=True)
+        for w in range(4):
+            wheels = rr.Cylinders3D(lengths=[0.14, 0.14, 1.5], radii=[WHEEL_RADIUS, WHEEL_RADIUS, 0.08],
+                                    centers=[[0, RAIL_Y, 0], [0, -RAIL_Y, 0], [0, 0, 0]],
+                                    rotation_axis_angles=[rr.RotationAxisAngle(axis=[1, 0, 0], degrees=90)] * 3,
+                                    colors=[GREEN, GREEN, (60, 60, 60)], fill_mode="solid")
+            log(f"/scene/track/wheelset_{w}", wheels, static=True)
+            log(f"/scene/track/wheelset_{w}/label", rr.Points3D([[0.0, 0.0, WHEEL_RADIUS + 0.15]], radii=0.02,
+                                                                labels=[f"ws{w}"], show_labels=True), static=True)
+        log(f"/plots/{ATTACK}/values", rr.SeriesLines(names=WHEELSETS, colors=WHEELSET_COLORS), static=True)
+        self._static_limits(f"/plots/{ATTACK}", "attack_angle")
+        for entity, criterion, scale, _ in WHEEL_PLOTS:
+            for side in SIDES:
+                log(f"/plots/{entity}/{side}", rr.SeriesLines(names=WHEELSETS, colors=WHEELSET_COLORS), static=True)
+            if criterion is not None:
+                self._static_limits(f"/plots/{entity}", criterion)
+        log("/plots/speed_kmh", rr.SeriesLines(names=["speed"], colors=[GREY]), static=True)
+
+    def _static_limits(self, origin, criterion):
+        for (sev, thr), color in zip(self.limits.levels(criterion), LEVEL_COLORS):
+            label = "critical" if sev == SEVERITY_CRITICAL else "warning"
+            self.rec.log(f"{origin}/limit_{label}", rr.SeriesLines(
+                colors=[color], widths=[2.5], names=[f"{label} {level_text(criterion, thr)}"]), static=True)
+
+    def _style(self, entity, lines):
+        """Log an entity's series style (rr.SeriesLines) once, the first time it has data."""
+        if entity not in self.sensor_series:
+            self.sensor_series.add(entity)
+            self.rec.log(entity, lines, static=True)
+
+    # --- input ------------------------------------------------------------------------------
+    def _append(self, entity, t, values):
+        times, vals = self.buffers.setdefault(entity, ([], []))
+        times.append(t)
+        vals.append(values)
+
+    def _wheels(self, entity, t, values):
+        """Eight wheel values into the entity's left and right series."""
+        self._append(f"/plots/{entity}/left", t, values[0::2])
+        self._append(f"/plots/{entity}/right", t, values[1::2])
+
+    def _line(self, entity, t, value):
+        """A level line: two points per flushed batch (its first and last time) are enough."""
+        times, vals = self.buffers.setdefault(entity, ([], []))
+        if len(times) < 2:
+            times.append(t)
+            vals.append(value)
+        else:
+            times[1] = t
+
+    def _limits(self, entity, criterion, t, scale=1.0, origin="/plots"):
+        """Threshold lines of a criterion's levels."""
+        for sev, thr in self.limits.levels(criterion):
+            self._line(f"{origin}/{entity}/limit_{'critical' if sev == SEVERITY_CRITICAL else 'warning'}", t,
+                       thr * scale)
+
+    def _tick(self):
+        self.pending += 1
+        if self.pending >= self.flush_every:
+            self.flush()
+
+    def on_states(self, msg):
+        t = seconds(msg.header.stamp)
+        attack = _arr(msg.attack_angle)
+        self._append(f"/plots/{ATTACK}/values", t, attack * 1e3)
+        # its 0.06 rad line would flatten attack angles of a few mrad: drawn once they reach half of it
+        self.attack_limit_shown |= bool(abs(attack[0]) >= 0.5 * self.limits.attack_angle)
+        if self.attack_limit_shown:
+            self._limits(ATTACK, "attack_angle", t, 1e3)
+        lift = _arr(msg.wheel_lift)
+        self._wheels("wheel_lift_mm", t, lift * 1e3)
+        self._limits("wheel_lift_mm", "wheel_lift", t, 1e3)
+        if t - self.last_scene >= self.scene_period - 1e-9:
+            self.last_scene = t
+            self._scene(t, msg, lift)
+        self._tick()
+
+    def on_forces(self, msg):
+        t = seconds(msg.header.stamp)
+        self.forces = msg
+        self._wheels("derailment_coefficient", t, _arr(msg.derailment_coefficient))
+        self._limits("derailment_coefficient", "derailment_coefficient", t)
+        self._wheels("unloading_ratio", t, unloading_ratio(_arr(msg.vertical_force), self.limits.static_wheel_load))
+        self._limits("unloading_ratio", "wheel_unloading", t)
+        self._wheels("lateral_force_kN", t, _arr(msg.lateral_force) * 1e-3)
+        self._wheels("vertical_force_kN", t, _arr(msg.vertical_force) * 1e-3)
+        for column, values in zip(self.wheel_loads, (t, _arr(msg.vertical_force), _arr(msg.lateral_force))):
+            column.append(values)
+
+    def on_status(self, msg):
+        self.status = msg
+        if msg.curvature != 0.0:
+            self.curve_sign = math.copysign(1.0, msg.curvature)
+        self._append("/plots/speed_kmh", seconds(msg.header.stamp), float(msg.speed) * 3.6)
+
+    def on_alert(self, alert):
+        a = m.alert_dict(alert)
+        self.rec.set_time(TIMELINE, duration=a["time_s"])
+        level = "ERROR" if a["severity"] == SEVERITY_CRITICAL else "WARN"
+        self.rec.log("/alerts", rr.TextLog(f"s = {a['track_position']:.1f} m: {a['message']}", level=level))
+
+    def on_brake(self, msg):
+        """A speed supervision's emergency brake command (railderail_msgs/BrakeCommand) in the alerts' log."""
+        self.rec.set_time(TIMELINE, duration=seconds(msg.header.stamp))
+        self.rec.log("/alerts", rr.TextLog(
+            f"s = {msg.track_position:.1f} m: EMERGENCY BRAKE commanded at {msg.speed * 3.6:.1f} km/h, held down to "
+            f"{msg.release_speed * 3.6:.1f} km/h ({msg.reason})", level="ERROR"))
+
+    def on_derailment(self, event):
+        d = m.derailment_dict(event)
+        self.derailed_at = d["time_s"]
+        self.rec.set_time(TIMELINE, duration=d["time_s"])
+        self.rec.log("/alerts", rr.TextLog(
+            f"s = {d['track_position_m']:.1f} m: DERAILED: wheelset {d['wheelset']} {d['wheel_side']} "
+            f"({d['rail_side']} rail), {d['mechanism'].replace('_', ' ')}, {d['speed_kmh']:.1f} km/h",
+            level="CRITICAL"))
+        if self.final_entry is not None:
+            self._log_final(*self.final_entry)
+
+    def on_final_status(self, msg):
+        entry = (seconds(msg.header.stamp), f"run stopped: {msg.message}")
+        if msg.state == m.msgs.VehicleStatus.STATE_DERAILED and self.derailed_at is None:
+            self.final_entry = entry        # logged after the DERAILED line, whichever message comes first
+        else:
+            self._log_final(*entry)
+
+    def _log_final(self, t, text):
+        if self.derailed_at is not None:    # the log is sorted by time: after the derailment
+            t = max(t, self.derailed_at + 1e-6)
+        self.rec.set_time(TIMELINE, duration=t)
+        self.rec.log("/alerts", rr.TextLog(text, level="INFO"))
+        self.final_entry = None
+
+    # --- sensors ----------------------------------------------------------------------------
+    def on_sensor(self, topic, msg):
+        """A message of a sensor topic (/railderail/sensors/..., sensor_messages.sensor_topics): an IMU's
+        acceleration and roll rate into its group's plots; every one kept for the estimator. The first
+        one adds the sensors' tab to the blueprint."""
+        first = not self.sensors.messages
+        if not self.sensors.add(topic, msg):
+            return
+        if first and self.sink:
+            self.rec.send_blueprint(self.blueprint(), make_active=True, make_default=True)
+        mount, _, kind = topic[len(m.SENSORS_NS) + 1:].partition("/")
+        group = sensor_group(mount)
+        if kind != "imu" or group is None:
+            return
+        t = seconds(msg.header.stamp)
+        self.sensor_time = max(self.sensor_time, t)
+        plots = [("lateral", msg.linear_acceleration.y), ("vertical", msg.linear_acceleration.z)]
+        if group == "car_body" and msg.angular_velocity_covariance[0] != -1.0:
+            plots.append(("roll_rate", msg.angular_velocity.x))
+        for name, value in plots:
+            origin = f"/sensors/{group}/{name}"
+            entity = f"{origin}/{mount}"
+            if entity not in self.sensor_series:
+                shown = sum(e.startswith(origin + "/") and "/limit_" not in e for e in self.sensor_series)
+                self._style(entity, rr.SeriesLines(names=[mount], colors=[MOUNT_COLORS[shown % len(MOUNT_COLORS)]]))
+            self._append(entity, t, value)
+            for line, level, colour, label in self.sensor_levels.get((group, name), ()):
+                self._style(f"{origin}/{line}", rr.SeriesLines(names=[f"+{label}", f"-{label}"], colors=[colour] * 2,
+                                                                widths=[2.0] * 2))
+                self._line(f"{origin}/{line}", t, (level, -level))
+
+    def _estimate(self, final):
+        """The estimator's running-gear unloading over the sensor record so far (onboard.estimator: the
+        viewer computes nothing itself), its samples after those already shown, and the ground truth's from
+        the wheel loads beside it; every estimate_period s of sensor time and at the end. A sensor set
+        without the estimator's mounts shows no estimate."""
+        if not self.sensors.messages or not (final or self.sensor_time >= self.next_estimate):
+            return
+        self.next_estimate = self.sensor_time + self.estimate_period
+        a = self.sensors.arrays()
+        try:
+            est = estimator.estimate(a, self.vehicle, self.effective_area) if len(
+                a.get("sensor_car_body_centre_time", ())) >= 2 else None
+        except KeyError:            # a mount or the air springs it needs are not in the record
+            est = None
+        if est is not None:
+            new = est["time"] > self.estimated_until
+            if np.any(new):
+                self.estimated_until = est["time"][new][-1]
+                self._estimated("estimated", est["time"][new], est["unloading"][new], ESTIMATE_COLORS)
+        t = np.asarray(self.wheel_loads[0])
+        new = t > self.truth_until
+        if est is not None and np.any(new):
+            self.truth_until = t[new][-1]
+            truth = estimator.truth(dict(time=t[new], vertical_force=np.asarray(self.wheel_loads[1])[new],
+                                         lateral_force=np.asarray(self.wheel_loads[2])[new]), self.vehicle)
+            self._estimated("ground_truth", t[new], truth["unloading"], TRUTH_COLORS)
+
+    def _estimated(self, series, times, unloading, colours):
+        """(n,) times and (n, 4) unloading [front left, front right, rear left, rear right] into the two
+        running gears' plots, with the monitor's running_gear_unloading levels."""
+        for j, bogie in enumerate(estimator.BOGIES):
+            origin = f"/sensors/estimator/{bogie}"
+            label = series.replace("_", " ")
+            self._style(f"{origin}/{series}", rr.SeriesLines(names=[f"{label} {side}" for side in SIDES],
+                                                             colors=list(colours)))
+            if f"{origin}/limit_warning" not in self.sensor_series:
+                self.sensor_series |= {f"{origin}/limit_warning", f"{origin}/limit_critical"}
+                self._static_limits(origin, "running_gear_unloading")
+            buffer = self.buffers.setdefault(f"{origin}/{series}", ([], []))
+            buffer[0].extend(times)
+            buffer[1].extend(unloading[:, 2 * j:2 * j + 2])
+            for t in (times[0], times[-1]):
+                self._limits(bogie, "running_gear_unloading", t, origin="/sensors/estimator")
+
+    # --- scene ------------------------------------------------------------------------------
+    def _scene(self, t, states, lift):
+        """One 3-D frame into the scene buffers (sent as columns by flush)."""
+        ex = self.exaggeration
+        b = self.scene
+        b["time"].append(t)
+        st = self.status
+        cant = float(st.cant) if st is not None else 0.0
+        # a curve to the left raises the right (outer) rail: roll the track frame by -cant
+        b["track"].append(_quat_xz(-self.curve_sign * cant, 0.0))
+        if st is not None:
+            b["body_t"].append([0.0, ex * st.car_body_lateral_displacement, ex * st.car_body_vertical_displacement])
+            b["body_q"].append(_quat_xz(ex * st.car_body_roll, ex * st.car_body_yaw))
+            for k in range(2):
+                b["bogie_t"][k].append([BOGIES[k], ex * st.bogie_lateral_displacement[k], 0.65])
+                b["bogie_q"][k].append(_quat_xz(ex * st.bogie_roll[k], ex * st.bogie_yaw[k]))
+        else:
+            b["body_t"].append([0.0, 0.0, 0.0])
+            b["body_q"].append([0.0, 0.0, 0.0, 1.0])
+            for k in range(2):
+                b["bogie_t"][k].append([BOGIES[k], 0.0, 0.65])
+                b["bogie_q"][k].append([0.0, 0.0, 0.0, 1.0])
+        y, z = _arr(states.lateral_displacement), _arr(states.vertical_displacement)
+        roll, yaw = _arr(states.roll), _arr(states.yaw)
+        lift_level = [self._level("wheel_lift", x) for x in lift]
+        for w in range(4):
+            b["ws_t"][w].append([STATIONS[w], ex * y[w], WHEEL_RADIUS + ex * z[w]])
+            b["ws_q"][w].append(_quat_xz(ex * roll[w], ex * yaw[w]))
+            for k in (2 * w, 2 * w + 1):
+                b["ws_c"][w].append((GREEN, ORANGE, RED)[lift_level[k]])
+            b["ws_c"][w].append((60, 60, 60))
+        f = self.forces
+        count = 0
+        if f is not None:
+            qp = _arr(f.derailment_coefficient)
+            unloading = unloading_ratio(_arr(f.vertical_force), self.limits.static_wheel_load)
+            derailed = self.derailed_at is not None and t >= self.derailed_at
+            for k in range(8):
+                if f.contact_count[k] == 0:
+                    continue
+                side = 1.0 if k % 2 == 0 else -1.0
+                w = k // 2
+                b["patch_c"].append([STATIONS[w], side * (RAIL_Y + f.contact_position[k]) + ex * y[w], 0.005])
+                b["patch_h"].append([5.0 * f.patch_length[k], 5.0 * f.patch_width[k], 0.004])
+                # the worst level the wheel has reached now, by any criterion; every patch red once derailed
+                level = 2 if derailed else max(lift_level[k], self._level("derailment_coefficient", qp[k]),
+                                                self._level("wheel_unloading", unloading[k]))
+                b["patch_col"].append((GREEN, ORANGE, RED)[level])
+                count += 1
+        b["patch_n"].append(count)
+
+    def _level(self, criterion, value):
+        """0 below a criterion's levels, 1 at or above its first, 2 at or above its second."""
+        return min(sum(value >= x for _, x in self.limits.levels(criterion)), 2)
+
+    def _new_scene(self):
+        return dict(time=[], track=[], body_t=[], body_q=[], bogie_t=([], []), bogie_q=([], []),
+                    ws_t=([], [], [], []), ws_q=([], [], [], []), ws_c=([], [], [], []),
+                    patch_c=[], patch_h=[], patch_col=[], patch_n=[])
+
+    def _flush_scene(self):
+        b = self.scene
+        n = len(b["time"])
+        if not n:
+            return
+        send = self.rec.send_columns
+        index = [rr.TimeColumn(TIMELINE, duration=np.asarray(b["time"]))]
+        send("/scene/track", index, rr.Transform3D.columns(quaternion=b["track"]))
+        send("/scene/track/car/body", index, rr.Transform3D.columns(translation=b["body_t"], quaternion=b["body_q"]))
+        for k, name in enumerate(("front", "rear")):
+            send(f"/scene/track/car/bogie_{name}", index,
+                 rr.Transform3D.columns(translation=b["bogie_t"][k], quaternion=b["bogie_q"][k]))
+        for w in range(4):
+            send(f"/scene/track/wheelset_{w}", index,
+                 list(rr.Transform3D.columns(translation=b["ws_t"][w], quaternion=b["ws_q"][w]))
+                 + list(rr.Cylinders3D.columns(colors=b["ws_c"][w]).partition([3] * n)))
+        counts = b["patch_n"]
+        if sum(counts):
+            send("/scene/track/contact_patches", index,
+                 rr.Ellipsoids3D.columns(half_sizes=b["patch_h"], centers=b["patch_c"],
+                                         colors=b["patch_col"]).partition(counts))
+        self.scene = self._new_scene()
+
+    # --- output -----------------------------------------------------------------------------
+    def flush(self):
+        self._estimate(final=self.closed)
+        for entity, (times, values) in self.buffers.items():
+            if not times:
+                continue
+            self.rec.send_columns(entity, indexes=[rr.TimeColumn(TIMELINE, duration=np.asarray(times))],
+                                  columns=rr.Scalars.columns(scalars=np.asarray(values, dtype=float)))
+            times.clear()
+            values.clear()
+        self._flush_scene()
+        self.pending = 0
+
+    def close(self):
+        if not self.closed:
+            self.closed = True
+            if self.final_entry is not None:      # the derailment event never came
+                self._log_final(*self.final_entry)
+            self.flush()
+            self.rec.flush()
+            self.rec.disconnect()

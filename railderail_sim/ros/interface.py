@@ -1,0 +1,492 @@
+"""The ROS 2 interface of railderail: topics, QoS, core rows -> messages, messages -> dicts, time
+stamps, node parameter tables (`ParameterSpec`, `declare_parameters`) and the one way every
+railderail node is run (`run_node`).
+
+The simulator node (railderail_sim/ros/node.py) publishes on these topics; the monitor, recorder,
+replay, viewer, demo and benchmark of railderail_monitor use them through this module, so that
+railderail_sim never imports railderail_monitor. Topics (all under /railderail/ except the clock):
+
+| topic                            | type                             | QoS                                    |
+| -------------------------------- | -------------------------------- | -------------------------------------- |
+| /railderail/wheelset_states      | railderail_msgs/WheelsetStates   | sensor data (best effort, volatile, 5) |
+| /railderail/contact_forces       | railderail_msgs/ContactForces    | sensor data                            |
+| /railderail/vehicle_status       | railderail_msgs/VehicleStatus    | sensor data                            |
+| /railderail/final_status         | railderail_msgs/VehicleStatus    | reliable, transient local, depth 1     |
+| /railderail/derailment           | railderail_msgs/DerailmentEvent  | reliable, transient local, depth 1     |
+| /railderail/alerts               | railderail_msgs/Alert            | reliable, transient local, depth 1000  |
+| /railderail/onboard_alerts       | railderail_msgs/Alert            | the same (the monitor in measured mode)|
+| /railderail/onboard_estimates    | railderail_msgs/OnboardEstimate  | sensor data (its estimator's)          |
+| /railderail/brake_command        | railderail_msgs/BrakeCommand     | reliable, volatile, depth 10 (the      |
+|                                  |                                  | speed supervision's intervention)      |
+| /clock                           | rosgraph_msgs/Clock              | clock QoS (best effort, depth 1); only |
+|                                  |                                  | when not running at real time          |
+
+With the simulator's `sensors` on, the on-board sensors (railderail_sim/sensors, docs/onboard.md) publish under
+/railderail/sensors/ (SENSORS_NS) with sensor-data QoS: their topics and messages are railderail_sim/ros/sensor_messages.py.
+
+Subscribers of the sensor-data topics use best effort with a deeper queue (SENSOR_SUBSCRIBER) so
+that a burst does not overwrite samples before the callback runs.
+"""
+from __future__ import annotations
+
+import importlib
+import math
+import signal
+import sys
+from dataclasses import dataclass
+
+import numpy as np
+import rclpy
+from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor, SetParametersResult
+from rclpy.exceptions import ParameterException
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.parameter import Parameter
+from rclpy.signals import SignalHandlerOptions
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
+from rosgraph_msgs.msg import Clock
+
+import railderail_msgs.msg as msgs
+from railderail_msgs.msg import (Alert, BrakeCommand, ContactForces, DerailmentEvent, OnboardEstimate, VehicleStatus,
+                                 WheelsetStates)
+
+from railderail_sim.vehicle.layout import BOGIES, WHEELSETS, Body, Dof
+
+from ..ranges import check_range
+
+NS = "/railderail"
+STATES = f"{NS}/wheelset_states"
+FORCES = f"{NS}/contact_forces"
+STATUS = f"{NS}/vehicle_status"
+FINAL_STATUS = f"{NS}/final_status"
+DERAILMENT = f"{NS}/derailment"
+ALERTS = f"{NS}/alerts"
+# the measured-mode monitor's alerts (from the on-board sensors only): a topic of their own, so that what reads
+# /railderail/alerts as the ground-truth criteria's (the replay's review, the warning quality) sees only those
+ONBOARD_ALERTS = f"{NS}/onboard_alerts"
+# its estimator's running-gear loads, unloading and Q/P from the sensors (one message per decided stamp)
+ONBOARD_ESTIMATES = f"{NS}/onboard_estimates"
+# the speed supervision's emergency brake command (the monitor's), which the simulator obeys
+BRAKE = f"{NS}/brake_command"
+CLOCK = "/clock"
+
+SENSOR = qos_profile_sensor_data
+# a subscriber's queue: 25 s at 200 Hz, or a short run published as fast as possible (about 2500 samples
+# a second), so that a Python callback that falls behind for a while loses nothing
+SENSOR_SUBSCRIBER = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5000,
+                               reliability=ReliabilityPolicy.BEST_EFFORT, durability=DurabilityPolicy.VOLATILE)
+LATCHED = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                     durability=DurabilityPolicy.TRANSIENT_LOCAL)
+ALERT_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000, reliability=ReliabilityPolicy.RELIABLE,
+                       durability=DurabilityPolicy.TRANSIENT_LOCAL)
+# a command is not latched: a node that joins later must not brake on an old one
+BRAKE_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10, reliability=ReliabilityPolicy.RELIABLE,
+                       durability=DurabilityPolicy.VOLATILE)
+CLOCK_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)   # what rclpy's time source subscribes with
+
+# topic -> (ROS type name, message class, publisher QoS, subscriber QoS)
+TOPICS = {
+    STATES: ("railderail_msgs/msg/WheelsetStates", WheelsetStates, SENSOR, SENSOR_SUBSCRIBER),
+    FORCES: ("railderail_msgs/msg/ContactForces", ContactForces, SENSOR, SENSOR_SUBSCRIBER),
+    STATUS: ("railderail_msgs/msg/VehicleStatus", VehicleStatus, SENSOR, SENSOR_SUBSCRIBER),
+    FINAL_STATUS: ("railderail_msgs/msg/VehicleStatus", VehicleStatus, LATCHED, LATCHED),
+    DERAILMENT: ("railderail_msgs/msg/DerailmentEvent", DerailmentEvent, LATCHED, LATCHED),
+    ALERTS: ("railderail_msgs/msg/Alert", Alert, ALERT_QOS, ALERT_QOS),
+    BRAKE: ("railderail_msgs/msg/BrakeCommand", BrakeCommand, BRAKE_QOS, BRAKE_QOS),
+}
+MONITOR_TOPICS = (ALERTS, BRAKE)        # of TOPICS, those the monitor publishes (the simulator the others)
+CLOCK_TOPIC = ("rosgraph_msgs/msg/Clock", Clock, CLOCK_QOS, CLOCK_QOS)
+ONBOARD_ALERTS_TOPIC = ("railderail_msgs/msg/Alert", Alert, ALERT_QOS, ALERT_QOS)
+ONBOARD_ESTIMATES_TOPIC = ("railderail_msgs/msg/OnboardEstimate", OnboardEstimate, SENSOR, SENSOR_SUBSCRIBER)
+
+
+SENSORS_NS = f"{NS}/sensors"
+
+
+def count_as_subscriber(node):
+    """Subscribe `node` to the wheelset states and contact forces (raw, ignored), so that a simulator
+    started with `wait_for_subscribers` counts it: its latched derailment event and final status reach
+    only the subscribers it knows before it ends, and at full speed it can end within a second."""
+    for cls, topic in ((WheelsetStates, STATES), (ContactForces, FORCES)):
+        node.create_subscription(cls, topic, lambda data: None, SENSOR, raw=True)
+
+
+def message_class(type_name):
+    """The Python class of a ROS type name such as 'railderail_msgs/msg/Alert'."""
+    package, kind, name = type_name.split("/")
+    return getattr(importlib.import_module(f"{package}.{kind}"), name)
+
+
+# --- time stamps: simulation time in seconds <-> builtin_interfaces/Time ----------------------
+
+def set_time(time_msg, seconds):
+    """Set a builtin_interfaces/Time to a simulation time in seconds (exact to the nanosecond)."""
+    time_msg.sec, time_msg.nanosec = divmod(int(round(seconds * 1e9)), 1_000_000_000)
+    return time_msg
+
+
+def stamp(message, seconds):
+    """Set header.stamp of a message to a simulation time in seconds."""
+    set_time(message.header.stamp, seconds)
+    return message
+
+
+def seconds(time_msg):
+    """builtin_interfaces/Time (or anything with sec and nanosec) -> seconds."""
+    return time_msg.sec + 1e-9 * time_msg.nanosec
+
+
+def stamp_ns(time_msg):
+    """builtin_interfaces/Time -> integer nanoseconds (what `set_time` wrote: round(seconds * 1e9))."""
+    return time_msg.sec * 1_000_000_000 + time_msg.nanosec
+
+
+# --- core rows -> messages --------------------------------------------------------------------
+
+class RowConverter:
+    """Messages of one output sample from the named arrays of `vehicle.simulate.output_arrays`
+    (a batch of rows; `i` the row, `sample` the running sample index)."""
+
+    def __init__(self, frame_id="track"):
+        self.frame_id = frame_id
+
+    def _header(self, message, t):
+        stamp(message, t)
+        message.header.frame_id = self.frame_id
+        return message
+
+    def states(self, a, i, sample):
+        m = self._header(WheelsetStates(), a["time"][i])
+        m.sample = sample
+        m.track_position = float(a["position"][i])
+        m.speed = float(a["speed"][i])
+        bodies = a["body_states"][i]
+        m.lateral_displacement = np.ascontiguousarray(a["wheelset_lateral"][i])
+        m.vertical_displacement = np.ascontiguousarray(bodies[WHEELSETS, Dof.vertical])
+        m.roll = np.ascontiguousarray(a["wheelset_roll"][i])
+        m.yaw = np.ascontiguousarray(bodies[WHEELSETS, Dof.yaw])
+        m.attack_angle = np.ascontiguousarray(a["attack_angle"][i])
+        m.wheel_lift = np.ascontiguousarray(a["wheel_lift"][i])
+        return m
+
+    def forces(self, a, i, sample):
+        m = self._header(ContactForces(), a["time"][i])
+        m.sample = sample
+        m.track_position = float(a["position"][i])
+        m.speed = float(a["speed"][i])
+        m.lateral_force = np.ascontiguousarray(a["lateral_force"][i])
+        m.vertical_force = np.ascontiguousarray(a["vertical_force"][i])
+        m.longitudinal_force = np.ascontiguousarray(a["longitudinal_force"][i])
+        m.derailment_coefficient = np.ascontiguousarray(a["derailment_coefficient"][i])
+        m.contact_position = np.ascontiguousarray(a["contact_position"][i])
+        m.contact_angle = np.ascontiguousarray(a["contact_angle"][i])
+        m.patch_length = np.ascontiguousarray(a["patch_length"][i])
+        m.patch_width = np.ascontiguousarray(a["patch_width"][i])
+        m.contact_count = np.ascontiguousarray(a["contact_count"][i], dtype=np.uint8)
+        return m
+
+    def status(self, a, i, sample, state=VehicleStatus.STATE_RUNNING, message=""):
+        m = self._header(VehicleStatus(), a["time"][i])
+        m.sample = sample
+        m.track_position = float(a["position"][i])
+        m.speed = float(a["speed"][i])
+        m.section = int(a["section"][i])
+        m.curvature = float(a["curvature"][i])
+        m.cant = float(a["cant"][i])
+        m.uncompensated_lateral_acceleration = float(a["uncompensated_acceleration"][i])
+        b = a["body_states"][i]
+        body = b[Body.car_body]
+        m.car_body_lateral_displacement = float(body[Dof.lateral])
+        m.car_body_vertical_displacement = float(body[Dof.vertical])
+        m.car_body_roll = float(body[Dof.roll])
+        m.car_body_yaw = float(body[Dof.yaw])
+        m.bogie_lateral_displacement = np.ascontiguousarray(b[BOGIES, Dof.lateral])
+        m.bogie_roll = np.ascontiguousarray(b[BOGIES, Dof.roll])
+        m.bogie_yaw = np.ascontiguousarray(b[BOGIES, Dof.yaw])
+        m.state = state
+        m.message = message
+        return m
+
+
+def derailment_message(event, car_body_position, frame_id="track"):
+    """DerailmentEvent from `Simulation.derailment()` (track_position: the car-body centre)."""
+    m = DerailmentEvent()
+    stamp(m, event["time_s"])
+    m.header.frame_id = frame_id
+    m.wheelset = event["wheelset"]
+    m.wheel_side = event["wheel_side"]
+    m.rail_side = event["rail_side"]
+    m.mechanism = event["mechanism"]
+    m.track_position = float(car_body_position)
+    m.speed = event["speed_kmh"] / 3.6
+    m.wheel_lift = event["wheel_lift_m"]
+    m.lateral_displacement = event["lateral_displacement_m"]
+    m.attack_angle = event["attack_angle_rad"]
+    m.contact_position = event["contact_position_m"]
+    return m
+
+
+# --- messages -> dicts ------------------------------------------------------------------------
+
+def alert_dict(message):
+    """An Alert message (rclpy's, or mcap_ros2's from a recording) as the plain dict of the
+    monitor's AlertRecord."""
+    return dict(time_s=seconds(message.header.stamp), sample=int(message.sample), criterion=message.criterion,
+                severity=int(message.severity), value=float(message.value), threshold=float(message.threshold),
+                wheelset=int(message.wheelset), wheel_side=message.wheel_side, rail_side=message.rail_side,
+                track_position=float(message.track_position), speed=float(message.speed), message=message.message)
+
+
+def derailment_dict(message):
+    """A DerailmentEvent message as a dict (time_s, track_position_m of the car-body centre, ...)."""
+    return dict(time_s=seconds(message.header.stamp), track_position_m=float(message.track_position),
+                wheelset=int(message.wheelset), wheel_side=message.wheel_side, rail_side=message.rail_side,
+                mechanism=message.mechanism, speed_kmh=float(message.speed) * 3.6,
+                wheel_lift_m=float(message.wheel_lift), lateral_displacement_m=float(message.lateral_displacement),
+                attack_angle_rad=float(message.attack_angle), contact_position_m=float(message.contact_position))
+
+
+# --- parameters ---------------------------------------------------------------------------------
+
+REAL_TIME_FACTOR_RANGE = (0.0, 1000.0)      # simulated (or recorded) seconds per wall second; 0 = as fast as possible
+
+
+@dataclass(frozen=True)
+class ParameterSpec:
+    """One node parameter: its default, description, unit and accepted values (a row of a node's
+    parameter table; `declare_parameters` declares a table)."""
+    name: str
+    default: bool | int | float | str | list    # a list: a string array
+    description: str
+    unit: str = ""
+    accepted: tuple | None = None       # (lo, hi) of a number, both ends included unless lo_open
+    lo_open: bool = False
+    nan_disables: bool = False          # NaN is accepted: it disables what the parameter sets
+    choices: tuple = ()                 # the accepted strings (of a string array: of each element)
+    read_only: bool = False             # fixed once the node runs
+
+    def checked(self, value):
+        """The value if accepted (a float parameter takes an integer: `-p radius:=1000`), else a
+        ValueError naming it and what is accepted."""
+        if isinstance(self.default, float):
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise ValueError(f"{self.name} {value!r} is not a number")
+            value = float(value)
+            if self.nan_disables and math.isnan(value):
+                return value
+        if self.accepted is not None:
+            lo, hi = self.accepted
+            check_range(self.name, value, lo, hi, self.unit, lo_open=self.lo_open, hi_open=math.isinf(hi))
+        if isinstance(self.default, list):
+            if value is None:           # a string array given as [] in a parameter file is left unset by rcl
+                return []
+            if isinstance(value, str) or not all(isinstance(v, str) for v in value):
+                raise ValueError(f"{self.name} {value!r} is not a list of strings")
+            value = list(value)
+            for v in value:
+                if self.choices and v not in self.choices:
+                    raise ValueError(f"{self.name}: {v!r} is not one of {', '.join(self.choices)}")
+            return value
+        if self.choices and value not in self.choices:
+            raise ValueError(f"{self.name} {value!r} is not one of {', '.join(self.choices)}")
+        return value
+
+    def descriptor(self):
+        """Its ParameterDescriptor: what `ros2 param describe` shows and rclpy enforces (the type,
+        read-only, a FloatingPointRange for a double, an IntegerRange for an integer)."""
+        text = self.description + (f" [{self.unit}]" if self.unit else "")
+        if self.nan_disables:
+            text += "; NaN disables it"
+        d = ParameterDescriptor(description=text, read_only=self.read_only,
+                                dynamic_typing=isinstance(self.default, float))
+        if not d.dynamic_typing:
+            d.type = self.parameter_type.value
+        if self.accepted is not None and all(map(math.isfinite, self.accepted)) and not self.nan_disables:
+            lo, hi = self.accepted
+            if isinstance(self.default, float):     # applies to doubles only: an integer value is checked by `checked`
+                d.floating_point_range = [FloatingPointRange(from_value=float(lo), to_value=float(hi))]
+            else:
+                d.integer_range = [IntegerRange(from_value=int(lo), to_value=int(hi), step=1)]
+        if self.choices:
+            d.additional_constraints = ("each " if isinstance(self.default, list) else "") + "one of: " + \
+                ", ".join(self.choices)
+        return d
+
+    @property
+    def parameter_type(self):
+        """Its rclpy Parameter.Type (a list default is a string array, even empty: rclpy would take an empty
+        list for a byte array)."""
+        if isinstance(self.default, list):
+            return Parameter.Type.STRING_ARRAY
+        return Parameter.Type.from_parameter_value(self.default)
+
+
+def accepted_text(spec):
+    """What a ParameterSpec accepts, in words ('[150, 20000] m', 'one of hertz, discrete'; '' if anything)."""
+    parts = []
+    if spec.accepted is not None:
+        lo, hi = spec.accepted
+        right = ")" if math.isinf(hi) else "]"
+        parts.append(f"{'(' if spec.lo_open else '['}{lo:g}, {hi:g}{right}" + (f" {spec.unit}" if spec.unit else ""))
+    if spec.choices:
+        parts.append(("each " if isinstance(spec.default, list) else "") + "one of " + ", ".join(spec.choices))
+    return "; ".join(parts)
+
+
+def yaml_value(value):
+    """A parameter value as rcl's YAML parser reads it back with the same type: strings quoted (so
+    that 'none' or 'true' stay strings), floats with a decimal point, NaN as .nan."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        return ".nan" if math.isnan(value) else repr(value)
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, list):
+        return "[" + ", ".join(map(yaml_value, value)) + "]"
+    return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+def parameter_file(node_name, specs, header):
+    """The text of a ROS 2 parameter file (`--ros-args --params-file`) holding every parameter of a
+    node's table with its default, each under a comment with its unit, meaning and accepted values;
+    `header` is the list of comment lines at the top (without '# ')."""
+    lines = [f"# {line}" for line in header] + [f"{node_name}:", "  ros__parameters:"]
+    for spec in specs:
+        accepted = accepted_text(spec)
+        lines.append(f"    # {spec.unit or '-'}: {spec.description}." + (f" Accepted: {accepted}." if accepted else "")
+                     + (" Read-only." if spec.read_only else ""))
+        lines.append(f"    {spec.name}: {yaml_value(spec.default)}")
+    return "\n".join(lines) + "\n"
+
+
+def declare_parameters(node, specs, check=None, apply=None):
+    """Declare a table of ParameterSpecs on `node`; return {name: value}, kept up to date.
+
+    At start each value (default, `-p`, `--params-file`) goes through `spec.checked` and then all
+    through `check(values)` (rules between parameters): a ValueError names the value and the
+    accepted range (the node's main prints it as one line, exit status 2). The parameters are
+    declared without their ranges first so that this message, not rclpy's, answers a bad value;
+    the full descriptors follow. While running, rclpy refuses a read-only parameter and a double
+    outside its FloatingPointRange; an on-set callback refuses what `checked` or `check` refuses
+    (an integer given for a float parameter passes rclpy's range test); once a change is set,
+    `apply(changed)` gets the changed values."""
+    table = {spec.name: spec for spec in specs}
+    values = {}
+    for spec in specs:
+        first = ParameterDescriptor(dynamic_typing=isinstance(spec.default, float))
+        if isinstance(spec.default, list):
+            # declared by its type: a string array left unset (no override, or [] in a file) gets its default
+            if node.declare_parameter(spec.name, spec.parameter_type, first).type_ == Parameter.Type.NOT_SET:
+                node.set_parameters([Parameter(spec.name, spec.parameter_type, spec.default)])
+            values[spec.name] = spec.checked(node.get_parameter(spec.name).value)
+        else:
+            values[spec.name] = spec.checked(node.declare_parameter(spec.name, spec.default, first).value)
+    if check is not None:
+        check(values)
+    for spec in specs:
+        node.set_descriptor(spec.name, spec.descriptor())
+
+    def ours(parameters):               # rclpy's own parameters (use_sim_time) pass through
+        return {p.name: table[p.name].checked(p.value) for p in parameters if p.name in table}
+
+    def on_set(parameters):
+        try:
+            changed = ours(parameters)
+            if changed and check is not None:
+                check({**values, **changed})
+        except ValueError as error:
+            return SetParametersResult(successful=False, reason=str(error))
+        return SetParametersResult(successful=True)
+
+    def after_set(parameters):
+        changed = ours(parameters)
+        values.update(changed)
+        if changed and apply is not None:
+            apply(changed)
+
+    node.add_on_set_parameters_callback(on_set)
+    node.add_post_set_parameters_callback(after_set)
+    return values
+
+
+# --- running a node -------------------------------------------------------------------------------
+
+SPIN_PERIOD_S = 0.1       # the longest a node waits for work before it looks at Ctrl-C again
+
+
+def spin_until(executor, until=None):
+    """Spin until `until()` is true (default: until Ctrl-C), waiting at most SPIN_PERIOD_S at a time:
+    without rclpy's signal handlers (`run_node`) a wait is not woken by a signal, so a Ctrl-C is taken
+    at the next period."""
+    while until is None or not until():
+        executor.spin_once(timeout_sec=SPIN_PERIOD_S)
+
+
+def events_executor(context=None):
+    """rclpy's events executor (rclpy.experimental, its dispatch in C++): about 20 us a message against
+    the single-threaded executor's 120 (an empty callback on sensor_msgs/Imu, measured here), for a node
+    that takes thousands of messages a second (the measured-mode monitor: the shipped sensors send about
+    3800 a second at real time). Not the recorder's: with its timers, a Ctrl-C just after its start
+    aborted the process (SIGABRT) once the file was written."""
+    from rclpy.experimental import EventsExecutor
+    return EventsExecutor(context=context)
+
+
+def _interrupt(signum, frame):
+    raise KeyboardInterrupt
+
+
+def run_node(prog, make_node, args=None, spin=None, executor_class=SingleThreadedExecutor):
+    """Run one node as every railderail node runs, and return the process's exit status.
+
+    rclpy.init(args); `make_node()` builds the node (a ValueError or a refused parameter: one line
+    `prog: error: ...` on stderr, status 2; a RuntimeError, e.g. the model diverging on its first
+    period: the same line, status 1); then `spin(node, executor)` (default: spin until shut down;
+    its return value is the status). Ctrl-C or SIGTERM ends it cleanly with status 0. The node runs
+    on an executor of its own (`executor_class`, rclpy's single-threaded one unless a node needs
+    `events_executor`), shut down before the node and the context (rclpy's global one would be torn down
+    at interpreter exit, after them); the node's `destroy_node` is where it finishes
+    its work (closes its file, prints its summary).
+
+    Signals are Python's, not rclpy's: rclpy's handlers shut the context down from a thread of their
+    own while the node may still be using it, which made a Ctrl-C at start end in "rcl_shutdown already
+    called" or a segmentation fault (CI, twice); here Ctrl-C and SIGTERM raise KeyboardInterrupt in the
+    main thread, between callbacks (`spin_until` waits in short periods), and the context is shut down there."""
+    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    previous = signal.signal(signal.SIGTERM, _interrupt)
+    executor = node = None
+    try:  # from here on, Ctrl-C (KeyboardInterrupt) or SIGTERM ends the node cleanly
+        try:
+            node = make_node()
+        except (ValueError, ParameterException) as error:
+            print(f"{prog}: error: {error}", file=sys.stderr)
+            return 2
+        except RuntimeError as error:
+            print(f"{prog}: error: {error}", file=sys.stderr)
+            return 1
+        # the executor made after the node and Ctrl-C held while it takes the node in: with rclpy's events
+        # executor made first, one Ctrl-C in ten just after the start aborted the process (SIGABRT); none
+        # of 42 so
+        held = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+        try:
+            executor = executor_class()
+            executor.add_node(node)
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, held)
+        if spin is None:
+            spin_until(executor)
+            return 0
+        return spin(node, executor)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        return 0
+    finally:
+        if executor is not None:
+            executor.shutdown()
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()
+        signal.signal(signal.SIGTERM, previous)
+
+
+__all__ = ["msgs", "TOPICS", "RowConverter", "derailment_message", "alert_dict", "derailment_dict", "ParameterSpec",
+           "parameter_file", "declare_parameters", "run_node", "spin_until"]

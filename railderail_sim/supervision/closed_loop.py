@@ -1,0 +1,76 @@
+"""The closed loop of the batch path: a run in short chunks, a controller fed each chunk's rows, and the
+emergency brake applied on its command by replacing the rest of the speed table with the braking model's
+speed over distance (docs/supervision.md, "The closed loop").
+
+The forward speed stays prescribed: the brake acts on the speed table, not through a braking torque or the
+longitudinal creep forces. Why the swap is clean: the core reads the table at the car body's position
+(`dynamics.speed_at`) and turns the wheelsets with the torque that keeps their spin on the prescribed
+acceleration (`traction = I_spin v dv/ds / r0`), so the spin and the creep forces follow the new table
+without a jump in any state; the new table equals the old one over the build-up, longer than a chunk plus
+a step, so the stepper (up to one step past the last row, integrator.advance) and the rows already written
+never see a table that differs from the one they were made with.
+"""
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..ranges import check_range
+from ..vehicle import integrator as itg
+from ..vehicle.layout import N_OUT
+from ..vehicle.simulate import KMH, MAX_STEP, SPEED_RANGE_KMH, STATUS, Result, Simulation
+
+# s of simulated time between the controller's looks; it decides on every row all the same, and a command's
+# brake starts from its own row as long as the chunk is shorter than the build-up (checked): longer chunks
+# cost less (each `advance` call has a fixed cost, about 0.1 ms)
+CHUNK_S = 0.5
+
+
+@dataclass(frozen=True)
+class BrakeCommand:
+    """An emergency brake command: when and where (the car body's centre) it was given, at which speed, and
+    the speed the brake holds down to before it is released."""
+    time_s: float
+    position_m: float
+    speed_m_s: float
+    release_speed_m_s: float
+
+
+def braked_table(table, command, braking):
+    """The speed table (rows s m, v m/s) with everything from the command on replaced by the braking model's
+    curve from it down to the release speed."""
+    keep = table[table[:, 0] < command.position_m]
+    return np.ascontiguousarray(np.vstack([keep, braking.speed_table(command.position_m, command.speed_m_s,
+                                                                     command.release_speed_m_s)]))
+
+
+@dataclass
+class ClosedLoopRun:
+    """A closed-loop run: its Result (its scenario carrying the speed table as braked), every brake command."""
+    result: Result
+    commands: list
+
+
+def run_closed_loop(sc, controller, braking, chunk_s=CHUNK_S, progress=None):
+    """Run a scenario in chunks of chunk_s; after each, `controller(sim, rows)` sees the new output rows and
+    returns a BrakeCommand or None. A command is applied unless a brake is still on (the speed above its
+    release speed); the run goes on to its end (or derailment) at the braked speeds."""
+    braking = braking.validated()
+    check_range("supervision chunk", chunk_s, 1.0 / sc.output_rate, braking.buildup_s - MAX_STEP, "s", hi_open=True)
+    sim = Simulation(sc)
+    parts, commands, release_at = [], [], -np.inf
+    while sim.status == itg.RUNNING:
+        rows = sim.advance(chunk_s)
+        parts.append(rows)
+        command = controller(sim, rows)
+        if command is not None and command.position_m >= release_at:
+            check_range("release speed", command.release_speed_m_s / KMH, SPEED_RANGE_KMH[0], command.speed_m_s / KMH,
+                        "km/h")
+            sim.speed_table = braked_table(sim.speed_table, command, braking)
+            release_at = sim.speed_table[-2, 0]
+            commands.append(command)
+        if progress is not None:
+            progress(sim)
+    rows = np.concatenate(parts) if parts else np.zeros((0, N_OUT))
+    result = Result(rows=rows, scenario=replace(sc, speed_table=sim.speed_table), status=STATUS[sim.status],
+                    derailment=sim.derailment(), flange_height=sim.model.flange_height)
+    return ClosedLoopRun(result=result, commands=commands)
