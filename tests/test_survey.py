@@ -29,7 +29,8 @@ def test_safety_margin_is_etcs_dv_ebi_over_the_safe_speed():
 
 def _hand_built():
     line = Line("hand", "test", "C", 10000.0, 300.0,
-                (Curve(2000.0, 250.0, 500.0, 250.0, 1200.0, 0.15, 1, 250.0), Curve(5000.0, 250.0, 500.0, 250.0, 7000.0, 0.15)),
+                (Curve(2000.0, 250.0, 500.0, 250.0, 1200.0, 0.15, 1, 250.0),
+                 Curve(5000.0, 250.0, 500.0, 250.0, 7000.0, 0.15)),
                 ((0.0, 1000.0, 160.0),), (Defect(5500.0, "kink", 0.02, 10.0),)).validated()
     curves = [dict(index=0, start_m=2000.0, end_m=3000.0, radius_m=1200.0, permitted_speed_kmh=250.0,
                    critical_derailment_speed_kmh=255.0, derailed=True, safe_speed_kmh=240.0),
@@ -133,7 +134,8 @@ def test_curve_row_takes_the_lowest_case_and_changes_against_the_reference():
         return dict(vehicle_set=vehicle_set, friction=friction, wind_speed_m_s=wind, fault=fault, derailed=True,
                     critical_derailment_speed_kmh=speed, mechanism="wheel_unloading", side="inner", section="curve")
     rows = [row("hs19", 0.2, 290.0), row("hs19", 0.6, 291.0), row("zhai", 0.2, 284.0), row("zhai", 0.6, 286.0),
-            row("hs19", 0.3, 280.0), row("hs19", 0.3, 260.0, wind=20.0), row("hs19", 0.3, 281.0, fault="yaw-dampers-failed@both")]
+            row("hs19", 0.3, 280.0), row("hs19", 0.3, 260.0, wind=20.0),
+            row("hs19", 0.3, 281.0, fault="yaw-dampers-failed@both")]
     c = sv._curve_row(line, 0, rows, settings)
     assert c["critical_derailment_speed_kmh"] == 284.0 and c["spread_kmh"] == 7.0
     assert c["lowest_case"] == dict(vehicle_set="zhai", friction=0.2) and len(c["cases"]) == 4

@@ -97,7 +97,8 @@ def _human(result):
     lines = [f"line {result.line['name']}: {result.line['length_m'] / 1000:g} km, line speed "
              f"{result.line['line_speed_kmh']:g} km/h; critical derailment speed = the lowest over "
              f"{len(result.settings['frictions'])} frictions x {len(result.settings['vehicle_sets'])} parameter sets",
-             "curve  km          R (m)  cant  permitted  critical (spread, case)            safe   wind, faults (change)"]
+             "curve  km          R (m)  cant  permitted  critical (spread, case)            safe   "
+             "wind, faults (change)"]
     for c in result.curves:
         changes = ", ".join([f"{w['wind_speed_m_s']:g} m/s {_change(w)}" for w in c["crosswind"]] +
                             [f"{f['fault']} {_change(f)}" for f in c["faults"]])
@@ -107,8 +108,9 @@ def _human(result):
                      f"{case['vehicle_set']} mu {case['friction']:g})  {c['safe_speed_kmh']:15.1f}   {changes}")
     for d in result.defects:
         broken = d["first_broken"]
-        lines.append(f"defect {d['index']} at {d['position_m'] / 1000:.3f} km, {d['kind']} {d['size_mm']:g} mm: margins "
-                     f"intact up to {d['margins_intact_up_to_kmh']:.1f} km/h, safe speed {d['safe_speed_kmh']:.1f} km/h"
+        lines.append(f"defect {d['index']} at {d['position_m'] / 1000:.3f} km, {d['kind']} {d['size_mm']:g} mm: "
+                     f"margins intact up to {d['margins_intact_up_to_kmh']:.1f} km/h, safe speed "
+                     f"{d['safe_speed_kmh']:.1f} km/h"
                      + (f" (first broken: {broken['margin']} at {broken['speed_kmh']:.1f} km/h)" if broken else ""))
     for w in result.wind_sites:
         points = ", ".join(f"{v:g} km/h {u:.1f} m/s" if u is not None and u == u else f"{v:g} km/h -"

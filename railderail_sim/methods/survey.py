@@ -204,7 +204,8 @@ def curve_case(line: Line, index, base: Scenario, settings: Settings, vehicle_se
 
 
 def defect_run(line: Line, index, base: Scenario, vehicle_set, friction, speed_kmh):
-    """One constant-speed run over a defect: (margins intact, the first margin broken or '')."""
+    """One constant-speed run over a defect: (margins intact, '' or the margin broken: derailment, diverged, or
+    the first of flange_climb, wheel_unloading, wheel_lift that broke)."""
     from ..assessment.en14363 import sliding
     from ..contact.conicity import max_contact_angle
     from ..contact.nadal import nadal_limit
@@ -230,9 +231,10 @@ def defect_run(line: Line, index, base: Scenario, vehicle_set, friction, speed_k
     _, unloading = sliding(s, (p0 - arrays["vertical_force"]) / p0, RULES.margin_window_m, 0.25, lo, hi)
     _, qp = sliding(s, arrays["derailment_coefficient"], RULES.margin_window_m, 0.25, lo, hi)
     nadal = float(nadal_limit(max_contact_angle(sim.model.cg)[0], friction))
-    inside = (s >= lo) & (s <= hi)
-    for name, broken in (("flange_climb", np.any(qp >= nadal)), ("wheel_unloading", np.any(unloading >= RULES.unloading_level)),
-                         ("wheel_lift", np.any(arrays["wheel_lift"][inside] >= RULES.lift_share * sim.model.flange_height))):
+    lift = arrays["wheel_lift"][(s >= lo) & (s <= hi)]
+    for name, broken in (("flange_climb", np.any(qp >= nadal)),
+                         ("wheel_unloading", np.any(unloading >= RULES.unloading_level)),
+                         ("wheel_lift", np.any(lift >= RULES.lift_share * sim.model.flange_height))):
         if broken:
             return False, name
     return True, ""
@@ -372,7 +374,8 @@ def _defect_row(line: Line, i, rows):
     defect = line.defects[i]
     low, spread = _lowest(rows, "margins_intact_up_to_kmh")
     intact = low["margins_intact_up_to_kmh"]
-    return dict(index=i, position_m=defect.position_m, end_m=defect.end_m, kind=defect.kind, size_mm=defect.size_m * 1e3,
+    return dict(index=i, position_m=defect.position_m, end_m=defect.end_m, kind=defect.kind,
+                size_mm=defect.size_m * 1e3,
                 length_m=defect.length_m, margins_intact_up_to_kmh=intact, spread_kmh=spread,
                 safe_speed_kmh=MARGIN.safe_speed(intact * KMH) / KMH,
                 lowest_case=dict(vehicle_set=low["vehicle_set"], friction=low["friction"]),
@@ -384,7 +387,8 @@ def _site_row(line: Line, i, rows):
     curve = line.curve_at(site.position_m)
     return dict(index=i, position_m=site.position_m, name=site.name, exposure=site.exposure,
                 track="straight" if curve is None else f"curve R {curve.radius_m:g} m, cant {curve.cant_m * 1e3:g} mm",
-                curve=dict(speed_kmh=[r["speed_kmh"] for r in rows], wind_speed_m_s=[r["wind_speed_m_s"] for r in rows]),
+                curve=dict(speed_kmh=[r["speed_kmh"] for r in rows],
+                           wind_speed_m_s=[r["wind_speed_m_s"] for r in rows]),
                 runs=sum(r["runs"] for r in rows))
 
 
