@@ -26,7 +26,7 @@ setup(
     python_requires=">=3.11",
     packages=find_packages(include=["railderail_sim", "railderail_sim.*",
                                     "railderail_monitor", "railderail_monitor.*"]),
-    package_data={"railderail_sim": ["profiles/data/*", "config/*.yaml", "config/lines/*.yaml"], "railderail_monitor": ["config/*.yaml", "config/*.csv"]},
+    package_data={"railderail_sim": ["profiles/data/*", "config/*.yaml", "config/lines/*.yaml", "config/lines/*.json"], "railderail_monitor": ["config/*.yaml", "config/*.csv"]},
     data_files=[
         ("share/ament_index/resource_index/packages", [f"resource/{PACKAGE}"]),
         (f"share/{PACKAGE}", ["package.xml"]),

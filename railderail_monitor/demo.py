@@ -284,7 +284,7 @@ def run_demo(args, say=print):
     mcap_path, rrd_path, summary_path = out / "demo.mcap", out / "demo.rrd", out / "summary.json"
     limits = default_limits()
     sim_params = simulator_parameters(args)
-    survey = (args.survey or str(SHIPPED_SURVEY)) if args.closed_loop else None
+    survey = closed_loop_survey(args.survey or SHIPPED_SURVEY, sim_params, out) if args.closed_loop else None
     if args.closed_loop:
         say(f"railderail demo, closed loop: R = {args.radius:g} m at a constant {args.speed_kmh:g} km/h after "
             f"{args.approach_m:g} m of straight, the speed supervised against {survey}; {args.rate:g} Hz, "
@@ -428,14 +428,41 @@ def run_demo(args, say=print):
     return 0 if d is not None or listener.final_state is not None else 1
 
 
+def _scenario(sim_params):
+    from railderail_sim.ros.node import PARAMETERS, build_scenario
+    return build_scenario({**{spec.name: spec.default for spec in PARAMETERS}, **sim_params})
+
+
+def closed_loop_survey(path, sim_params, out):
+    """The survey the closed loop's monitor supervises: the curve of the survey at `path` with the radius and
+    cant of the run's curve, placed on the run's own geometry (its approach), written to the run folder (a
+    catalogue scenario's line is supervised from its own geometry). ValueError when the survey has no such
+    curve."""
+    import json
+    try:
+        curves = json.loads(Path(path).read_text())["curves"]
+    except (OSError, ValueError, KeyError, TypeError) as error:
+        raise ValueError(f"survey {path}: not a survey's JSON with 'curves' ({error})") from None
+    track = _scenario(sim_params).track
+    match = [c for c in curves if c.get("radius_m") == track.radius and c.get("cant_mm") == track.cant_height * 1e3
+             and c.get("safe_speed_kmh") is not None]
+    if not match:
+        raise ValueError(f"survey {path} has no curve of R {track.radius:g} m and {track.cant_height * 1e3:g} mm "
+                         f"cant: survey a line with that curve (`railderail survey LINE.yaml --out FILE.json`) "
+                         "and give it with --survey")
+    curve = dict(match[0], start_m=track.straight_in,
+                 end_m=track.straight_in + track.transition_in + track.curve_length + track.transition_out)
+    placed = out / "survey.json"
+    jsonout.write(placed, dict(source=str(path), curves=[curve]))
+    return str(placed)
+
+
 def open_loop_run(sim_params):
     """The closed loop's run without the supervisor: the simulator node's scenario in the batch core (no ROS):
     {status, derailment (or None)}."""
-    from railderail_sim.ros.node import PARAMETERS, build_scenario
     from railderail_sim.vehicle.simulate import simulate
 
-    params = {**{spec.name: spec.default for spec in PARAMETERS}, **sim_params}
-    result = simulate(build_scenario(params))
+    result = simulate(_scenario(sim_params))
     return dict(status=result.status, derailment=result.derailment)
 
 

@@ -12,13 +12,14 @@ from railderail_sim.line.data import Curve, Defect, Line
 from railderail_sim.line.file import line_as_dict
 from railderail_sim.methods import survey as sv
 from railderail_sim.methods.progressive_trial import Staircase, progressive_trial
+from railderail_sim.supervision.margin import SafetyMargin
 from railderail_sim.vehicle.simulate import KMH, Scenario
 
 TOLERANCE_KMH = 8.0          # coarse: the test compares like with like, not the speed's last km/h
 
 
 def test_safety_margin_is_etcs_dv_ebi_over_the_safe_speed():
-    m = sv.SafetyMargin()
+    m = SafetyMargin()
     assert m.safe_speed(300.0 * KMH) / KMH == pytest.approx(285.0)          # above V_ebi_max: 15 km/h
     assert m.safe_speed(100.0 * KMH) / KMH == pytest.approx(92.5)           # below V_ebi_min: 7.5 km/h
     for critical in (120.0, 150.0, 200.0, 222.0):                           # on the ramp between them

@@ -13,6 +13,9 @@ from dataclasses import dataclass, field, fields
 import math
 
 from railderail_sim.ranges import check_range
+from railderail_sim.supervision.margin import SafetyMargin
+
+EBI_MARGIN = SafetyMargin()
 
 KMH = 1.0 / 3.6
 NONE, INDICATION, WARNING, INTERVENTION = 0, 1, 2, 3
@@ -39,7 +42,7 @@ class SupervisionLimits:
                                "SUBSET-026 Appendix A.3.1", "A")
     dv_sbi_kmh: tuple = _c((5.5, 10.0, 110.0, 210.0), "km/h", "ceiling SBI margin: dV_sbi_min, _max, V_sbi_min, _max",
                            "SUBSET-026 Appendix A.3.1", "A")
-    dv_ebi_kmh: tuple = _c((7.5, 15.0, 110.0, 210.0), "km/h", "ceiling EBI margin and the EBD's foot above a "
+    dv_ebi_kmh: tuple = _c(EBI_MARGIN.kmh(), "km/h", "ceiling EBI margin and the EBD's foot above a "
                            "target: dV_ebi_min, _max, V_ebi_min, _max", "SUBSET-026 Appendix A.3.1; the foot "
                            "§3.13.8.3.1", "A (values), B (foot)")
     speed_accuracy_kmh: tuple = _c((2.0, 12.0, 30.0, 500.0), "km/h",
@@ -84,15 +87,9 @@ def ramp(spec_kmh, v):
 def target_limit(critical_speed, limits):
     """The target speed (m/s) under a physical limit (m/s, e.g. a critical derailment speed): the highest V
     whose emergency-brake margin still stays under it, V + dV_ebi(V) = critical_speed (ETCS sizes its EBI
-    above the permitted speed by dV_ebi, and its EBD reaches a target at V_target + dV_ebi)."""
-    lo, hi, v_lo, v_hi = limits.dv_ebi_kmh
-    c = critical_speed / KMH
-    if c - lo <= v_lo:
-        return (c - lo) * KMH
-    if c - hi >= v_hi:
-        return (c - hi) * KMH
-    slope = (hi - lo) / (v_hi - v_lo)
-    return (c - lo + slope * v_lo) / (1.0 + slope) * KMH
+    above the permitted speed by dV_ebi, and its EBD reaches a target at V_target + dV_ebi); the survey's safe
+    speed is the same (railderail_sim.supervision.margin)."""
+    return SafetyMargin.from_kmh(limits.dv_ebi_kmh).safe_speed(critical_speed)
 
 
 @dataclass(frozen=True)

@@ -50,6 +50,7 @@ from ..line.file import line_as_dict, line_from_dict
 from ..loads.wind import Wind
 from ..parameters import FRICTION_RANGE, VEHICLE_SETS, parameter, vehicle_parameters
 from ..ranges import check_range
+from ..supervision.margin import SafetyMargin
 from ..vehicle.simulate import KMH, Scenario, constant_speed, run_to_stop, straight_track
 from .parallel import run_all
 from .progressive_trial import SPEED_RANGE_KMH, Staircase, bisect_constant_speeds, constant_run, progressive_trial
@@ -58,32 +59,6 @@ DEFAULT_FRICTIONS = (0.2, 0.3, 0.4, 0.6)
 DEFAULT_WIND_SPEEDS_M_S = (10.0, 20.0, 30.0)
 SHIPPED_FAULTS = ("yaw-dampers-failed@both", "air-spring-deflated@front")
 DEFAULT_CWC_SPEEDS_KMH = (200.0, 250.0, 300.0, 350.0)
-
-
-@dataclass(frozen=True)
-class SafetyMargin:
-    """ETCS's emergency-brake-intervention margin dV_ebi over a ceiling speed V (ERA SUBSET-026 Appendix A.3.1,
-    as quoted in ../shared/reference/supervision.md): dV_ebi_min up to V_ebi_min, growing linearly to
-    dV_ebi_max at V_ebi_max, dV_ebi_max above."""
-    dv_min: float = parameter(7.5 * KMH, "m/s", "ERA SUBSET-026 Appendix A.3.1, dV_ebi_min (7.5 km/h)", "A")
-    dv_max: float = parameter(15.0 * KMH, "m/s", "ERA SUBSET-026 Appendix A.3.1, dV_ebi_max (15 km/h)", "A")
-    v_min: float = parameter(110.0 * KMH, "m/s", "ERA SUBSET-026 Appendix A.3.1, V_ebi_min (110 km/h)", "A")
-    v_max: float = parameter(210.0 * KMH, "m/s", "ERA SUBSET-026 Appendix A.3.1, V_ebi_max (210 km/h)", "B",
-                             "the upper end of the ramp as quoted (140/210 km/h in the sources read)")
-
-    def dv(self, v):
-        """dV_ebi at the ceiling speed v (m/s)."""
-        slope = (self.dv_max - self.dv_min) / (self.v_max - self.v_min)
-        return min(self.dv_max, max(self.dv_min, self.dv_min + slope * (v - self.v_min)))
-
-    def safe_speed(self, critical):
-        """The ceiling V (m/s) with V + dV_ebi(V) = critical (m/s); 0 if the critical speed is below dV_ebi."""
-        slope = (self.dv_max - self.dv_min) / (self.v_max - self.v_min)
-        for v in (critical - self.dv_min, (critical - self.dv_min + slope * self.v_min) / (1.0 + slope),
-                  critical - self.dv_max):
-            if v >= 0.0 and abs(v + self.dv(v) - critical) < 1e-9:
-                return v
-        return 0.0
 
 
 @dataclass(frozen=True)
