@@ -230,8 +230,9 @@ def hazard_cure(rules, hazard, line):
     """What cures a hazard of a run on `line` (`catalogue.Entry.line`), by its mechanism: {mechanism,
     speed_kmh (0 a stop), permitted_speed_kmh, critical_speed_kmh (the speed the cure keeps under, or null),
     basis}. A gust: the characteristic wind curve's speed at the gust's peak; a defect or twist: a stop before
-    it; hunting (a failed yaw damper, or the instability margin): below the nonlinear critical speed; over-speed
-    on a curve: below its critical derailment speed over EN 14363's margin; else the rules' share off."""
+    it; hunting (a failed yaw damper, or the instability margin): below the nonlinear critical speed; another
+    fault: below the entry's critical speed if it gives one, else a stop; over-speed on a curve: below its
+    critical derailment speed over EN 14363's margin; else the rules' share off."""
     permitted = permitted_speed(line, rules) * 3.6
     speed = hazard["speed_m_s"] * 3.6
     critical = None
@@ -245,6 +246,8 @@ def hazard_cure(rules, hazard, line):
         critical = line["critical_speed_kmh"] if line["hunting"] and math.isfinite(line["critical_speed_kmh"]) \
             else rules.nonlinear_critical_speed_kmh
         mechanism, cure, basis = "hunting", critical, "below the car's nonlinear critical speed"
+    elif line["faults"] and math.isnan(line["critical_speed_kmh"]):
+        mechanism, cure, basis = "fault-driven", 0.0, "a stop: the fault's own critical speed is not known"
     elif math.isfinite(line["radius_m"]) or math.isfinite(line["critical_speed_kmh"]):
         critical = critical_derailment_speed(line, rules) * 3.6
         mechanism, cure = "over-speed", critical / rules.critical_speed_margin
