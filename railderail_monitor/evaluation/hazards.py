@@ -184,9 +184,17 @@ def useful_lead(rules, speed, reduction=None, adhesion="dry"):
     return rules.reaction_s + rules.brake_buildup_s + braking_time(rules, speed, reduction, adhesion)
 
 
+def line_numbers(line):
+    """A line (`catalogue.Entry.line`) with JSON's nulls read back: a cached run's infinite radius and class
+    speed and its unknown critical speed are written as null (`jsonout`)."""
+    unknown = dict(radius_m=math.inf, class_speed_kmh=math.inf, critical_speed_kmh=math.nan)
+    return {**line, **{k: v for k, v in unknown.items() if line.get(k) is None}}
+
+
 def permitted_speed(line, rules):
     """The line's permitted speed (m/s): its track class's, and on a curve the speed at the permitted cant
     deficiency (`line`: `catalogue.Entry.line`)."""
+    line = line_numbers(line)
     from railderail_sim.parameters import GRAVITY
     top = line["class_speed_kmh"] / 3.6
     if math.isinf(line["radius_m"]):
@@ -200,6 +208,7 @@ def critical_derailment_speed(line, rules):
     """The curve's critical derailment speed (m/s) where the run cannot tell it: where the uncompensated
     acceleration v^2/R - g h/e reaches the car's critical one (`critical_uncompensated_acceleration`), a
     closed form per curve; inf on straight track. A catalogue entry's own `critical_speed_kmh` wins."""
+    line = line_numbers(line)
     from railderail_sim.parameters import GRAVITY
     if math.isfinite(line["critical_speed_kmh"]):
         return line["critical_speed_kmh"] / 3.6
@@ -233,6 +242,7 @@ def hazard_cure(rules, hazard, line):
     it; hunting (a failed yaw damper, or the instability margin): below the nonlinear critical speed; another
     fault: below the entry's critical speed if it gives one, else a stop; over-speed on a curve: below its
     critical derailment speed over EN 14363's margin; else the rules' share off."""
+    line = line_numbers(line)
     permitted = permitted_speed(line, rules) * 3.6
     speed = hazard["speed_m_s"] * 3.6
     critical = None
@@ -281,6 +291,7 @@ CFR_FRICTION = 0.5      # 49 CFR 213.333 / 238 App. C: the single-wheel L/V limi
 def beyond_permitted(arrays, line, rules):
     """(n,) bool: running beyond the line's permitted conditions, above its permitted speed or above the
     permitted cant deficiency (`permitted_speed`, `cant_deficiency`)."""
+    line = line_numbers(line)
     v = np.asarray(arrays["speed"], dtype=float)
     return ((v > permitted_speed(line, rules) * (1.0 + 1e-9))
             | (cant_deficiency(arrays, line["rail_spacing_m"]) > rules.permitted_cant_deficiency + 1e-9))
