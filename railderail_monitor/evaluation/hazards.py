@@ -230,9 +230,9 @@ def characteristic_wind_speed_kmh(wind_m_s, curved):
     k = below[-1]
     if k == len(speeds) - 1:
         return float(speeds[-1])
-    # between the last tabled speed the gust is within and the next, linearly
+    # between the last tabled speed the gust is within and the next (whose wind is below the gust), linearly
     w0, w1 = winds[k], winds[k + 1]
-    return float(speeds[k] + (speeds[k + 1] - speeds[k]) * (w0 - wind_m_s) / (w0 - w1)) if w0 > w1 else float(speeds[k])
+    return float(speeds[k] + (speeds[k + 1] - speeds[k]) * (w0 - wind_m_s) / (w0 - w1))
 
 
 def hazard_cure(rules, hazard, line):

@@ -133,10 +133,6 @@ def mechanisms(result):
     return lines
 
 
-def _rule(result, name):
-    return next(r["value"] for r in result["rules"] if r["name"] == name)
-
-
 def paper_criterion(result):
     """Lines: the paper's 0.06 rad attack-angle warning on this basis."""
     runs = result["runs"]
