@@ -10,8 +10,11 @@ wheels) with one entry per scenario under `scenarios:`, each seed one run (docs/
         irregularity: erri-high              # none | a spectrum | FILE.csv (relative to the catalogue)
         defect: {kind: kink, amplitude_mm: 40, length_m: 5, at_m: 700}   # optional, over the irregularity;
                                              # kind twist lowers the outer rail, with hold_m
-        seeds: [1, 2, 3]                     # optional, default [0]
-        part: test                           # optional: train | test; default by the seed (odd train, even test)
+        seeds: [11, 12, 13]                  # optional, default [0]; a random track's seeds its own (below)
+        part: test                           # optional: train | test; default alternating within the family
+        expect_derailment: true              # optional: the entry is meant to derail (by its family's mechanism)
+        critical_speed_kmh: 196              # optional: the speed below which its hazard is cured, where the
+                                             # run cannot tell it (a fault's critical speed)
         friction: 0.3                        # optional
         track: rigid                         # optional: rigid | elastic
         line_length_m: 10000                 # optional: the circular curve (or the straight) made longer
@@ -23,6 +26,11 @@ wheels) with one entry per scenario under `scenarios:`, each seed one run (docs/
 An `ordinary` entry is ordinary running: its cant deficiency must be within the permitted one
 (`hazards.HazardRules.permitted_cant_deficiency`), or the catalogue is refused. A bad entry is a
 ValueError naming the file, the entry and the key.
+
+The split (`load`): all runs of an entry are in one part, its `part`, else train and test alternating over
+the entries of its family without one, in the file's order. The parts share no track: a seed of a random
+irregularity is used by one entry only (every line its own track), an irregularity file and a defect's
+geometry are in one part only, and no two entries in different parts are the same run but for their name.
 """
 from __future__ import annotations
 
@@ -35,8 +43,12 @@ import yaml
 
 SHIPPED = files("railderail_monitor") / "config" / "catalogue.yaml"
 KEYS = ("name", "family", "radius_m", "speed_kmh", "speed", "cant_mm", "irregularity", "defect", "seeds", "part",
-        "friction", "track", "line_length_m", "approach_m", "wind_speed_m_s", "gust", "faults")
+        "friction", "track", "line_length_m", "approach_m", "wind_speed_m_s", "gust", "faults", "expect_derailment",
+        "critical_speed_kmh")
 FAMILIES = ("ordinary", "overspeed", "defect", "gust", "fault")
+# the mechanism by which each hazard family is meant to derail (`Entry.mechanism`)
+MECHANISMS = {"overspeed": "over-speed unloading", "defect": "flange climb at a defect", "gust": "gust overturning",
+              "fault": "fault-driven"}
 PARTS = ("train", "test")
 # simulated over wall time of one run by kind of track (railderail bench, 2026-12-03): only to order the runs
 REAL_TIME_FACTOR = {"rigid smooth": 30.0, "rigid irregular": 8.0, "elastic irregular": 6.0}
@@ -62,6 +74,8 @@ class Entry:
     wind_speed_m_s: float = 0.0
     gust: str = "none"
     faults: tuple = ()
+    expect_derailment: bool = False
+    critical_speed_kmh: float = math.nan     # NaN: the run's hazards say what cures them
     folder: str = field(default=".", compare=False)
 
     @property
@@ -73,17 +87,45 @@ class Entry:
         return [(self, seed) for seed in self.seeds]
 
     def part_of(self, seed):
-        """The part of the evaluation a run belongs to: the entry's `part`, else odd seeds train, even test."""
-        return self.part or PARTS[seed % 2 == 0]
+        """The part of the evaluation a run belongs to: its entry's (every seed the same, `load`)."""
+        if not self.part:
+            raise ValueError(f"scenario {self.name} has no part (load the catalogue with catalogue.load)")
+        return self.part
+
+    @property
+    def mechanism(self):
+        """The mechanism a hazard entry is meant to derail by (MECHANISMS), None for ordinary running."""
+        return MECHANISMS.get(self.family)
+
+    def line(self):
+        """What `hazards.hazard_cure` and `hazards.beyond_permitted` take from the entry: the curve (radius m,
+        cant m, rail spacing m; radius inf on straight track), the track class's permitted speed (km/h), the
+        gust's peak (m/s, 0 without a gust), whether a defect or a failed yaw damper is the cause, the faults,
+        and the entry's critical speed (km/h, NaN unless given)."""
+        from railderail_sim.parameters import TrackParameters
+        from railderail_sim.track.spectra import permitted_speed_kmh
+        straight = math.isinf(self.radius_m)
+        return dict(radius_m=self.radius_m, cant_m=0.0 if straight else self.cant_mm / 1000.0,
+                    rail_spacing_m=TrackParameters().rail_spacing,
+                    class_speed_kmh=permitted_speed_kmh(self.irregularity),
+                    gust_m_s=self.wind_speed_m_s if self.gust != "none" else 0.0, defect=bool(self.defect),
+                    hunting=any(f.startswith("yaw-dampers-failed") for f in self.faults), faults=list(self.faults),
+                    critical_speed_kmh=self.critical_speed_kmh)
+
+    def track_samples(self):
+        """The random track samples of its runs ((spectrum, seed) of a random irregularity), none otherwise."""
+        from railderail_sim.track.spectra import SPECTRA
+        return {("random", seed) for seed in self.seeds} if self.irregularity in SPECTRA else set()
 
     def key(self, seed):
         """What a run's result depends on, as plain data (the cache's key)."""
         data = {k: getattr(self, k) for k in KEYS if hasattr(self, k)}
-        data.update(seed=seed, seeds=None, part=None, defect=list(self.defect),
+        data.update(seed=seed, seeds=None, part=None, expect_derailment=None, defect=list(self.defect),
                     speed_kmh=None if self.progressive else self.speed_kmh,
                     line_length_m=None if math.isnan(self.line_length_m) else self.line_length_m,
                     approach_m=None if math.isnan(self.approach_m) else self.approach_m,
-                    radius_m=None if math.isinf(self.radius_m) else self.radius_m, faults=list(self.faults))
+                    radius_m=None if math.isinf(self.radius_m) else self.radius_m, faults=list(self.faults),
+                    critical_speed_kmh=None if math.isnan(self.critical_speed_kmh) else self.critical_speed_kmh)
         if self.irregularity.endswith(".csv"):
             data["irregularity"] = Path(self.folder, self.irregularity).read_text()
         return data
@@ -222,9 +264,13 @@ def entry(item, where, folder):
                   faults=tuple(faults), folder=str(folder))
     for key, lo, hi, unit in (("cant_mm", 0.0, 200.0, "mm"), ("friction", *FRICTION_RANGE, ""),
                               ("line_length_m", 0.0, 1.0e6, "m"), ("approach_m", 0.0, 1.0e5, "m"),
-                              ("wind_speed_m_s", 0.0, 60.0, "m/s")):
+                              ("wind_speed_m_s", 0.0, 60.0, "m/s"), ("critical_speed_kmh", 1.0, 600.0, "km/h")):
         if key in item:
             values[key] = _number(where, key, item[key], lo, hi, unit)
+    expect = item.get("expect_derailment", False)
+    if not isinstance(expect, bool) or (expect and family == "ordinary"):
+        raise ValueError(f"{where}: expect_derailment {expect!r} must be true or false (false for ordinary running)")
+    values["expect_derailment"] = expect
     if values.get("friction", 0.3) == 0.0:
         raise ValueError(f"{where}: friction 0 is outside the accepted range (0, 1]")
     e = Entry(**values)
@@ -284,4 +330,50 @@ def load(path=None):
     repeated = sorted({n for n in names if names.count(n) > 1})
     if repeated:
         raise ValueError(f"{label}: scenario name(s) {', '.join(repeated)} used more than once")
+    return independent(assign_parts(entries), label)
+
+
+def assign_parts(entries):
+    """The entries with their parts: an entry's own, else train and test alternating over the entries of its
+    family without one, in the file's order."""
+    turn = {}
+    out = []
+    for e in entries:
+        if not e.part:
+            k = turn[e.family] = turn.get(e.family, -1) + 1
+            e = replace(e, part=PARTS[k % 2])
+        out.append(e)
+    return out
+
+
+def independent(entries, label):
+    """The entries, checked that the parts share no track: a random track's seed used by one entry only, an
+    irregularity file, a defect's geometry or the same run (but its name) in one part only; ValueError naming
+    the entries."""
+    seen = {}
+    for e in entries:
+        for sample in e.track_samples():
+            if sample in seen:
+                raise ValueError(f"{label}: seed {sample[1]} of a random track is used by both {seen[sample]} and "
+                                 f"{e.name}; every entry needs its own seeds")
+            seen[sample] = e.name
+    for what, of in (("irregularity file", lambda e: e.irregularity if e.irregularity.endswith(".csv") else None),
+                     ("defect", lambda e: e.defect or None),
+                     ("run", lambda e: jsonout_key(e))):
+        parts = {}
+        for e in entries:
+            key = of(e)
+            if key is None:
+                continue
+            other = parts.setdefault(key, (e.part, e.name))
+            if other[0] != e.part:
+                raise ValueError(f"{label}: {e.name} ({e.part}) and {other[1]} ({other[0]}) share a {what}; "
+                                 "the parts must not")
     return entries
+
+
+def jsonout_key(entry):
+    """The runs of an entry as plain text, but its name: two entries equal here are the same runs."""
+    from railderail_sim import jsonout
+    return jsonout.dumps([{**entry.key(seed), "name": None, "seed": seed if entry.track_samples() else None}
+                          for seed in entry.seeds])

@@ -5,9 +5,13 @@ Labels (for a derailment window W, `HazardRules.windows_s`):
   derailment  the last W before the derailment the core declared (`Simulation.derailment`);
   near miss   a safety margin fallen below its stated level (`MARGINS`), from W before it falls until it
               recovers, in a run that derails or not;
-  normal      everything else: the exposure over which false alarms are counted.
+  beyond permitted  outside every hazard window, running beyond the line's permitted conditions (above
+              its permitted speed, or above the permitted cant deficiency) with every margin intact: neither
+              a hazard nor the exposure; an alarm there is neither credited nor false (`beyond_permitted`);
+  normal      everything else: running within permitted conditions, the exposure over which false alarms
+              are counted.
 A run is labelled by its margins, never by "it did not derail": a car running far beyond the line's
-permitted cant deficiency whose margins hold is in normal running, and one whose margins fall is a near
+permitted cant deficiency whose margins hold is beyond permitted, and one whose margins fall is a near
 miss. Each hazard has a place: a running gear (bogie) and the side of the wheel whose margin fell, or both
 sides for the track-shift force of a wheelset; a warning is true only at its hazard's place
 (`scoring`). The margins, with their sources and how sure each is (the standards are paywalled; the
@@ -21,13 +25,22 @@ figures are as quoted in ../shared/reference/ and docs/warning-evaluation.md):
 | `instability` | sum Y of a wheelset (20 Hz), band-passed f0 +- 2 Hz, r.m.s. over 100 m | half Prud'homme's limit | EN 14363 / UIC 518 (sum Y)rms,lim: the running is unstable (hunting) |
 | `wheel_lift` | lift of a wheel | half the flange height | no standard value: half way up the flange, a modelling choice (sensitivity in the report) |
 
-Useful lead: a warning is of use when it comes early enough for the train to react and brake to a safe
-speed before the hazard: reaction_s + brake_buildup_s + the braking time from the speed at the warning
-to (1 - safe_speed_reduction) of it at the emergency deceleration of its speed band (`braking_time`).
+The flange-climb margin is Nadal's limit at the run's own friction, not 49 CFR 213.333's L/V limit (Nadal
+at friction 0.5): the simulator knows the friction and the wheel climbs by it; both limits and the peak Q/P
+are kept per run (`flange_climb_limits`) so that the report shows the runs over each.
+
+Useful lead: a warning is of use when it comes early enough for the train to react and brake to the speed
+that cures its hazard (`hazard_cure`: by mechanism) before it: reaction_s + brake_buildup_s + the braking
+time from the speed at the warning down to that speed at the emergency deceleration of each speed band
+(`braking_time`), on dry rail, and shown beside on wet rail (the braking model's degraded-adhesion bands,
+railderail_sim/supervision/braking.py). The braking is timed,
+not placed: braking covers less track than running on in the same time, so a warning that brakes in time
+also brakes before the hazard's place.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields
+import math
 
 import numpy as np
 
@@ -40,8 +53,14 @@ from ..onboard.criteria import sample_rate
 from ..warning.quantities import sliding_mean, unloading_ratio
 
 FOOT = 0.3048                        # m
-NORMAL, NEAR_MISS, DERAILMENT = 0, 1, 2
-LABELS = ("normal", "near_miss", "derailment")
+NORMAL, NEAR_MISS, DERAILMENT, BEYOND_PERMITTED = 0, 1, 2, 3
+LABELS = ("normal", "near_miss", "derailment", "beyond_permitted")
+# the characteristic wind curves of the shipped car (railderail cwc, docs/report/cwc.json: the running gear's
+# unloading 0.9 under the CEN gust): train speed km/h -> wind m/s on straight track and on a curve at 1 m/s^2
+CWC_SPEEDS_KMH = (200.0, 220.0, 240.0, 260.0, 280.0, 300.0, 320.0, 340.0, 360.0)
+CWC_STRAIGHT_M_S = (48.046875, 47.265625, 45.703125, 44.296875, 43.203125, 42.734375, 41.796875, 40.390625,
+                    39.453125)
+CWC_CURVE_M_S = (42.265625, 41.328125, 40.234375, 38.828125, 38.203125, 35.234375, 34.921875, 35.078125, 35.234375)
 SIDES = ("left", "right")
 BOGIE_OF_WHEELSET = {ws: g for g, gear in enumerate(RUNNING_GEARS) for ws in gear}
 PLACES = tuple((bogie, side) for bogie in range(len(RUNNING_GEARS)) for side in range(2))   # (bogie, 0 left/1 right)
@@ -82,7 +101,10 @@ class HazardRules:
     instability_window_m: float = _rule(RMS_WINDOW_M, "m", "track over which the instability r.m.s. is taken",
                                         "EN 14363: 100 m sliding r.m.s. (en14363.RMS_WINDOW_M)", "C")
     lift_share: float = _rule(0.5, "-", "near miss: a wheel's lift at or above this share of the flange height",
-                              "no standard value: half way up the flange (a modelling choice)", "-")
+                              "no standard value (none of EN 14363, 49 CFR 213.333, GB/T 5599 limits a lift): "
+                              "half way up the flange, a modelling choice; the derailment itself is the full "
+                              "flange height. Sensitivity: the report counts the runs whose lift reaches 0.25, "
+                              "0.5 and 0.75 of it (`margin_peaks`)", "-")
     low_pass_forces: bool = _rule(True, "-", "the wheel forces low-passed 20 Hz before their margins are judged",
                                  "EN 14363 / UIC 518: Y and Q through a 20 Hz low-pass (49 CFR 213.333: a cut-off "
                                  "of at least 25 Hz); unfiltered, the rigid track's wheel-force spikes of a few ms "
@@ -92,16 +114,32 @@ class HazardRules:
     reaction_s: float = _braking("reaction_s")
     brake_buildup_s: float = _braking("buildup_s")
     deceleration_bands: tuple = _braking("emergency_bands")
-    safe_speed_reduction: float = _rule(0.10, "-", "share of the speed to brake off before the hazard",
-                                        "a modelling choice: the quasi-static curving loads fall with v^2 (19 % "
-                                        "for 10 %); the report shows 0.05, 0.2 and 1 (stopping)", "-")
+    safe_speed_reduction: float = _rule(0.10, "-", "share of the speed to brake off where no cure is known "
+                                        "(`hazard_cure`: straight track, no gust, defect or hunting)",
+                                        "a modelling choice: the quasi-static loads fall with v^2 (19 % for 10 "
+                                        "%); the report's braking sensitivity shows 0.05, 0.2 and 1 (stopping) "
+                                        "for every hazard", "-")
+    critical_uncompensated_acceleration: float = _rule(
+        5.18, "m/s^2", "the car's critical derailment speed on a curve: where the uncompensated acceleration "
+        "reaches this", "the smallest of the shipped progressive trials on ideal track, R 800-1800 m at 175 mm "
+        "(docs/report/report.json: 258.1-384.3 km/h, 5.18-5.28 m/s^2; a test holds it to them); irregular track "
+        "derails about 2 % lower in speed", "A (own simulation)")
+    critical_speed_margin: float = _rule(1.1, "-", "over-speed is cured below the critical derailment speed over "
+                                         "this factor", "EN 14363's margin of 1.1 on a critical speed (as the "
+                                         "catalogue's admissible speed takes it), applied to the derailment speed: "
+                                         "covers the 2 % of irregular track", "C")
+    nonlinear_critical_speed_kmh: float = _rule(234.375, "km/h", "hunting is cured below the car's nonlinear "
+                                                "critical speed (a fault's own, given by its catalogue entry, wins)",
+                                                "the shipped limit-cycle scan (docs/report/report.json: 10 mm kink)",
+                                                "A (own simulation)")
     permitted_cant_deficiency: float = _rule(0.150, "m", "the largest cant deficiency of ordinary running",
                                              "EN 13803 / TSI INF for high-speed lines (as quoted)", "C")
 
     def validated(self):
         for name in ("window_s", "unloading_level", "margin_window_m", "track_shift_alpha", "track_shift_window_m",
                      "instability_share", "instability_window_m", "lift_share", "reaction_s", "brake_buildup_s",
-                     "permitted_cant_deficiency"):
+                     "permitted_cant_deficiency", "critical_uncompensated_acceleration",
+                     "critical_speed_margin", "nonlinear_critical_speed_kmh"):
             if not getattr(self, name) > 0.0:
                 raise ValueError(f"{name} {getattr(self, name)!r} must be positive")
         if not 0.0 < self.safe_speed_reduction <= 1.0:
@@ -116,21 +154,135 @@ class HazardRules:
                 for f in fields(self)]
 
 
-def braking(rules):
-    """The braking model of the rules' deceleration bands and times."""
+def braking(rules, adhesion="dry"):
+    """The braking model of the rules' deceleration bands and times, on dry rail or on wet (its degraded-adhesion
+    bands, railderail_sim.supervision.braking)."""
     return BrakingModel(emergency_bands=rules.deceleration_bands, buildup_s=rules.brake_buildup_s,
-                        reaction_s=rules.reaction_s)
+                        reaction_s=rules.reaction_s, adhesion=adhesion)
 
 
-def braking_time(rules, speed, reduction=None):
+def braking_time(rules, speed, reduction=None, adhesion="dry"):
     """Time (s) to brake from `speed` (m/s) by `reduction` (the rules' share by default) of it, band by band."""
     reduction = rules.safe_speed_reduction if reduction is None else reduction
-    return braking(rules).deceleration_time(speed, (1.0 - reduction) * speed)
+    return braking(rules, adhesion).deceleration_time(speed, (1.0 - reduction) * speed)
 
 
-def useful_lead(rules, speed, reduction=None):
+def useful_lead(rules, speed, reduction=None, adhesion="dry"):
     """The lead (s) a warning at `speed` (m/s) needs to be of use: reaction, brake build-up and braking."""
-    return rules.reaction_s + rules.brake_buildup_s + braking_time(rules, speed, reduction)
+    return rules.reaction_s + rules.brake_buildup_s + braking_time(rules, speed, reduction, adhesion)
+
+
+def line_numbers(line):
+    """A line (`catalogue.Entry.line`) with JSON's nulls read back: a cached run's infinite radius and class
+    speed and its unknown critical speed are written as null (`jsonout`)."""
+    unknown = dict(radius_m=math.inf, class_speed_kmh=math.inf, critical_speed_kmh=math.nan)
+    return {**line, **{k: v for k, v in unknown.items() if line.get(k) is None}}
+
+
+def permitted_speed(line, rules):
+    """The line's permitted speed (m/s): its track class's, and on a curve the speed at the permitted cant
+    deficiency (`line`: `catalogue.Entry.line`)."""
+    line = line_numbers(line)
+    from railderail_sim.parameters import GRAVITY
+    top = line["class_speed_kmh"] / 3.6
+    if math.isinf(line["radius_m"]):
+        return top
+    curve = math.sqrt(line["radius_m"] * GRAVITY * (line["cant_m"] + rules.permitted_cant_deficiency)
+                      / line["rail_spacing_m"])
+    return min(top, curve)
+
+
+def critical_derailment_speed(line, rules):
+    """The curve's critical derailment speed (m/s) where the run cannot tell it: where the uncompensated
+    acceleration v^2/R - g h/e reaches the car's critical one (`critical_uncompensated_acceleration`), a
+    closed form per curve; inf on straight track. A catalogue entry's own `critical_speed_kmh` wins."""
+    line = line_numbers(line)
+    from railderail_sim.parameters import GRAVITY
+    if math.isfinite(line["critical_speed_kmh"]):
+        return line["critical_speed_kmh"] / 3.6
+    if math.isinf(line["radius_m"]):
+        return math.inf
+    return math.sqrt(line["radius_m"] * (rules.critical_uncompensated_acceleration
+                                         + GRAVITY * line["cant_m"] / line["rail_spacing_m"]))
+
+
+def characteristic_wind_speed_kmh(wind_m_s, curved):
+    """The highest train speed (km/h) of the characteristic wind curve (straight track, or a curve at
+    1 m/s^2) at which a gust of `wind_m_s` leaves the margins intact; 0 (a stop) above the curve's slowest
+    point, 360 below its fastest (the tabled range)."""
+    winds = np.asarray(CWC_CURVE_M_S if curved else CWC_STRAIGHT_M_S)
+    speeds = np.asarray(CWC_SPEEDS_KMH)
+    below = np.flatnonzero(winds >= wind_m_s)
+    if not len(below):
+        return 0.0
+    k = below[-1]
+    if k == len(speeds) - 1:
+        return float(speeds[-1])
+    # between the last tabled speed the gust is within and the next (whose wind is below the gust), linearly
+    w0, w1 = winds[k], winds[k + 1]
+    return float(speeds[k] + (speeds[k + 1] - speeds[k]) * (w0 - wind_m_s) / (w0 - w1))
+
+
+def hazard_cure(rules, hazard, line):
+    """What cures a hazard of a run on `line` (`catalogue.Entry.line`), by its mechanism: {mechanism,
+    speed_kmh (0 a stop), permitted_speed_kmh, critical_speed_kmh (the speed the cure keeps under, or null),
+    basis}. A gust: the characteristic wind curve's speed at the gust's peak; a defect or twist: a stop before
+    it; hunting (a failed yaw damper, or the instability margin): below the nonlinear critical speed; another
+    fault: below the entry's critical speed if it gives one, else a stop; over-speed on a curve: below its
+    critical derailment speed over EN 14363's margin; else the rules' share off."""
+    line = line_numbers(line)
+    permitted = permitted_speed(line, rules) * 3.6
+    speed = hazard["speed_m_s"] * 3.6
+    critical = None
+    if line["gust_m_s"] > 0.0:
+        mechanism, cure = "gust overturning", characteristic_wind_speed_kmh(line["gust_m_s"],
+                                                                             math.isfinite(line["radius_m"]))
+        basis = f"the characteristic wind curve at the gust's {line['gust_m_s']:g} m/s"
+    elif line["defect"]:
+        mechanism, cure, basis = "flange climb at a defect", 0.0, "a stop before the defect"
+    elif line["hunting"] or hazard["margin"] == "instability":
+        critical = line["critical_speed_kmh"] if line["hunting"] and math.isfinite(line["critical_speed_kmh"]) \
+            else rules.nonlinear_critical_speed_kmh
+        mechanism, cure, basis = "hunting", critical, "below the car's nonlinear critical speed"
+    elif line["faults"] and math.isnan(line["critical_speed_kmh"]):
+        mechanism, cure, basis = "fault-driven", 0.0, "a stop: the fault's own critical speed is not known"
+    elif math.isfinite(line["radius_m"]) or math.isfinite(line["critical_speed_kmh"]):
+        critical = critical_derailment_speed(line, rules) * 3.6
+        mechanism, cure = "over-speed", critical / rules.critical_speed_margin
+        basis = (f"the curve's critical derailment speed {critical:.0f} km/h over {rules.critical_speed_margin:g}")
+    else:
+        mechanism, cure = "unnamed", (1.0 - rules.safe_speed_reduction) * speed
+        basis = f"no cure known: {rules.safe_speed_reduction:.0%} off the speed"
+    if line["faults"]:
+        mechanism = f"{mechanism} with {', '.join(line['faults'])}"
+    return dict(mechanism=mechanism, speed_kmh=float(cure), permitted_speed_kmh=float(permitted),
+                critical_speed_kmh=critical, basis=basis)
+
+
+def lead_needed(rules, speed, cure_kmh, adhesion="dry"):
+    """The lead (s) a warning at `speed` (m/s) needs to brake to a cure speed (km/h) before its hazard: reaction
+    and brake build-up, and the braking (none when the train is already below it)."""
+    reduction = max(0.0, 1.0 - cure_kmh / 3.6 / speed) if speed > 0.0 else 0.0
+    return useful_lead(rules, speed, reduction, adhesion)
+
+
+def flange_climb_limits(car):
+    """(Nadal's limit at the run's friction, 49 CFR 213.333's single-wheel L/V limit: Nadal at friction 0.5)
+    at the profile pair's largest contact angle."""
+    from railderail_sim.contact.nadal import nadal_limit
+    return car.nadal, float(nadal_limit(car.max_contact_angle, CFR_FRICTION))
+
+
+CFR_FRICTION = 0.5      # 49 CFR 213.333 / 238 App. C: the single-wheel L/V limit is Nadal's at this friction
+
+
+def beyond_permitted(arrays, line, rules):
+    """(n,) bool: running beyond the line's permitted conditions, above its permitted speed or above the
+    permitted cant deficiency (`permitted_speed`, `cant_deficiency`)."""
+    line = line_numbers(line)
+    v = np.asarray(arrays["speed"], dtype=float)
+    return ((v > permitted_speed(line, rules) * (1.0 + 1e-9))
+            | (cant_deficiency(arrays, line["rail_spacing_m"]) > rules.permitted_cant_deficiency + 1e-9))
 
 
 def track_shift_force(lateral_force):
@@ -195,6 +347,24 @@ def stability_band(arrays, lateral):
     return np.zeros_like(sum_y) if f0 is None else settled(stability_band_pass(f0), sum_y, rate)
 
 
+def margin_q_over_p(vertical, lateral, position, car, rules):
+    """Each wheel's Q/P (n, 8) as the core defines it (`Wheel.derailment_coefficient`: 0 on a wheel carrying
+    too little to mean it), its mean over the margin's window."""
+    loaded = vertical > ContactParameters().derailment_coefficient_min_load * car.static_wheel_load
+    return sliding_mean(np.where(loaded, lateral / np.where(loaded, vertical, 1.0), 0.0), position,
+                        rules.margin_window_m)
+
+
+def margin_peaks(arrays, car, rules):
+    """What the report shows of a run's margins beside their levels: the largest Q/P (the margin's 5 ft mean)
+    against Nadal's limit at the run's friction and at 49 CFR 213.333's (`flange_climb_limits`), and the
+    largest wheel lift as a share of the flange height (the lift level's sensitivity)."""
+    qp = margin_q_over_p(*filtered_forces(arrays, rules), arrays["position"], car, rules)
+    run_friction, cfr = flange_climb_limits(car)
+    return dict(q_over_p_max=float(np.max(qp, initial=0.0)), nadal_run_friction=run_friction, nadal_cfr=cfr,
+                lift_share_max=float(np.max(arrays["wheel_lift"], initial=0.0)) / car.flange_height)
+
+
 def margins(arrays, car, rules):
     """{margin: (breached (n, channels) bool, the channels' places [(bogie, sides)])} of a run."""
     s = arrays["position"]
@@ -202,9 +372,7 @@ def margins(arrays, car, rules):
     axle_places = [(BOGIE_OF_WHEELSET[w], (0, 1)) for w in range(4)]
     vertical, lateral = filtered_forces(arrays, rules)
     unloading = sliding_mean(unloading_ratio(vertical, car.static_wheel_load), s, rules.margin_window_m)
-    # Q/P as the core defines it (`Wheel.derailment_coefficient`): 0 on a wheel carrying too little to mean it
-    loaded = vertical > ContactParameters().derailment_coefficient_min_load * car.static_wheel_load
-    qp = sliding_mean(np.where(loaded, lateral / np.where(loaded, vertical, 1.0), 0.0), s, rules.margin_window_m)
+    qp = margin_q_over_p(vertical, lateral, s, car, rules)
     shift = sliding_mean(track_shift_force(lateral), s, rules.track_shift_window_m)
     instability = np.sqrt(sliding_mean(stability_band(arrays, lateral) ** 2, s, rules.instability_window_m))
     return {"wheel_unloading": (unloading >= rules.unloading_level, wheel_places),
@@ -251,10 +419,10 @@ def hazards(arrays, derailment, car, rules):
     return sorted(out, key=lambda h: (h["time_s"], h["kind"], h["margin"]))
 
 
-def windows(times, found, window_s):
+def windows(times, found, window_s, beyond=None):
     """Per place, the samples inside a hazard window of W = window_s (n,) bool, and each sample's label
     (n,): derailment within W before a derailment, near miss from W before a margin falls until it
-    recovers, normal elsewhere."""
+    recovers, beyond permitted where `beyond` (n,) bool holds outside these, normal elsewhere."""
     t = np.asarray(times, dtype=float)
     label = np.full(len(t), NORMAL, dtype=np.int8)
     place = {p: np.zeros(len(t), dtype=bool) for p in PLACES}
@@ -264,6 +432,8 @@ def windows(times, found, window_s):
         label[inside] = np.maximum(label[inside], kind)
         for p in h["places"]:
             place[tuple(p)] |= inside
+    if beyond is not None:
+        label[(label == NORMAL) & np.asarray(beyond, dtype=bool)] = BEYOND_PERMITTED
     return place, label
 
 

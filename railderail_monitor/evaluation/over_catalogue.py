@@ -5,8 +5,8 @@ one part of the catalogue and scored on the other (docs/warning-evaluation.md).
 Each run is the core at the monitor's 200 Hz (no ROS), labelled by its hazards (`hazards`: derailment
 windows, near misses by margin, normal running) and scored per criterion and threshold (`scoring`: the
 alarms a monitor at that threshold would show, attributed to the hazard at their place or counted false
-over the normal running). The runs are split by seed (odd seeds train, even test, or the entry's `part`);
-`summarize` gives the table of one part, `recommend` chooses each criterion's WARNING and CRITICAL levels
+over the normal running). The runs are split by scenario and track (`catalogue.load`: an entry's runs all
+in its part, no track sample or defect on both sides); `summarize` gives the table of one part, `recommend` chooses each criterion's WARNING and CRITICAL levels
 on the train part under their false-alarm budgets and checks them on the test part, recommending nothing
 where the exposure cannot resolve the budget or too few derailments are usefully warned.
 
@@ -46,10 +46,12 @@ from ..warning.climb_distance import climb_distance_ratio
 from ..warning.limits import TIMED, critical_name, debounce, default_limits, model_basis
 from ..warning.quantities import front_attack_angle, running_gear_unloading, sliding_mean, unloading_ratio
 from ..warning.alarms import nanoseconds
-from .hazards import Car, HazardRules, cant_deficiency, hazards, windows
+from .catalogue import PARTS
+from .hazards import (BEYOND_PERMITTED, Car, HazardRules, beyond_permitted, cant_deficiency, hazard_cure, hazards,
+                      lead_needed, margin_peaks, windows)
 from ..onboard import measured
-from .scoring import (channel_places, exposure, in_alarm, is_useful, rate_per_1000_km, resolvable_km, score,
-                      share_interval)
+from .scoring import (channel_places, cluster_bootstrap, exposure, in_alarm, is_useful, rate_per_1000_km,
+                      resolvable_km, score, share_interval)
 
 # thresholds of each criterion's sweep (its unit); the shipped levels are added to them
 THRESHOLDS = {
@@ -79,7 +81,8 @@ SENSOR_VARIANTS = (dict(noise=1.0, bias=1.0, rate_hz=200.0), dict(noise=0.0, bia
 RATE = next(spec.default for spec in PARAMETERS if spec.name == "publish_rate")   # Hz, as the node publishes
 BUDGETS = {"warning": 10.0, "critical": 3.0}      # false-alarm episodes per 1000 km of each level by default
 MIN_USEFUL_SHARE = 0.5     # a level is recommended only if it usefully warns at least this share of derailments
-SPLIT = "by seed: odd seeds train, even seeds test (an entry's `part` overrides)"
+SPLIT = ("by scenario and track: each entry's runs in one part (its `part`, else alternating train and test "
+         "within its family in the file's order); no track sample, irregularity file or defect on both sides")
 
 
 @functools.lru_cache(maxsize=1)
@@ -185,20 +188,22 @@ def thresholds(criterion, limits=None):
     return sorted({float(x) for x in THRESHOLDS[criterion]} | {float(x) for x in shipped if math.isfinite(x)})
 
 
-def scores(alarms, arrays, found, window_s):
-    """{criterion: [{threshold, warnings, false_episodes, false_time_s, false_km}]} of alarms {criterion:
-    {threshold: (channels, n) bool}} at the window W = window_s."""
-    place_windows, label = windows(arrays["time"], found, window_s)
+def scores(alarms, arrays, found, window_s, beyond=None):
+    """{criterion: [{threshold, warnings, false_episodes, false_time_s, false_km, window_false_episodes}]} of
+    alarms {criterion: {threshold: (channels, n) bool}} at the window W = window_s; `beyond` (n,) bool the
+    samples beyond permitted running (`hazards.beyond_permitted`)."""
+    label = windows(arrays["time"], found, window_s, beyond)[1]
     return {criterion: [dict(threshold=thr, **score(mask, channel_places(criterion, mask.shape[0]), arrays, found,
-                                                    window_s, place_windows, label))
+                                                    window_s, label))
                         for thr, mask in by_threshold.items()]
             for criterion, by_threshold in alarms.items()}
 
 
-def score_run(arrays, found, limits, rules, measured_found=None):
-    """{window_s: {normal_km, normal_h, criteria: {criterion: [{threshold, warnings, false_episodes,
-    false_time_s, false_km}]}}} of one run's arrays and hazards, every criterion over its thresholds; the
-    measured criteria's from `measured.evaluate`'s results `measured_found`."""
+def score_run(arrays, found, limits, rules, measured_found=None, beyond=None):
+    """{window_s: {normal_km, normal_h, beyond_km, criteria: {criterion: [{threshold, warnings, false_episodes,
+    false_time_s, false_km, window_false_episodes}]}}} of one run's arrays and hazards, every criterion over
+    its thresholds; the measured criteria's from `measured.evaluate`'s results `measured_found`; `beyond` the
+    samples beyond permitted running."""
     s = arrays["position"]
     clock = nanoseconds(arrays["time"])
     alarms = {}
@@ -212,18 +217,20 @@ def score_run(arrays, found, limits, rules, measured_found=None):
         alarms.update(measured_alarms(measured_found, arrays["time"], thresholds))
     out = {}
     for w in rules.windows_s:
-        km, h = exposure(arrays, windows(arrays["time"], found, w)[1])
-        out[str(w)] = dict(normal_km=km, normal_h=h, criteria=scores(alarms, arrays, found, w))
+        label = windows(arrays["time"], found, w, beyond)[1]
+        km, h = exposure(arrays, label)
+        out[str(w)] = dict(normal_km=km, normal_h=h, beyond_km=exposure(arrays, label, BEYOND_PERMITTED)[0],
+                           criteria=scores(alarms, arrays, found, w, beyond))
     return out
 
 
-def sensor_sensitivity_run(sensors, sim, arrays, found, rules, variants=SENSOR_VARIANTS[1:]):
+def sensor_sensitivity_run(sensors, sim, arrays, found, rules, variants=SENSOR_VARIANTS[1:], beyond=None):
     """{variant name: {criterion: [its row at the shipped level]}} at the window of the recommendation: the
     measured criteria of one run seen through each of `variants` (by default SENSOR_VARIANTS but the first,
     the shipped set, scored with the run itself), over the same rows: no re-simulation."""
     shipped = lambda criterion: [shipped_level(criterion)]
     return {variant_name(v): scores(measured_alarms(measured_results(sensor_variant(sensors, v), sim, arrays),
-                                                    arrays["time"], shipped), arrays, found, rules.window_s)
+                                                    arrays["time"], shipped), arrays, found, rules.window_s, beyond)
             for v in variants}
 
 
@@ -249,22 +256,26 @@ def run_one(item, cache=None):
     car = Car(basis["flange_height"], basis["max_contact_angle"], basis["static_wheel_load"], entry.friction)
     event = sim.derailment()
     found = hazards(arrays, event, car, rules)
+    line = entry.line()
+    beyond = beyond_permitted(arrays, line, rules)
     deficiency = cant_deficiency(arrays, sc.track.rail_spacing)
     s, t = arrays["position"], arrays["time"]
     sensors = replace(load_sensors(), seed=seed)          # the shipped sensor set, its noise from the run's seed
     sensed = measured_results(sensors, sim, arrays)
-    result = dict(scenario=entry.name, family=entry.family, seed=seed, part=entry.part_of(seed),
+    result = dict(scenario=entry.name, family=entry.family, seed=seed, part=entry.part_of(seed), line=line,
+                  expected_mechanism=entry.mechanism, expect_derailment=entry.expect_derailment,
                   derailed=event is not None, diverged=error, derailment=None if event is None else dict(
                       time_s=event["time_s"], position_m=event["car_body_position_m"], speed_kmh=event["speed_kmh"],
                       wheelset=event["wheelset"], wheel_side=event["wheel_side"], mechanism=event["mechanism"]),
                   km=float(s[-1] - s[0]) / 1000.0, hours=float(t[-1] - t[0]) / 3600.0,
                   cant_deficiency_mm_max=float(np.max(deficiency, initial=0.0)) * 1e3,
                   hazards=[{**h, "places": [list(p) for p in h["places"]]} for h in found],
+                  margin_peaks=margin_peaks(arrays, car, rules),
                   peaks={c: float(np.max(v, initial=0.0)) for c, v in criterion_values(arrays, limits).items()}
                   | {c: float(np.max(np.nan_to_num(m.value, nan=0.0), initial=0.0)) for c, m in sensed.items()},
-                  windows=score_run(arrays, found, limits, rules, sensed))
+                  windows=score_run(arrays, found, limits, rules, sensed, beyond))
     scored = time.process_time()
-    result["sensor_variants"] = (sensor_sensitivity_run(sensors, sim, arrays, found, rules)
+    result["sensor_variants"] = (sensor_sensitivity_run(sensors, sim, arrays, found, rules, beyond=beyond)
                                  if result["part"] == "test" else None)
     done = time.process_time()
     # process time of the simulation, the sensors with every criterion scored, and the sensor variants
@@ -295,38 +306,61 @@ def _rows(run, window, criterion):
     return run["windows"][str(window)]["criteria"][criterion]
 
 
-def summarize(runs, window, rules, reduction=None, criteria=CRITERIA, sweep=thresholds):
+def cures(run, rules):
+    """The cure speed (km/h) of each of a run's hazards (`hazards.hazard_cure`)."""
+    return [hazard_cure(rules, h, run["line"])["speed_kmh"] for h in run["hazards"]]
+
+
+def summarize(runs, window, rules, reduction=None, criteria=CRITERIA, sweep=thresholds, bootstrap=False):
     """Per criterion and threshold (of `sweep(criterion)`, the runs' rows in its order) over `runs` at the
-    window W: derailments usefully warned (share and interval), warned, the median lead, near misses warned,
-    false-alarm episodes per 1000 km and per hour (interval), and the share of normal time in false alarm."""
+    window W: derailments usefully warned (share and interval; on wet rail beside), warned, the median lead,
+    near misses warned, false-alarm episodes per 1000 km and per hour (interval), the share of normal time in
+    false alarm, and the false alarms inside hazard windows, counted apart. With `bootstrap`, beside the exact
+    intervals the scenario bootstrap's (`scoring.cluster_bootstrap`)."""
     km = sum(r["windows"][str(window)]["normal_km"] for r in runs)
     hours = sum(r["windows"][str(window)]["normal_h"] for r in runs)
+    cure = [cures(r, rules) for r in runs]
+    scenarios = sorted({r["scenario"] for r in runs})
     table = []
     for criterion in criteria:
         for i, thr in enumerate(sweep(criterion)):
-            derail, near, episodes, alarm_s, family = [], [], 0, 0.0, {}
-            for r in runs:
+            derail, near, episodes, alarm_s, family, useful, wet, stale = [], [], 0, 0.0, {}, 0, 0, 0
+            cluster = {name: np.zeros(4) for name in scenarios}     # usefully warned, derailments, episodes, km
+            for r, speeds in zip(runs, cure):
                 row = _rows(r, window, criterion)[i]
-                for h, w in zip(r["hazards"], row["warnings"]):
+                for h, w, v in zip(r["hazards"], row["warnings"], speeds):
                     (derail if h["kind"] == "derailment" else near).append(w)
                     if h["kind"] == "derailment":
+                        ok = is_useful(w, rules, v, reduction)
+                        useful += ok
+                        wet += is_useful(w, rules, v, reduction, "wet")
                         count = family.setdefault(r["family"], [0, 0])
-                        count[0] += is_useful(w, rules, reduction)
+                        count[0] += ok
                         count[1] += 1
+                        cluster[r["scenario"]][:2] += (ok, 1)
                 episodes += row["false_episodes"]
                 alarm_s += row["false_time_s"]
+                stale += row["window_false_episodes"]
+                cluster[r["scenario"]][2:] += (row["false_episodes"], r["windows"][str(window)]["normal_km"])
             warned = [w for w in derail if w is not None and w[0] > 0.0]
-            useful = sum(is_useful(w, rules, reduction) for w in derail)
             rate, ci = rate_per_1000_km(episodes, km)
+            extra = {}
+            if bootstrap:
+                sums = np.array([cluster[name] for name in scenarios])
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    extra = dict(usefully_warned_share_boot95=cluster_bootstrap(sums, lambda x: x[:, 0] / x[:, 1]),
+                                 false_alarms_per_1000_km_boot95=cluster_bootstrap(
+                                     sums, lambda x: 1000.0 * x[:, 2] / x[:, 3]))
             table.append(dict(
                 criterion=criterion, threshold=thr, signals=SIGNALS[criterion], derailments=len(derail),
                 warned=len(warned), usefully_warned=useful, usefully_warned_ci95=share_interval(useful, len(derail)),
-                usefully_warned_by_family=family,
+                usefully_warned_wet=wet, usefully_warned_by_family=family,
                 lead_s_median=statistics.median(w[0] for w in warned) if warned else math.nan,
                 near_misses=len(near), near_misses_warned=sum(w is not None and w[0] > 0.0 for w in near),
                 false_alarm_episodes=episodes, false_alarms_per_1000_km=rate, false_alarms_per_1000_km_ci95=ci,
                 false_alarms_per_hour=episodes / hours if hours > 0 else math.nan,
-                time_in_alarm_share=alarm_s / (3600.0 * hours) if hours > 0 else math.nan))
+                time_in_alarm_share=alarm_s / (3600.0 * hours) if hours > 0 else math.nan,
+                window_false_episodes=stale, **extra))
     return table
 
 
@@ -392,16 +426,23 @@ def recommend(runs, rules, budgets=BUDGETS, min_share=MIN_USEFUL_SHARE):
 
 
 def first_true_alerts(run, limits, rules):
-    """{criterion: {lead_s, useful} or None}: the first hazard each criterion warned at its shipped WARNING
-    level, in the window of the recommendation (the derailment if it warned it, else the first near miss)."""
+    """{criterion: {lead_s, useful, hazard_cure, lead_needed_s, lead_needed_wet_s, useful_wet} or None}: the
+    first hazard each criterion warned at its shipped WARNING level, in the window of the recommendation (the
+    derailment if it warned it, else the first near miss), with what cures that hazard and the lead it needs
+    to brake to it at the warning's speed, on dry and on wet rail."""
     out = {}
     order = sorted(range(len(run["hazards"])), key=lambda i: run["hazards"][i]["kind"] != "derailment")
     for criterion in CRITERIA:
         level = shipped_level(criterion, limits)
         rows = [r for r in _rows(run, rules.window_s, criterion) if r["threshold"] == level]
-        hits = [rows[0]["warnings"][i] for i in order if rows and rows[0]["warnings"][i] is not None
-                and rows[0]["warnings"][i][0] > 0.0]
-        out[criterion] = dict(lead_s=hits[0][0], useful=is_useful(hits[0], rules)) if hits else None
+        hits = [i for i in order if rows and rows[0]["warnings"][i] is not None and rows[0]["warnings"][i][0] > 0.0]
+        if not hits:
+            out[criterion] = None
+            continue
+        (lead, speed), cure = rows[0]["warnings"][hits[0]], hazard_cure(rules, run["hazards"][hits[0]], run["line"])
+        dry, wet = (lead_needed(rules, speed, cure["speed_kmh"], adhesion) for adhesion in ("dry", "wet"))
+        out[criterion] = dict(lead_s=lead, useful=lead >= dry, hazard_cure=cure, lead_needed_s=dry,
+                              lead_needed_wet_s=wet, useful_wet=lead >= wet)
     return out
 
 
@@ -414,6 +455,8 @@ def evaluate(entries, cache=None, workers=None, scheduler=None, progress=True, b
     runs = run_all(functools.partial(run_one, cache=cache), items, workers=workers, scheduler=scheduler,
                    progress=progress, desc="warnings", unit="run", cost=[e.expected_cost(seed) for e, seed in items])
     wall = time.perf_counter() - started
+    # the part is the catalogue's (a cached run keeps its simulation, not its part)
+    runs = [{**r, "part": e.part_of(seed)} for r, (e, seed) in zip(runs, items)]
     limits, rules = default_limits(), HazardRules()
     w = rules.window_s
     train, test = split(runs)
@@ -421,10 +464,12 @@ def evaluate(entries, cache=None, workers=None, scheduler=None, progress=True, b
         derailment_window_s=w,
         exposure=dict(normal_km=sum(r["windows"][str(w)]["normal_km"] for r in runs),
                       normal_h=sum(r["windows"][str(w)]["normal_h"] for r in runs),
+                      beyond_permitted_km=sum(r["windows"][str(w)]["beyond_km"] for r in runs),
                       train_km=sum(r["windows"][str(w)]["normal_km"] for r in train),
                       test_km=sum(r["windows"][str(w)]["normal_km"] for r in test)),
         split=dict(how=SPLIT, train=sorted({r["scenario"] for r in train}), test=sorted({r["scenario"] for r in test})),
-        criteria=summarize(test, w, rules),
+        criteria=summarize(test, w, rules, bootstrap=True),
+        mechanisms=mechanism_counts(runs),
         shipped_levels={c: shipped_level(c, limits) for c in CRITERIA},
         recommended=recommend(runs, rules, budgets, min_share),
         budgets_per_1000_km=dict(budgets), min_useful_share=min_share,
@@ -433,11 +478,26 @@ def evaluate(entries, cache=None, workers=None, scheduler=None, progress=True, b
         sensor_sensitivity=sensor_sensitivity(test, rules),
         runs=[dict(scenario=r["scenario"], family=r["family"], seed=r["seed"], part=r["part"], km=r["km"],
                    hazard=hazard_of(r), mechanism=mechanism_of(r), derailment=r["derailment"],
+                   expected_mechanism=r["expected_mechanism"], expect_derailment=r["expect_derailment"],
                    cant_deficiency_mm_max=r["cant_deficiency_mm_max"], diverged=r["diverged"], peaks=r["peaks"],
+                   margin_peaks=r["margin_peaks"],
                    first_true_alert=first_true_alerts(r, limits, rules)) for r in runs],
         throughput=dict(wall_s=wall, cpu_s=sum(r["cpu_s"] for r in runs), km=sum(r["km"] for r in runs),
                         cpu_split_s={k: sum(r["cpu_split_s"][k] for r in runs) for k in runs[0]["cpu_split_s"]},
                         cores=os.cpu_count() if not scheduler else None))
+
+
+def mechanism_counts(runs):
+    """Per expected mechanism (`catalogue.Entry.mechanism`) and part: the runs expected to derail, and those
+    that did."""
+    out = {}
+    for r in runs:
+        if r["expected_mechanism"] is None:
+            continue
+        row = out.setdefault(r["expected_mechanism"], {p: dict(expected=0, derailed=0) for p in PARTS})
+        row[r["part"]]["expected"] += bool(r["expect_derailment"])
+        row[r["part"]]["derailed"] += bool(r["derailed"])
+    return out
 
 
 def sensor_sensitivity(runs, rules):

@@ -3,24 +3,33 @@ benchmark scores (the Numenta Anomaly Benchmark's labelled windows), and its sta
 
 A channel (a wheel, a wheelset or a running gear's side) is *in alarm* from the sample its alert is raised
 until it re-arms (`warning.alarms.alarm_intervals`): what an operator sees. Then:
-- **Attribution.** A channel in alarm inside a hazard's window, at the hazard's place (its running gear,
-  and its side: a channel of a wheel or a side matches a hazard of that side; a channel of a whole
-  wheelset, the attack angle, matches either side of its running gear), is a true warning of it; in alarm
-  anywhere else it is a false alarm, in every run, derailing or not. A measured criterion has no wheel: a
-  bogie frame's channel matches either side of its bogie, an estimated running-gear side its own side, and
-  the car body's channels (its floor, roll and roll rate) either side of either bogie (`MEASURED_PLACES`).
-- **Lead.** A hazard is warned when a matching channel is in alarm at some sample of its window before
-  the hazard itself (the derailment, or the margin's fall); its lead is from the first such sample, so at
-  most W: an alarm raised earlier and still on counts from the window's start, and its earlier part is a
-  false alarm. It is *usefully* warned when that lead covers the time to react and brake
-  (`hazards.useful_lead` at the speed of that sample).
-- **Exposure.** False alarms are counted over normal running as episodes: the stretches of `EPISODE_M` of
-  track along each run (a fixed grid from its start) in which some channel is in false alarm. A lower
-  threshold keeps every alarm of a higher one (the detector's level and its re-arm level both fall), so the
-  episodes, the time and the distance in alarm cannot fall as the threshold falls; a counted onset could
-  (two alarms merge into one), which is why onsets are not counted.
-- **Statistics.** Clopper-Pearson intervals on shares, exact Poisson (Garwood) intervals on rates, both
-  95 %.
+- **Place.** A channel matches a hazard at its place (its running gear, and its side: a channel of a wheel
+  or a side matches a hazard of that side; a channel of a whole wheelset, the attack angle, either side of
+  its running gear). A measured criterion has no wheel: a bogie frame's channel matches either side of its
+  bogie, an estimated running-gear side its own side, and the car body's channels (its floor, roll and roll
+  rate) either side of either bogie (`MEASURED_PLACES`).
+- **Credit: only an alarm standing at the hazard.** A hazard is warned when a matching channel is in alarm
+  at the hazard's last sample before its time (the derailment, or the margin's fall). Its lead runs from the
+  start of that channel's alarm episode (the earliest of the matching channels standing), capped at the
+  window W: an episode raised earlier counts from the window's start. An alarm that ended before the hazard
+  is not a warning of it, and the hazard is unwarned unless a later one stands. It is *usefully* warned when
+  the lead covers the lead needed to brake to the hazard's cure (`hazards.hazard_cure`, `hazards.lead_needed`,
+  at the speed of the credited start).
+- **True and false.** The credited episode from its (capped) start to the hazard, and a matching channel's
+  alarm while the hazard lasts (a near miss until its margin recovers), are true; every other sample in
+  alarm is false, in every run, derailing or not.
+- **Exposure: one footing.** False alarms are counted over normal running only (`hazards.NORMAL`: outside
+  every hazard window, within the line's permitted conditions), the running their rate is divided by: as
+  episodes, the stretches of `EPISODE_M` of track along each run (a fixed grid from its start) in which some
+  channel is in false alarm at a normal sample. False alarms inside a hazard's window (an alarm that ended
+  before the hazard, or one at another place) are counted apart (`window_false_episodes`), and those beyond
+  permitted running neither counted nor credited. A lower threshold keeps every alarm of a higher one (the
+  detector's level and its re-arm level both fall), and no normal sample is ever true, so the episodes, the
+  time and the distance in false alarm cannot fall as the threshold falls; a counted onset could (two alarms
+  merge into one), which is why onsets are not counted.
+- **Statistics.** Clopper-Pearson intervals on shares and exact Poisson (Garwood) intervals on rates, both
+  95 %, which take the runs as independent; beside them a bootstrap over scenarios (`cluster_bootstrap`:
+  the runs of one scenario resampled together, seeded), which holds for runs correlated within a scenario.
 """
 from __future__ import annotations
 
@@ -30,11 +39,13 @@ import numpy as np
 
 from ..warning.limits import BOGIE_PLACES, SIDES
 from ..warning.alarms import alarm_intervals
-from .hazards import BOGIE_OF_WHEELSET, PLACES, useful_lead
+from .hazards import BEYOND_PERMITTED, BOGIE_OF_WHEELSET, NORMAL, PLACES, lead_needed, useful_lead
 from ..onboard import measured
 
 EPISODE_M = 1000.0         # m: one false-alarm episode at most per km of a run's track (the grid of the count)
 CONFIDENCE = 0.95
+BOOTSTRAP_RESAMPLES = 2000
+BOOTSTRAP_SEED = 20221111      # any fixed seed: the same runs give the same interval
 
 
 # The places a measured criterion's channel covers (onboard.measured.PLACES): a bogie frame's mount, both
@@ -68,32 +79,48 @@ def in_alarm(values, position, threshold, held, rearm_fraction, rearm_m, clock=N
     return mask
 
 
-def score(alarms, places, arrays, found, window_s, place_windows, label):
-    """One criterion at one threshold in one run: alarms (channels, n) bool, their places, the run's
-    hazards and, for the window W = window_s, its windows (`hazards.windows`). Returns {warnings: [(lead_s, speed at its first sample) or None
-    per hazard], false_episodes, false_time_s, false_km}."""
+def episode_start(alarm, k):
+    """The first sample of the alarm episode of one channel (n,) bool that is on at sample k."""
+    off = np.flatnonzero(~alarm[:k + 1])
+    return int(off[-1]) + 1 if len(off) else 0
+
+
+def score(alarms, places, arrays, found, window_s, label):
+    """One criterion at one threshold in one run: alarms (channels, n) bool, their places, the run's hazards
+    and each sample's label at the window W = window_s (`hazards.windows`). Returns {warnings: [(lead_s,
+    speed at the credited start) or None per hazard], false_episodes, false_time_s, false_km (over normal
+    running), window_false_episodes (inside hazard windows)}."""
     t, s, v = (np.asarray(arrays[k], dtype=float) for k in ("time", "position", "speed"))
-    true = np.array([np.any([place_windows[p] for p in ps], axis=0) for ps in places])
-    false = np.any(alarms & ~true, axis=0)
+    true = np.zeros_like(alarms, dtype=bool)
     warnings = []
     for h in found:
         matching = [c for c, ps in enumerate(places) if any(tuple(p) in ps for p in h["places"])]
-        inside = (t >= h["time_s"] - window_s) & (t < h["time_s"])
-        hit = np.flatnonzero(inside & np.any(alarms[matching], axis=0)) if matching else []
-        warnings.append(None if not len(hit) else (float(h["time_s"] - t[hit[0]]), float(v[hit[0]])))
-    normal = label == 0
+        k = int(np.searchsorted(t, h["time_s"], "left")) - 1       # the hazard's last sample before its time
+        opening = int(np.searchsorted(t, h["time_s"] - window_s, "left"))
+        starts = []
+        for c in matching:
+            if k >= 0 and alarms[c, k]:
+                first = max(episode_start(alarms[c], k), opening)
+                true[c, first:k + 1] = True
+                starts.append(first)
+            true[c] |= alarms[c] & (t >= h["time_s"]) & (t <= h["end_s"])
+        warnings.append((float(h["time_s"] - t[min(starts)]), float(v[min(starts)])) if starts else None)
+    false = np.any(alarms & ~true, axis=0)
+    normal = label == NORMAL
+    inside = (label != NORMAL) & (label != BEYOND_PERMITTED)
     dt = np.diff(t, prepend=t[0])
     ds = np.diff(s, prepend=s[0])
     bins = np.floor((s - s[0]) / EPISODE_M).astype(np.int64)
-    return dict(warnings=warnings, false_episodes=int(len(np.unique(bins[false]))),
-                false_time_s=float(np.sum(dt[false & normal])), false_km=float(np.sum(ds[false & normal])) / 1e3)
+    return dict(warnings=warnings, false_episodes=int(len(np.unique(bins[false & normal]))),
+                false_time_s=float(np.sum(dt[false & normal])), false_km=float(np.sum(ds[false & normal])) / 1e3,
+                window_false_episodes=int(len(np.unique(bins[false & inside]))))
 
 
-def exposure(arrays, label):
-    """(normal km, normal h) of a run."""
+def exposure(arrays, label, which=NORMAL):
+    """(km, h) of a run's samples labelled `which` (normal running by default)."""
     t, s = np.asarray(arrays["time"], dtype=float), np.asarray(arrays["position"], dtype=float)
-    normal = label == 0
-    return float(np.sum(np.diff(s, prepend=s[0])[normal])) / 1e3, float(np.sum(np.diff(t, prepend=t[0])[normal])) / 3600.0
+    mine = label == which
+    return float(np.sum(np.diff(s, prepend=s[0])[mine])) / 1e3, float(np.sum(np.diff(t, prepend=t[0])[mine])) / 3600.0
 
 
 def share_interval(k, n, confidence=CONFIDENCE):
@@ -124,11 +151,34 @@ def rate_per_1000_km(k, km, confidence=CONFIDENCE):
 
 
 def resolvable_km(budget_per_1000_km, confidence=CONFIDENCE):
-    """The exposure (km) below which even no false alarm leaves the rate's upper bound above the budget
-    (about 3 / budget at 95 %)."""
+    """The exposure (km) below which even no false alarm leaves the rate's upper bound above the budget:
+    1000 x 3.689 / budget at 95 % (the Garwood upper bound of a count of 0, -ln 0.025)."""
     return 1000.0 * count_interval(0, confidence)[1] / budget_per_1000_km
 
 
-def is_useful(warning, rules, reduction=None):
-    """A warning (lead_s, speed) is of use (`hazards.useful_lead`)."""
-    return warning is not None and warning[0] >= useful_lead(rules, warning[1], reduction)
+def is_useful(warning, rules, cure_kmh, reduction=None, adhesion="dry"):
+    """A warning (lead_s, speed) is of use: its lead covers the lead needed to brake to the hazard's cure speed
+    (`hazards.lead_needed`), or with `reduction` given, to brake that share off (`hazards.useful_lead`: the
+    braking sensitivity)."""
+    if warning is None:
+        return False
+    if reduction is not None:
+        return warning[0] >= useful_lead(rules, warning[1], reduction, adhesion)
+    return warning[0] >= lead_needed(rules, warning[1], cure_kmh, adhesion)
+
+
+def cluster_bootstrap(clusters, statistic, resamples=BOOTSTRAP_RESAMPLES, seed=BOOTSTRAP_SEED,
+                      confidence=CONFIDENCE):
+    """Percentile interval [lo, hi] of `statistic(totals)` over resamples of whole clusters: `clusters` (m, k)
+    the per-cluster sums of k quantities (a scenario's runs together), `statistic` of the (resamples, k)
+    totals; [nan, nan] without clusters or where the statistic is undefined in over half the resamples."""
+    clusters = np.asarray(clusters, dtype=float)
+    if not len(clusters):
+        return [math.nan, math.nan]
+    pick = np.random.default_rng(seed).integers(0, len(clusters), size=(resamples, len(clusters)))
+    values = np.asarray(statistic(clusters[pick].sum(axis=1)), dtype=float)
+    values = values[np.isfinite(values)]
+    if len(values) < resamples / 2:
+        return [math.nan, math.nan]
+    a = 1.0 - confidence
+    return [float(np.quantile(values, a / 2)), float(np.quantile(values, 1 - a / 2))]
