@@ -441,14 +441,19 @@ def profile(names=None, window_s=WINDOW_S):
 
 
 def text(result):
-    """The profile as a table: one column per case."""
+    """The profile as a table, one column per case, then the modes' energy shares, one line per case."""
     names = list(result)
     keys = list(result[names[0]])
     lines = [f"{'':30s}" + "".join(f"{n:>20s}" for n in names)]
     for key in keys:
+        if isinstance(result[names[0]][key], str) and key.endswith("_energy"):
+            continue
         cells = []
         for n in names:
             value = result[n][key]
             cells.append(f"{value:>20s}" if isinstance(value, str) else f"{value:>20.4g}")
         lines.append(f"{key:30s}" + "".join(cells))
+    for key in (k for k in keys if k.endswith("_energy")):
+        lines.append(f"{key} (kinetic energy shares of 5 % or more):")
+        lines.extend(f"  {n:20s}{result[n][key]}" for n in names)
     return "\n".join(lines)

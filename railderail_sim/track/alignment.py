@@ -17,6 +17,7 @@ import math
 
 import numpy as np
 
+from .. import scalarmath
 from ..jit import core
 from ..record import Record
 
@@ -61,7 +62,7 @@ def pack_track(straight_in, transition_in, curve, transition_out, straight_out, 
     kappa = 0.0 if math.isinf(radius) else 1.0 / radius
     curv = np.array([0.0, 0.0, kappa, kappa, 0.0, 0.0])
     cant_h = np.array([0.0, 0.0, cant_height, cant_height, 0.0, 0.0])
-    cant = np.arcsin(cant_h / rail_spacing)
+    cant = scalarmath.arcsin(cant_h / rail_spacing)
     head = np.zeros(T_HEAD)
     head[TrackHeader.breaks.columns] = breaks
     head[TrackHeader.curvature.columns] = curv
