@@ -9,7 +9,7 @@ contact candidates its last full search left. Parts:
     rhs_full_us, rhs_tracked_us    the whole right-hand side, with the full contact search (the step's last
                                    stage) and with the tracked one (its five inner stages)
     kinematics_us                  `dynamics.kinematics`: each body's track frame and rotation matrices
-    track_frame_us                 of which the track lookups (`alignment.frame`, curvature, cant per body)
+    track_frame_us                 of which the track lookups (`alignment.body_frame` per body)
     suspension_us                  `dynamics.suspension`, all elements; bushings_us, dampers_us,
                                    bump_stops_us, anti_roll_bars_us: the same with one kind of element only
     wheel_on_rail_us               the eight wheels' poses on their rails (`dynamics.wheel_on_rail`, with the
@@ -109,9 +109,7 @@ def _track_frame_loop(n, x, bodies, track):
     for _ in range(n):
         for b in range(N_BODY):
             sb = x[State.s] + bodies[b, BodyTable.station]
-            X, Y, heading, roll = trk.frame(track, sb)
-            kap, _ = trk.curvature(track, sb)
-            _, droll = trk.cant(track, sb)
+            X, Y, heading, roll, kap, droll = trk.body_frame(track, sb)
             acc += X + Y + heading + roll + kap + droll
     return acc
 
