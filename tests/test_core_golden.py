@@ -18,20 +18,16 @@ Runs: the default scenario (R 1000 m, 300 km/h, Hertz, rigid smooth track), and 
 optional part: ERRI B176 high irregularity (seed 1), a 25 m/s crosswind and failed front yaw dampers, on
 elastic and on rigid track.
 
-Both files were written with numpy's AVX2 (X86_V3) loops. On a CPU with AVX-512 numpy dispatches its
-float64 arctan, tan, arcsin, arcsinh, exp, log and fractional powers to loops of its own that round
-differently in the last bit (cos, sin and tanh do not differ): 18 189 of the 5.5 M values of the contact
-tables differ, the default run does not reach them, and the two hunting runs with failed yaw dampers
-amplify them to 22 mm by 0.5 s (found 2026-12-04 on an AMD EPYC). So on such a CPU the runs are made in a
-child process with those loops disabled (NPY_DISABLE_CPU_FEATURES, `numpy_avx512`), which gives the files
-bit for bit; that the product's results depend on the CPU's numpy loops is a finding of its own
-(docs/performance.md, "Determinism across CPUs").
+Both files were first written on a CPU with numpy's AVX2 (X86_V3) loops. numpy's AVX-512 loops round
+arctan, tan, arcsin, exp, log and fractional powers differently in the last bit, and the two hunting runs
+with failed yaw dampers amplify such a bit in the contact tables to 22 mm by 0.5 s (found 2026-12-04 on an
+AMD EPYC); the model building now calls libm one value at a time for these (`railderail_sim.scalarmath`),
+so the files hold on AVX-512 CPUs as on AVX2 ones (tests/test_cpu_rounding.py builds the model under both
+dispatches).
 """
 from dataclasses import replace
 from functools import cache
 from pathlib import Path
-import os
-import subprocess
 import sys
 
 import numpy as np
@@ -91,12 +87,6 @@ def differences(name, reference, got=None):
     return out
 
 
-def numpy_avx512():
-    """The AVX-512 targets numpy dispatches to on this CPU (none on an AVX2 one)."""
-    from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
-    return [f for f in __cpu_dispatch__ if (f.startswith("AVX512") or f == "X86_V4") and __cpu_features__.get(f)]
-
-
 def all_outputs():
     """{name_key: array} of every run's golden outputs and, prefixed reference_, its reference outputs."""
     out = {f"{name}_{key}": value for name in runs() for key, value in golden_outputs(name).items()}
@@ -106,15 +96,8 @@ def all_outputs():
 
 
 @pytest.fixture(scope="module")
-def outputs(tmp_path_factory):
-    """all_outputs(), in a child process on numpy's AVX2 loops where this CPU has AVX-512 ones."""
-    disable = numpy_avx512()
-    if not disable:
-        return all_outputs()
-    path = tmp_path_factory.mktemp("golden") / "outputs.npz"
-    subprocess.run([sys.executable, __file__, "outputs", str(path)], check=True, timeout=1200,
-                   env=dict(os.environ, NPY_DISABLE_CPU_FEATURES=" ".join(disable)))
-    return dict(np.load(path))
+def outputs():
+    return all_outputs()
 
 
 @pytest.fixture(scope="module")
@@ -143,8 +126,6 @@ if __name__ == "__main__":
         data = {f"{name}_{key}": value for name in runs() for key, value in reference_outputs(name).items()}
         np.savez_compressed(REFERENCE, **data)
         print(f"wrote {REFERENCE} ({REFERENCE.stat().st_size} bytes)")
-    elif sys.argv[1:2] == ["outputs"]:
-        np.savez(sys.argv[2], **all_outputs())
     elif sys.argv[1:] == ["differences"]:
         for name in runs():
             print(name, {k: f"{v:.3g}" for k, v in differences(name, np.load(REFERENCE)).items()})

@@ -11,7 +11,8 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "railderail_sim"
-HELPERS = ("railderail_sim.ranges", "railderail_sim.jsonout", "railderail_sim.atomic", "railderail_sim.plotting")
+HELPERS = ("railderail_sim.ranges", "railderail_sim.jsonout", "railderail_sim.atomic", "railderail_sim.plotting",
+           "railderail_sim.scalarmath")
 CORE, MODEL, METHODS, TOP = range(4)
 LAYERS = [  # module name prefix -> layer (the first prefix that matches)
     ("railderail_sim.record", CORE), ("railderail_sim.jit", CORE), ("railderail_sim.lookup", CORE), ("railderail_sim.contact", CORE),

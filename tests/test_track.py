@@ -48,3 +48,11 @@ def test_position_matches_quadrature_of_the_heading(track, s):
 def test_heading_of_the_curve_is_the_arc_angle(track):
     # heading at the end = 2 transitions (each L/(2R)) + circle L/R
     assert A.frame(track, 1800.0)[2] == pytest.approx(200 / 2000 * 2 + 1.0)
+
+
+@pytest.mark.parametrize("s", [-50.0, 0.0, 200.0, 300.0, 400.0, 777.7, 1400.0, 1555.0, 1800.0, 2500.0])
+def test_a_bodys_track_lookup_is_frame_curvature_and_cant_bit_for_bit(track, s):
+    """`body_frame` (the vehicle core's one lookup per body) gives what frame, curvature and cant give, to
+    the last bit, at section breaks and beyond the line's ends too."""
+    X, Y, heading, roll = A.frame(track, s)
+    assert A.body_frame(track, s) == (X, Y, heading, roll, A.curvature(track, s)[0], A.cant(track, s)[1])

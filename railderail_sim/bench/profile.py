@@ -9,7 +9,7 @@ contact candidates its last full search left. Parts:
     rhs_full_us, rhs_tracked_us    the whole right-hand side, with the full contact search (the step's last
                                    stage) and with the tracked one (its five inner stages)
     kinematics_us                  `dynamics.kinematics`: each body's track frame and rotation matrices
-    track_frame_us                 of which the track lookups (`alignment.frame`, curvature, cant per body)
+    track_frame_us                 of which the track lookups (`alignment.body_frame` per body)
     suspension_us                  `dynamics.suspension`, all elements; bushings_us, dampers_us,
                                    bump_stops_us, anti_roll_bars_us: the same with one kind of element only
     wheel_on_rail_us               the eight wheels' poses on their rails (`dynamics.wheel_on_rail`, with the
@@ -33,7 +33,12 @@ steps per second with the tolerances ten times looser and ten times tighter (an 
 takes 10^(1/5) = 1.58 times fewer steps for ten times looser tolerances, a stability-limited one about as
 many); and the stability limit of Dormand-Prince 5(4) at the state: the largest h with |R(h lambda)| <= 1
 for every eigenvalue lambda of the Jacobian (central differences of the right-hand side with the full
-contact search), with the mode that sets it.
+contact search), with the mode that sets it. Each mode is named by where its kinetic energy lies: the
+velocity part of its eigenvector weighted by each velocity's mass or inertia (|v_i|^2 m_i), summed per kind
+of body (car body, bogies, wheelsets, rails) and degree of freedom (a wheelset's pitch rate is its spin), as
+shares of the whole; the largest raw entry of the eigenvector would name the spin rates, large numbers, for
+modes whose energy lies elsewhere. The wheelsets' spin mode (the one whose largest share is the spin) gets
+its own limit: its eigenvalue scales with 1 / speed, so it sets the step at low speeds.
 """
 from __future__ import annotations
 
@@ -55,12 +60,12 @@ from ..parameters import TrackParameters
 from ..track import alignment as trk
 from ..track import elastic as track_elastic
 from ..track.irregularity import resolve
-from ..track.layout import N_RAIL_DOF, ElasticTrack
+from ..track.layout import N_RAIL_DOF, ElasticTrack, RailDof
 from ..vehicle import dynamics as dyn
 from ..vehicle import integrator as itg
 from ..vehicle.dynamics import Kinematics
-from ..vehicle.layout import BodyTable, Dof, N_BODY, N_DOF, N_STATE, State, Vector, WHEELSETS
-from ..vehicle.simulate import MAX_STEP, Simulation, scenario, state_name
+from ..vehicle.layout import BOGIES, BodyTable, Dof, N_BODY, N_DOF, N_STATE, State, Vector, WHEELSETS
+from ..vehicle.simulate import MAX_STEP, Simulation, scenario
 
 REPEATS = 3
 TARGET_S = 0.1
@@ -104,9 +109,7 @@ def _track_frame_loop(n, x, bodies, track):
     for _ in range(n):
         for b in range(N_BODY):
             sb = x[State.s] + bodies[b, BodyTable.station]
-            X, Y, heading, roll = trk.frame(track, sb)
-            kap, _ = trk.curvature(track, sb)
-            _, droll = trk.cant(track, sb)
+            X, Y, heading, roll, kap, droll = trk.body_frame(track, sb)
             acc += X + Y + heading + roll + kap + droll
     return acc
 
@@ -272,6 +275,66 @@ def jacobian(sim):
     return J, active
 
 
+_INERTIA = {Dof.lateral: BodyTable.mass, Dof.vertical: BodyTable.mass, Dof.roll: BodyTable.roll_inertia,
+            Dof.pitch: BodyTable.pitch_inertia, Dof.yaw: BodyTable.yaw_inertia}
+_RAIL_INERTIA = {RailDof.lateral: ElasticTrack.lateral_mass, RailDof.vertical: ElasticTrack.vertical_mass,
+                 RailDof.roll: ElasticTrack.roll_inertia}
+
+
+def _body_kind(b):
+    return "wheelsets" if b in WHEELSETS else "bogies" if b in BOGIES else "car body"
+
+
+def kinetic_groups(arrays, active):
+    """For each of the `active` states: the mass or inertia of its velocity (0 for positions, damper
+    elongations and the track position, which carry no kinetic energy) and the name of its group, '<kind of
+    body> <dof>' (a wheelset's pitch rate: 'wheelsets spin'; a rail's: 'rails <dof>')."""
+    masses, groups = np.zeros(len(active)), []
+    for j, i in enumerate(active):
+        group = ""
+        if State.velocities <= i < State.velocities.stop:
+            b, d = divmod(int(i - State.velocities), N_DOF)
+            masses[j] = arrays.bodies[b, _INERTIA[Dof(d)]]
+            group = f"{_body_kind(b)} {'spin' if b in WHEELSETS and d == Dof.pitch else Dof(d).name}"
+        elif State.rail_rates <= i < State.rail_rates.stop:
+            d = RailDof(int(i - State.rail_rates) % N_RAIL_DOF)
+            masses[j] = arrays.support[_RAIL_INERTIA[d]]
+            group = f"rails {d.name}"
+        groups.append(group)
+    return masses, groups
+
+
+def energy_shares(vector, masses, groups):
+    """A mode's kinetic energy per group, as shares of the whole, largest first: [(group, share)]."""
+    energy = masses * np.abs(vector) ** 2
+    total = energy.sum()
+    per = {}
+    for e, g in zip(energy, groups):
+        if g:
+            per[g] = per.get(g, 0.0) + e / total
+    return sorted(per.items(), key=lambda kv: -kv[1])
+
+
+def shares_text(shares, floor=0.05):
+    """'wheelsets vertical 45 %, wheelsets roll 37 %, ...' for the shares of at least `floor`."""
+    return ", ".join(f"{g} {100.0 * v:.0f} %" for g, v in shares if v >= floor)
+
+
+def limiting_modes(eigenvalues, vectors, masses, groups):
+    """Every oscillatory or decaying mode (one of each conjugate pair), ordered by the Dormand-Prince
+    stability limit it alone sets: [(limit s, frequency Hz, damping ratio, energy shares, eigenvalue)]."""
+    modes = []
+    for i, lam in enumerate(eigenvalues):
+        if lam.imag < 0.0:
+            continue
+        h, which = stability_limit(np.array([lam]))
+        if which < 0:
+            continue
+        modes.append((h, abs(lam.imag) / (2.0 * math.pi), -lam.real / abs(lam),
+                      energy_shares(vectors[:, i], masses, groups), lam))
+    return sorted(modes, key=lambda m: m[0])
+
+
 def _creep_rows(sim):
     """The loaded patches of the eight wheels at the state: (xi_x, xi_y, phi, a, b, N) per patch."""
     rows = []
@@ -350,11 +413,17 @@ def profile_case(sc, window_s=WINDOW_S):
     out["steps_per_s_tolerance_div10"] = _steps_per_s(tighter, window_s)
     J, active = jacobian(sim)
     lam, vec = np.linalg.eig(J)
-    h_stab, i = stability_limit(lam)
+    masses, groups = kinetic_groups(arrays, active)
+    modes = limiting_modes(lam, vec, masses, groups)
+    h_stab, hz, damping, shares, _ = modes[0]
     out["stability_limit_ms"] = 1e3 * h_stab
-    out["stiffest_mode_hz"] = abs(lam[i].imag) / (2.0 * math.pi) if i >= 0 else math.nan
-    out["stiffest_mode_damping"] = -lam[i].real / abs(lam[i]) if i >= 0 else math.nan
-    out["stiffest_mode_state"] = state_name(int(active[np.argmax(np.abs(vec[:, i]))])) if i >= 0 else ""
+    out["stiffest_mode_hz"] = hz
+    out["stiffest_mode_damping"] = damping
+    out["stiffest_mode"] = shares[0][0]
+    out["stiffest_mode_energy"] = shares_text(shares)
+    spin = next((m for m in modes if m[3][0][0] == "wheelsets spin"), None)
+    out["spin_mode_limit_ms"] = 1e3 * spin[0] if spin else math.nan
+    out["spin_mode_energy"] = shares_text(spin[3]) if spin else ""
     out["fastest_eigenvalue_1_s"] = float(np.max(np.abs(lam)))
     return out
 
@@ -370,14 +439,19 @@ def profile(names=None, window_s=WINDOW_S):
 
 
 def text(result):
-    """The profile as a table: one column per case."""
+    """The profile as a table, one column per case, then the modes' energy shares, one line per case."""
     names = list(result)
     keys = list(result[names[0]])
     lines = [f"{'':30s}" + "".join(f"{n:>20s}" for n in names)]
     for key in keys:
+        if isinstance(result[names[0]][key], str) and key.endswith("_energy"):
+            continue
         cells = []
         for n in names:
             value = result[n][key]
             cells.append(f"{value:>20s}" if isinstance(value, str) else f"{value:>20.4g}")
         lines.append(f"{key:30s}" + "".join(cells))
+    for key in (k for k in keys if k.endswith("_energy")):
+        lines.append(f"{key} (kinetic energy shares of 5 % or more):")
+        lines.extend(f"  {n:20s}{result[n][key]}" for n in names)
     return "\n".join(lines)

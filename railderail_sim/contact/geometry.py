@@ -32,6 +32,7 @@ import math
 
 import numpy as np
 
+from .. import scalarmath
 from ..jit import core
 from .layout import H_SIZE, MAX_CANDIDATES, MAX_PATCHES, Candidates, GeometryHeader, HertzShape, Patch
 
@@ -57,7 +58,7 @@ def pack_contact_geometry(wheel, rail, nominal_radius, rolling_circle_half_dista
     # Rail: dense sample of the un-inclined profile, rotated (field side up for the left rail), placed.
     y_fine = np.linspace(rail.y0, rail.y0 + (len(rail.z) - 1) * rail.dy, 20 * len(rail.z))
     z_fine = np.interp(y_fine, rail.y0 + rail.dy * np.arange(len(rail.z)), rail.z)
-    ang_fine = np.arctan(np.interp(y_fine, rail.y0 + rail.dy * np.arange(len(rail.z)), rail.slope))
+    ang_fine = scalarmath.arctan(np.interp(y_fine, rail.y0 + rail.dy * np.arange(len(rail.z)), rail.slope))
     kap_fine = np.interp(y_fine, rail.y0 + rail.dy * np.arange(len(rail.z)), rail.curvature)
     cb, sb = math.cos(rail_inclination), math.sin(rail_inclination)
     yr = y_fine * cb - z_fine * sb
@@ -75,7 +76,7 @@ def pack_contact_geometry(wheel, rail, nominal_radius, rolling_circle_half_dista
     axis_y = shift  # the head axis (profile y = 0) passes through the rotated origin at the crown
     y_uniform = np.arange(yr[0], yr[-1], rail_step)
     z_uniform = np.interp(y_uniform, yr, zr)
-    slope_uniform = np.tan(np.interp(y_uniform, yr, ang_fine + rail_inclination))
+    slope_uniform = scalarmath.tan(np.interp(y_uniform, yr, ang_fine + rail_inclination))
     kap_uniform = np.interp(y_uniform, yr, kap_fine)
     head_width = _head_width(rail, gauge_depth)
 

@@ -15,6 +15,7 @@ import math
 
 import numpy as np
 
+from .. import scalarmath
 from ..parameters import AerodynamicParameters
 from ..ranges import check_range
 from .layout import AeroCoefficients, AeroHeader, WindPoint
@@ -61,7 +62,7 @@ class Wind:
         ramp = np.linspace(-span - parameters.gust_ramp, -span, 61)
         x = np.linspace(-span, span, 241)
         u = np.concatenate((mean * np.sin(0.5 * np.pi * (ramp - ramp[0]) / parameters.gust_ramp) ** 2,
-                            mean * (1.0 + a_i * np.exp(-np.abs(x[1:]) / parameters.gust_length_scale))))
+                            mean * (1.0 + a_i * scalarmath.exp(-np.abs(x[1:]) / parameters.gust_length_scale))))
         return at + np.concatenate((ramp, x[1:])), u
 
     def peak_at(self, centre_m):

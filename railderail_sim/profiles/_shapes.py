@@ -14,6 +14,7 @@ Plain numpy/scipy: profile building is not in the simulation hot loop.
 from __future__ import annotations
 
 from dataclasses import dataclass
+import math
 
 import numpy as np
 from scipy.interpolate import UnivariateSpline
@@ -124,8 +125,8 @@ class ArcChain:
         ys = [self.breaks[:1]]
         for p in self.pieces:
             if isinstance(p, Arc):
-                ta = np.arcsin(np.clip((p.ya - p.yc) / p.r, -1.0, 1.0))
-                tb = np.arcsin(np.clip((p.yb - p.yc) / p.r, -1.0, 1.0))
+                ta = math.asin(min(max((p.ya - p.yc) / p.r, -1.0), 1.0))
+                tb = math.asin(min(max((p.yb - p.yc) / p.r, -1.0), 1.0))
                 length = p.r * abs(tb - ta)
                 n = max(1, int(np.ceil(length / step)))
                 ys.append(p.yc + p.r * np.sin(np.linspace(ta, tb, n + 1)[1:]))  # equal angles

@@ -6,6 +6,7 @@ in millimetres from the defining radii/centres and converted to metres at the en
 from __future__ import annotations
 
 from functools import lru_cache
+import math
 
 import numpy as np
 
@@ -180,8 +181,8 @@ def _lm_pieces_mm(par: dict) -> list:
     p12f = cf + rf * _unit(c12 - cf)
     # straight flank at the flange angle theta, tangent to the face arc
     th = np.radians(par["flank_deg"])
-    nrm = np.array([np.sin(th), np.cos(th)])
-    dirn = np.array([np.cos(th), -np.sin(th)])
+    nrm = np.array([math.sin(th), math.cos(th)])
+    dirn = np.array([math.cos(th), -math.sin(th)])
     pf = cf + rf * nrm
     # tread arcs: R380 centre (25, cz); R100 centre (0, .) internally tangent to R380
     r100, r380, r150 = par["r100"], par["r380"], par["r150"]
@@ -204,8 +205,8 @@ def _lm_pieces_mm(par: dict) -> list:
     p100_380 = c380 + r380 * _unit(c100 - c380)
     c150 = np.array([25.0, c380[1] - r380 - r150])
     # outer tread: R150 until its slope is -outer_slope, then the straight slope to the rim face
-    phi = np.arctan(par["outer_slope"])
-    pt = c150 + r150 * np.array([np.sin(phi), np.cos(phi)])
+    phi = math.atan(par["outer_slope"])
+    pt = c150 + r150 * np.array([math.sin(phi), math.cos(phi)])
     # flange back: arc tangent to the vertical back face and internally to the tip arc
     rb = par["back_r"]
     cb_y = par["back_face_y"] + rb
@@ -215,7 +216,7 @@ def _lm_pieces_mm(par: dict) -> list:
         Arc(cb[0], cb[1], rb, +1, par["y_start"], pb12[0]),
         Arc(c12[0], c12[1], r12, +1, pb12[0], p12f[0]),
         Arc(cf[0], cf[1], rf, +1, p12f[0], pf[0]),
-        Line(pf[0], pf[1], -np.tan(th), pf[0], q[0]),
+        Line(pf[0], pf[1], -math.tan(th), pf[0], q[0]),
         Arc(cr[0], cr[1], rr, -1, q[0], pr100[0]),
         Arc(c100[0], c100[1], r100, -1, pr100[0], p100_380[0]),
         Arc(c380[0], c380[1], r380, -1, p100_380[0], 25.0),

@@ -10,6 +10,8 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq, minimize_scalar
 
+from .. import scalarmath
+
 __all__ = ["Profile", "ProfileTable", "ProfileError", "DEFAULT_DY", "BACK_FACE_Y"]
 
 #: Default spacing of a ProfileTable (m): 0.05 mm.
@@ -110,7 +112,7 @@ class Profile:
     def curvature(self, y):
         """Signed curvature z''/(1+z'^2)^1.5 (1/m) at ``y``; sign convention in the package docstring."""
         d1 = self.eval(y, 1)
-        return self.eval(y, 2) / (1.0 + d1 * d1) ** 1.5
+        return self.eval(y, 2) / scalarmath.power(1.0 + d1 * d1, 1.5)
 
     def table(self, dy: float = DEFAULT_DY) -> "ProfileTable":
         """Uniform resampling for the hot loop (see :class:`ProfileTable`)."""
@@ -178,7 +180,7 @@ class Profile:
         a, b = ys[max(i - 1, 0)], ys[min(i + 1, len(ys) - 1)]
         res = minimize_scalar(lambda t: float(self.eval(t, 1)), bounds=(a, b), method="bounded",
                               options={"xatol": 1e-10})
-        return float(np.arctan(max(s[i], -float(self.eval(res.x, 1)))))
+        return math.atan(max(float(s[i]), -float(self.eval(res.x, 1))))
 
     def flange_length(self, within: float = math.radians(1.0)) -> float:
         """Wheel: length (m, along the profile) of the flange face whose angle is within `within` (rad) of
@@ -187,7 +189,7 @@ class Profile:
         tip = self.flange_tip_y()
         ys = np.linspace(tip, 0.0, max(4000, int(-tip / 1e-6)))
         slope = -self.eval(ys, 1)
-        face = np.arctan(slope) >= self.max_flange_angle() - within
+        face = scalarmath.arctan(slope) >= self.max_flange_angle() - within
         i = int(np.argmax(slope))
         lo, hi = i, i
         while lo > 0 and face[lo - 1]:
@@ -259,7 +261,7 @@ class ProfileTable:
         y[-1] = min(y[-1], profile.y_max)
         z = np.ascontiguousarray(profile.eval(y, 0), dtype=np.float64)
         s = np.ascontiguousarray(profile.eval(y, 1), dtype=np.float64)
-        k = np.ascontiguousarray(profile.eval(y, 2) / (1.0 + s * s) ** 1.5, dtype=np.float64)
+        k = np.ascontiguousarray(profile.eval(y, 2) / scalarmath.power(1.0 + s * s, 1.5), dtype=np.float64)
         return cls(y0=float(profile.y_min), dy=dy, n=n, z=z, slope=s, curvature=k,
                    kind=profile.kind, name=profile.name)
 

@@ -17,6 +17,7 @@ import math
 
 import numpy as np
 
+from .. import scalarmath
 from ..jit import core
 from ..record import Record
 
@@ -61,7 +62,7 @@ def pack_track(straight_in, transition_in, curve, transition_out, straight_out, 
     kappa = 0.0 if math.isinf(radius) else 1.0 / radius
     curv = np.array([0.0, 0.0, kappa, kappa, 0.0, 0.0])
     cant_h = np.array([0.0, 0.0, cant_height, cant_height, 0.0, 0.0])
-    cant = np.arcsin(cant_h / rail_spacing)
+    cant = scalarmath.arcsin(cant_h / rail_spacing)
     head = np.zeros(T_HEAD)
     head[TrackHeader.breaks.columns] = breaks
     head[TrackHeader.curvature.columns] = curv
@@ -91,7 +92,12 @@ def _piece(track, s):
 @core
 def curvature(track, s):
     """Signed curvature (1/m, + left) and its derivative d(curvature)/ds (1/m^2)."""
-    k = _piece(track, s)
+    return _curvature_in(track, _piece(track, s), s)
+
+
+@core
+def _curvature_in(track, k, s):
+    """curvature(track, s) in the section k = _piece(track, s)."""
     if k < 0 or k >= N_SEG:
         return 0.0, 0.0
     s0 = track[TrackHeader.breaks + k]
@@ -106,7 +112,12 @@ def curvature(track, s):
 @core
 def cant(track, s):
     """Track-plane roll angle (rad, signed: negative raises the right rail) and its derivative d/ds."""
-    k = _piece(track, s)
+    return _cant_in(track, _piece(track, s), s)
+
+
+@core
+def _cant_in(track, k, s):
+    """cant(track, s) in the section k = _piece(track, s)."""
     if k < 0 or k >= N_SEG:
         return 0.0, 0.0
     s0 = track[TrackHeader.breaks + k]
@@ -175,12 +186,9 @@ def _integrate_nodes(track):
 
 
 @core
-def frame(track, s):
-    """Track frame at s: (X, Y, heading, roll) of the origin in the ground frame.
-
-    X, Y by a third-order expansion about the nearest grid node (error below 1e-7 m on the 0.5 m grid,
-    largest next to a curvature break); the heading is exact.
-    """
+def _origin(track, s):
+    """Ground X, Y of the track frame's origin at s: a third-order expansion about the nearest grid node
+    (error below 1e-7 m on the 0.5 m grid, largest next to a curvature break)."""
     step = track[TrackHeader.grid_step]
     n = int(track[TrackHeader.grid_nodes])
     s_first = track[TrackHeader.grid_first]
@@ -200,9 +208,26 @@ def frame(track, s):
     d3 = d2 * d
     x = track[j + TrackNode.x] + c * d - sn * (0.5 * kap * d2 + dkap * d3 / 6.0) - c * kap * kap * d3 / 6.0
     y = track[j + TrackNode.y] + sn * d + c * (0.5 * kap * d2 + dkap * d3 / 6.0) - sn * kap * kap * d3 / 6.0
-    heading = _heading_exact(track, s)
+    return x, y
+
+
+@core
+def frame(track, s):
+    """Track frame at s: (X, Y, heading, roll) of the origin in the ground frame (the heading exact)."""
+    x, y = _origin(track, s)
     roll, _ = cant(track, s)
-    return x, y, heading, roll
+    return x, y, _heading_exact(track, s), roll
+
+
+@core
+def body_frame(track, s):
+    """What a body at station s needs of the track, with one section search and one cant evaluation:
+    (X, Y, heading, roll, curvature, d(roll)/ds), as frame, curvature and cant give them."""
+    k = _piece(track, s)
+    x, y = _origin(track, s)
+    kap, _ = _curvature_in(track, k, s)
+    roll, droll = _cant_in(track, k, s)
+    return x, y, _heading_exact(track, s), roll, kap, droll
 
 
 def end_of_line(track):

@@ -31,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import scalarmath
 from ..atomic import atomic_write
 from ..ranges import check_range
 from .rails import HERMITE, RailDeviation, pack_rails, rail_deviation, rail_deviations
@@ -132,7 +133,8 @@ def generate(spectrum, length_m, seed, step_m=0.25, band_m=None, taper_m=TAPER_M
     for name in COMPONENTS:
         k, a, held = line_amplitudes(spec, name, period_points, step, band)
         lines = np.zeros(period_points // 2 + 1, dtype=complex)
-        lines[k] = 0.5 * period_points * a * np.exp(1j * rng.uniform(0.0, 2.0 * math.pi, size=k.size))
+        phase = rng.uniform(0.0, 2.0 * math.pi, size=k.size)
+        lines[k] = 0.5 * period_points * a * (scalarmath.cos(phase) + 1j * scalarmath.sin(phase))
         components[name] = np.fft.irfft(lines, period_points)[:n]
         slopes[name] = np.fft.irfft(1j * d_omega * np.arange(lines.size) * lines, period_points)[:n]
     s = step * np.arange(n)

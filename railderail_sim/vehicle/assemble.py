@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from .. import profiles
+from .. import profiles, scalarmath
 from ..contact import creep, geometry, table, wheelset
 from ..contact.hertz import combined_modulus, hertz_shape
 from ..contact.layout import ContactConstants, GeometryHeader, Patch
@@ -345,7 +345,7 @@ def vehicle_array(vp: VehicleParameters, cg, lift_tolerance):
     _, wheel_slope, _ = geometry.wheel_table(cg)
     i0 = int(round(-cg[H.wheel_y0] / cg[H.wheel_step]))
     tip = int(round((cg[H.flange_tip_y] - cg[H.wheel_y0]) / cg[H.wheel_step]))
-    flange_angle = float(np.max(np.arctan(np.abs(wheel_slope[min(i0, tip):max(i0, tip) + 1]))))
+    flange_angle = float(np.max(scalarmath.arctan(np.abs(wheel_slope[min(i0, tip):max(i0, tip) + 1]))))
     return VehicleConstants.pack(gravity=GRAVITY, rolling_radius=vp.rolling_radius,
                                  spin_inertia=vp.wheelset_spin_inertia, flange_height=cg[H.flange_height],
                                  flange_contact_angle=0.5 * flange_angle,

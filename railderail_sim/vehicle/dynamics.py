@@ -61,10 +61,10 @@ def speed_at(sp, s):
 
 
 @core
-def _track_rotation(out, o, heading, roll):
-    """out[o:o+9] = Rz(heading) Rx(roll), row-major: ground <- track axes."""
+def _track_rotation(out, o, heading, cr, sr):
+    """out[o:o+9] = Rz(heading) Rx(roll), row-major: ground <- track axes (cr, sr: the roll's cosine and
+    sine)."""
     ch, sh = math.cos(heading), math.sin(heading)
-    cr, sr = math.cos(roll), math.sin(roll)
     out[o + 0] = ch
     out[o + 1] = -sh * cr
     out[o + 2] = sh * sr
@@ -226,19 +226,18 @@ def kinematics(x, bodies, track, sp, kin):
         o = State.positions + N_DOF * b
         ov = State.velocities + N_DOF * b
         sb = s + bodies[b, BodyTable.station]
-        X, Y, heading, roll = trk.frame(track, sb)
-        kap, _ = trk.curvature(track, sb)
-        _, droll = trk.cant(track, sb)
+        X, Y, heading, roll, kap, droll = trk.body_frame(track, sb)
+        cr, sr = math.cos(roll), math.sin(roll)
         y = x[o + Dof.lateral]
         z = x[o + Dof.vertical]
         h = bodies[b, BodyTable.height] + z
         wtx = v * droll
-        wty = v * kap * math.sin(roll)
-        wtz = v * kap * math.cos(roll)
+        wty = v * kap * sr
+        wtz = v * kap * cr
         kin[b, Kinematics.track_angular_velocity + Vector.x] = wtx
         kin[b, Kinematics.track_angular_velocity + Vector.y] = wty
         kin[b, Kinematics.track_angular_velocity + Vector.z] = wtz
-        _track_rotation(kin[b], Kinematics.track_rotation, heading, roll)
+        _track_rotation(kin[b], Kinematics.track_rotation, heading, cr, sr)
         _compose(kin[b], Kinematics.rotation, Kinematics.track_rotation, x[o + Dof.yaw], x[o + Dof.pitch],
                  x[o + Dof.roll])
         RT = kin[b, Kinematics.track_rotation:Kinematics.track_rotation + MATRIX]
