@@ -119,6 +119,7 @@ def test_the_processors_give_the_same_numbers_whatever_the_chunks(chunk):
     x = rng.normal(0.0, 5.0, n) + 3.0 * np.sin(np.arange(n) / 7.0)
     s = np.cumsum(rng.uniform(0.2, 0.4, n))
     made = [lambda: oc.BogieRms(200.0, 4.0, 20.0, 2.0), lambda: oc.PeakCount(200.0, (4.0, 8.0), 4.0),
+            lambda: oc.PeakCount(200.0, (4.0, 8.0), 4.0, 0.1),
             lambda: oc.CarBodyLateralQst(200.0, 15.0, 1.5), lambda: oc.CarBodyLateral(200.0)]
     for make in made:
         whole = make()(x, s)

@@ -150,7 +150,8 @@ def summary(runs, cases):
                               hunting_frequency_hz=limits.hunting_frequency,
                               limits={rule: getattr(limits, rule) for rule in RULES},
                               peak_limits=dict(bids_peak_count=limits.bids_peak_limit,
-                                               bids_peak_count_china=limits.china_peak_limit)),
+                                               bids_peak_count_china=limits.china_peak_limit),
+                              bids_window_s=limits.bids_window),
                 cases=[dict(name=c.name, faults=list(c.faults), meaning=c.meaning) for c in cases],
                 runs=runs, first_speed_kmh=first_speed)
 
@@ -174,7 +175,7 @@ def markdown(result):
              f"monitor's design f0 {st['hunting_frequency_hz']:.2f} Hz (band f0 +- 2 Hz). Levels: sliding r.m.s. "
              f"{st['limits']['bogie_rms']:.2f} m/s^2, peak {st['limits']['bogie_peak']:.2f} m/s^2, "
              f"{st['limits']['bids_peak_count']:g} consecutive peaks at or over "
-             f"{st['peak_limits']['bids_peak_count']:g} m/s^2 (4-8 Hz, UIC 515-5) and "
+             f"{st['peak_limits']['bids_peak_count']:g} m/s^2 within {st['bids_window_s']:g} s (4-8 Hz, UIC 515-5) and "
              f"{st['limits']['bids_peak_count_china']:g} at or over {st['peak_limits']['bids_peak_count_china']:g} "
              "m/s^2 (0.5-10 Hz, the Chinese form). A cell gives the earliest alarm over the mounts (time and "
              "distance from the switch-on, the mount), or, where the rule never alarmed, its largest value against "

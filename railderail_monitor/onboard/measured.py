@@ -138,8 +138,11 @@ class MeasuredLimits:
         "", "estimated lateral force of a bogie toward one side's rail over that side's load",
         "the ground-truth monitor's derailment_coefficient WARNING level (EN 14363 (Y/Q)lim)", "B")
     bids_peak_count: float = _level("peaks", "consecutive half-wave peaks of the frame's band-passed lateral "
-                                    "acceleration at or over bids_peak_limit", "UIC 515-5 as stated in EP 2166333 A1 "
-                                    "[0004] (e.g. values)", "A", float(oc.BIDS_PEAKS), (1.0, 1000.0))
+                                    "acceleration at or over bids_peak_limit within bids_window (7: more than 6)",
+                                    "UIC 515-5 as stated in EP 2166333 A1 [0004]: more than (e.g.) 6", "A",
+                                    float(oc.BIDS_PEAKS), (1.0, 1000.0))
+    bids_window: float = _value("s", "time within which the BIDS rule's peaks count",
+                                "EP 2166333 A1 [0004] (e.g. 500 ms)", "A", oc.BIDS_WINDOW_S, (0.0, 60.0))
     bids_peak_limit: float = _value("m/s^2", "peak level of the BIDS rule", "EP 2166333 A1 [0004]", "A",
                                     oc.BIDS_LIMIT, (0.0, 1000.0))
     bids_band_low: float = _value("Hz", "lower edge of the BIDS band-pass", "EP 2166333 A1 [0004]: about 4-8 Hz", "A",
@@ -257,7 +260,7 @@ CHANNELS = {
                                                                lim.window_step_m)),
     "bogie_peak": (_lateral, lambda lim, vp, rate: oc.BogiePeak(rate, lim.hunting_frequency)),
     "bids_peak_count": (_lateral, lambda lim, vp, rate: oc.PeakCount(rate, (lim.bids_band_low, lim.bids_band_high),
-                                                                     lim.bids_peak_limit)),
+                                                                     lim.bids_peak_limit, lim.bids_window)),
     "bids_peak_count_china": (_lateral, lambda lim, vp, rate: oc.PeakCount(
         rate, (lim.china_band_low, lim.china_band_high), lim.china_peak_limit)),
     "car_body_lateral": (_lateral, lambda lim, vp, rate: oc.CarBodyLateral(rate)),
