@@ -46,7 +46,8 @@ def _record(seconds=5.0, seed=0, lost=0.01):
 # levels low enough that most criteria alert on the synthetic record (the test is the stream's, not the levels')
 LOW = dict(bogie_rms=3.0, bogie_peak=6.0, bids_peak_limit=4.0, car_body_lateral=0.3, car_body_roll=0.01,
            car_body_roll_rate=0.02, estimated_running_gear_unloading=0.1, estimated_side_ratio=0.2,
-           rms_window_m=50.0, qst_window_m=50.0, car_body_lateral_qst=0.01)
+           rms_window_m=50.0, qst_window_m=50.0, car_body_lateral_qst=0.01, bids_window=5.0, car_body_twist=0.002,
+           twist_window_m=20.0, twist_debounce_m=5.0)
 
 
 def _key(alert):
@@ -63,7 +64,9 @@ def test_the_limits_come_from_the_car_and_the_ground_truth_monitor():
     assert lim.hunting_frequency == pytest.approx(v / (2 * math.pi) * math.sqrt(
         0.1164 * 0.7465 / (0.46 * (0.7465 ** 2 + 1.25 ** 2))))
     assert lim.estimated_running_gear_unloading == default_limits().running_gear_unloading
-    assert lim.estimated_side_ratio == default_limits().derailment_coefficient
+    assert lim.estimated_side_ratio == pytest.approx(0.765 * default_limits().derailment_coefficient)
+    # 3 sigma of the twist the four height sensors' 0.5 mm offsets make over 2 b_s (sqrt(4) x 0.5 mm / 2.46 m)
+    assert lim.car_body_twist == pytest.approx(3.0 * 2.0 * 0.5e-3 / (2.0 * 1.23))
     assert lim.levels("bogie_rms") == [(SEVERITY_WARNING, lim.bogie_rms)]
     assert me.measured_limits(VP, car_body_lateral=math.nan).levels("car_body_lateral") == []
     with pytest.raises(ValueError, match="bids_band_low 9 Hz must be below bids_band_high 8 Hz"):
@@ -138,7 +141,7 @@ def test_the_stream_gives_the_batch_alerts_fed_whole_or_message_by_message():
     batch = me.alerts(me.evaluate(a, VP, lim), lim)
     assert {x.criterion for x in batch} >= {"bogie_rms", "bogie_peak", "bids_peak_count", "car_body_lateral",
                                              "car_body_roll", "car_body_roll_rate", "estimated_side_ratio",
-                                             "estimated_running_gear_unloading"}
+                                             "estimated_running_gear_unloading", "car_body_twist"}
     units = me.units_of(a)
     whole = MeasuredMonitor(VP, lim)
     found = []
