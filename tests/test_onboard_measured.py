@@ -10,6 +10,7 @@ from railderail_sim.parameters import vehicle_parameters
 from railderail_sim.sensors.sensor_set import AIR_SPRING_EFFECTIVE_AREA, MOUNTS
 from railderail_monitor.warning.limits import SEVERITY_WARNING, default_limits
 from railderail_monitor.onboard import criteria as oc
+from railderail_monitor.onboard import estimator as est
 from railderail_monitor.onboard import measured as me
 from railderail_monitor.onboard.monitor import MeasuredMonitor
 
@@ -170,3 +171,17 @@ def test_the_stream_refuses_samples_out_of_order_and_unknown_units():
         m.feed("bogie_front_frame", 0.5, acceleration=[0.0, 0.0, 9.81], angular_rate=[0.0, 0.0, 0.0])
     with pytest.raises(ValueError, match="unknown sensor unit 'roof'"):
         m.feed("roof", 1.0, acceleration=[0.0, 0.0, 9.81])
+
+
+def test_the_stream_told_a_wind_gives_the_batch_alerts():
+    a = _record()
+    lim = me.measured_limits(VP, **LOW)
+    wind = est.GivenWind([0.0, 2.0], [10.0, 30.0], math.pi / 2)
+    batch = me.alerts(me.evaluate(a, VP, lim, wind=wind), lim)
+    assert batch != me.alerts(me.evaluate(a, VP, lim), lim)     # the wind changes the estimator's alerts
+    stream = MeasuredMonitor(VP, lim, wind=wind)
+    found = []
+    for unit, signals in me.units_of(a).items():
+        found += stream.feed(unit, signals["time"], **{k: v for k, v in signals.items() if k != "time"})
+    found += stream.finish()
+    assert sorted(found, key=_key) == batch

@@ -304,18 +304,20 @@ CHANNELS = {
 class _Estimate:
     """The estimator as a criterion group's processor: the roll balance of the inputs held at the stamps."""
 
-    def __init__(self, limits, vehicle, rates):
+    def __init__(self, limits, vehicle, rates, wind=None):
         self.balance = est.RollBalance(vehicle, limits.air_spring_effective_area, limits.axle_box_corner,
                                        rates[est.TIME_BASE])
+        self.wind = wind
 
     def __call__(self, arrays, stamps, odometer):
-        return self.balance(est.held_inputs(arrays, stamps))
+        aero = None if self.wind is None else self.wind.load(stamps, odometer.speed(stamps))
+        return self.balance(est.held_inputs(arrays, stamps), aero)
 
 
 class _Twist:
     """The twist as a criterion group's processor: the air springs held at the gyro's stamps."""
 
-    def __init__(self, limits, vehicle, rates):
+    def __init__(self, limits, vehicle, rates, wind=None):
         self.twist = oc.CarBodyTwist(rates[ROLL_GYRO], vehicle, limits.car_body_twist, limits.twist_window_m,
                                      limits.window_step_m)
 
@@ -329,7 +331,7 @@ class _Twist:
 @dataclass(frozen=True)
 class Group:
     """Criteria on several units' samples held at one unit's stamps, the group's time base, from the first
-    stamp at which every input has a sample: `make(limits, vehicle, rates)` the processor, fed
+    stamp at which every input has a sample: `make(limits, vehicle, rates, wind)` the processor, fed
     (sensor_* arrays, stamps, odometer) in stamp order, giving {key: (n, places)}; `criteria` {criterion: key}."""
     base: str
     inputs: tuple
@@ -380,11 +382,12 @@ def measured(criterion, value, limits: MeasuredLimits, time, position):
                        limits.debounce(criterion), time, position, PLACES[criterion])
 
 
-def evaluate(signals, vehicle: VehicleParameters, limits: MeasuredLimits = None, rates=None):
+def evaluate(signals, vehicle: VehicleParameters, limits: MeasuredLimits = None, rates=None, wind=None):
     """{criterion: Measured} of every criterion on measured signals whose sensors the record holds (those
     lacking a sensor, or all without the odometer, are left out): value (n, places), `time` and `position`
     (n,) on the criterion's time base (the module's table). `rates`: {unit: Hz} of the sensors
-    (`sample_rates`, default the shipped set's); `limits` default `measured_limits(vehicle)`."""
+    (`sample_rates`, default the shipped set's); `limits` default `measured_limits(vehicle)`; `wind`: an
+    estimator.GivenWind the estimator takes into account (default: none known)."""
     limits = (limits or measured_limits(vehicle)).validated()
     rates = sample_rates() if rates is None else rates
     units = units_of(signals)
@@ -411,7 +414,7 @@ def evaluate(signals, vehicle: VehicleParameters, limits: MeasuredLimits = None,
         if any(c in g.criteria for c in found):
             t = np.asarray(units[g.base]["time"], dtype=float)
             t = t[t >= max(units[u]["time"][0] for u in g.inputs)]
-            values = g.make(limits, vehicle, rates)(signals, t, odometer)
+            values = g.make(limits, vehicle, rates, wind)(signals, t, odometer)
             for c, key in g.criteria.items():
                 out[c] = measured(c, values[key], limits, t, odometer.position(t))
     return out

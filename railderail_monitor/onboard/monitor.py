@@ -220,8 +220,8 @@ class _Group:
     which every input has a sample; `on_values(stamps, values)` gets each batch of decided stamps (the
     group processor's dict), if given."""
 
-    def __init__(self, group: me.Group, limits, vehicle, rates, on_values=None):
-        self.group, self.processor = group, group.make(limits, vehicle, rates)
+    def __init__(self, group: me.Group, limits, vehicle, rates, wind=None, on_values=None):
+        self.group, self.processor = group, group.make(limits, vehicle, rates, wind)
         self.units = group.units
         self.alarms = [_Alarms(c, limits) for c in group.criteria]
         self.done, self.start = -math.inf, None
@@ -267,17 +267,18 @@ class MeasuredMonitor:
     fed, and the criteria run (those whose units, and the odometer, are all there). `jitter_s`: how much
     earlier than a period after its previous one a unit's stamp may come (at most half a period is used).
     `on_estimate(stamps, estimates)`: called with the estimator's values (estimator.RollBalance's dict) at
-    each batch of stamps it decides, in stamp order (the node publishes them)."""
+    each batch of stamps it decides, in stamp order (the node publishes them). `wind`: an
+    estimator.GivenWind the estimator takes into account (measured.evaluate's)."""
 
     def __init__(self, vehicle, limits: me.MeasuredLimits = None, rates=None, jitter_s=STAMP_JITTER,
-                 on_estimate=None):
+                 on_estimate=None, wind=None):
         self.limits = (limits or me.measured_limits(vehicle)).validated()
         rates = me.sample_rates() if rates is None else dict(rates)
         check_range("stamp jitter", jitter_s, 0.0, 1.0, "s")
         self.inputs = {u: _Input(u, r, jitter_s) for u, r in rates.items()}
         found = me.criteria_of(self.inputs)
         self.criteria = [_Criterion(c, self.limits, vehicle, rates) for c in found if c in me.CHANNELS]
-        self.groups = [_Group(g, self.limits, vehicle, rates, on_estimate if g is me.GROUPS[0] else None)
+        self.groups = [_Group(g, self.limits, vehicle, rates, wind, on_estimate if g is me.GROUPS[0] else None)
                        for g in me.GROUPS if any(c in g.criteria for c in found)]
         self.odometer = oc.Odometer()
         self.feeds = self.pruned = 0
