@@ -90,3 +90,20 @@ def test_bad_arguments_are_refused_with_one_line(argv, message, capsys):
     assert main(["onboard-study", *argv]) == 2
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1
+
+
+def test_the_estimator_error_is_per_side_with_the_wind_told_and_the_model_off():
+    from railderail_monitor.evaluation import estimator_error as ee
+    r = ee.run_kind((ee.KINDS[4], 1.6))             # the steady crosswind, 0.6 s after the start-up
+    nominal, told = r["errors"]["nominal"], r["errors"]["told the wind"]
+    assert set(nominal["unloading"]) == {"front_left", "front_right", "rear_left", "rear_right"}
+    assert set(nominal["lateral_force"]) == {"front", "rear"}
+    # the windward and the leeward side err the opposite ways when blind (why they are never pooled)
+    assert nominal["unloading"]["front_left"]["bias"] < -0.1 < 0.1 < nominal["unloading"]["front_right"]["bias"]
+    assert abs(told["unloading"]["front_left"]["bias"]) < 0.25 * abs(nominal["unloading"]["front_left"]["bias"])
+    # a heavier car body in the estimator's model: a larger P0 against the same loads, more unloading everywhere
+    heavier = r["mismatch"]["payload +10 %"]["unloading"]
+    assert all(heavier[p]["bias"] > told["unloading"][p]["bias"] for p in heavier)
+    assert "| steady-wind | told the wind | unloading | front_left |" in ee.markdown(
+        dict(settings=dict(seconds=1.6, sensors="the shipped set", seed=1, settle_s=1.0,
+                           mismatches=[m for m, _ in ee.MISMATCHES]), runs=[r]))

@@ -219,6 +219,11 @@ def command(parser):
                         help="the cases (default %(default)s)")
     parser.add_argument("--workers", type=int, default=None, help="processes (default: the cores)")
     parser.add_argument("--json", action="store_true", help="print the JSON object instead of the table")
+    parser.add_argument("--estimator-error", action="store_true",
+                        help="instead of the sweep: the estimator's error per side and scenario kind, with a model "
+                             "mismatch beside (DIR/estimator-error.md and .json with --out)")
+    parser.add_argument("--seconds", type=float, default=6.0,
+                        help="--estimator-error: each run's length in s (default %(default)s)")
 
     def run(args):
         import sys
@@ -236,6 +241,14 @@ def command(parser):
             raise ValueError(f"--cases: unknown case(s) {', '.join(bad)}; the cases are {', '.join(names)}")
         if args.workers is not None:
             check_range("--workers", args.workers, 1, 256)
+        if args.estimator_error:
+            from . import estimator_error as ee
+            check_range("--seconds", args.seconds, 1.5, 600.0, "s")
+            result = ee.study(args.seconds, workers=args.workers, progress=not args.json)
+            if args.out:
+                print(f"wrote {ee.write(result, args.out)}", file=sys.stderr)
+            print(jsonout.dumps(result, indent=1) if args.json else ee.markdown(result))
+            return 0
         result = study(workers=args.workers, progress=not args.json, speeds=speeds,
                        cases=[names[c] for c in args.cases.split(",")])
         if args.out:
