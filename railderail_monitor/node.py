@@ -154,6 +154,8 @@ class MonitorNode(Node):
         levels = ", ".join(f"{c} {getattr(self.monitor.limits, c):.4g}" for c in me.CRITERIA
                            if c in me.criteria_of(self.rates))
         self.get_logger().info(f"railderail monitor (measured, {len(topics)} sensor topics): monitoring {levels}")
+        if self.monitor.left_out[0]:
+            self.get_logger().warning(f"on-board criteria without their sensors: {self.monitor.left_out[1]}")
 
     def on_measured_limits(self, changed):
         self.monitor = self.make_monitor()

@@ -533,12 +533,6 @@ class CarBodyRollRate:
 
 # --- the twist of the car body's two bogies, front minus rear: a broken or sagging primary spring ----------
 
-# Hz: the corner of the gate's low-pass on the car body's roll rate, below its roll frequency on the air
-# springs (0.92 Hz, car_body_roll_frequency) so that the body's rocking on irregular track does not read as a
-# cant ramp (2 poles: -27 dB at 0.92 Hz), above a transition's ramp (200 m at 60 m/s: 3.3 s)
-TWIST_GATE_HZ = 0.2
-
-
 def twist_level(vehicle, height_bias):
     """rad: three standard deviations of what the four height sensors' offsets (each `height_bias` m, one
     standard deviation) make of the twist ((d_FR - d_FL) - (d_RR - d_RL)) / 2 b_s: sqrt(4) height_bias / 2 b_s.
@@ -546,33 +540,24 @@ def twist_level(vehicle, height_bias):
     return 3.0 * height_bias / vehicle.air_spring_semi_spacing
 
 
-def twist_gate_rate(vehicle, level, speed):
-    """rad/s: the car body's roll rate (low-passed) over which the twist rule is gated off at `speed` m/s. On
-    a cant ramp the track rolls at omega = v dphi/ds, and the two bogies, 2 l apart, differ in roll by
-    omega 2 l / v; the car body rolls with the track. The gate closes before that reaches half the level."""
-    return 0.5 * level * np.asarray(speed, dtype=float) / (2.0 * vehicle.bogie_semi_distance)
-
-
 class CarBodyTwist:
     """`car_body_twist`'s value: |the trailing mean over window_m of the car body's roll to its front bogie
-    minus that to its rear bogie| (rad, from the air springs' heights), NaN while gated: from a sample where
-    the car body's roll rate (the gyro's x, low-passed TWIST_GATE_HZ) says a cant ramp
-    (`twist_gate_rate` at the odometer's speed) until window_m + step_m of track later, so that no window
-    holds a sample of the ramp. Fed (deflection (n, 4), roll rate (n,), position (n,), speed (n,)) in chunks
-    at the gyro's rate, the deflection held at its stamps."""
+    minus that to its rear bogie| (rad, from the air springs' heights), NaN where the same window says a cant
+    ramp: on a ramp the track rolls at omega = v dphi/ds and the two bogies, 2 l apart, differ in roll by
+    omega 2 l / v; the car body rolls with the track, so the window's mean of the gyro's roll rate times
+    2 l / v (2 l times the body's roll change over the window, over its length) is the ramp's share of the
+    twist, and over half the level the window is not judged. Fed (deflection (n, 4), roll rate (n,), position
+    (n,), speed (n,)) in chunks at the gyro's rate, the deflection held at its stamps."""
 
     def __init__(self, rate_hz, vehicle, level, window_m, step_m):
-        self.vehicle, self.level, self.hold = vehicle, level, window_m + step_m
-        self.low = CausalFilter(filters.butterworth("twist gate low-pass", 2, TWIST_GATE_HZ, "lowpass"), rate_hz,
-                                TWIST_GATE_HZ)
-        self.window = TrailingWindow(window_m, step_m, 1)
-        self.last_gated = -math.inf
+        self.vehicle, self.gate = vehicle, 0.5 * level
+        self.twist = TrailingWindow(window_m, step_m, 1)
+        self.ramp = TrailingWindow(window_m, step_m, 1)
 
     def __call__(self, deflection, roll_rate, position, speed):
         roll = air_spring_roll(np.reshape(deflection, (-1, 4)), self.vehicle.air_spring_semi_spacing)
-        mean = np.abs(self.window(position, roll[:, 0] - roll[:, 1]))
-        gated = np.abs(self.low(roll_rate)) > twist_gate_rate(self.vehicle, self.level, speed)
-        last = np.maximum.accumulate(np.concatenate([[self.last_gated], np.where(gated, position, -math.inf)]))[1:]
-        if len(last):
-            self.last_gated = float(last[-1])
-        return np.where(np.asarray(position) - last >= self.hold, mean, np.nan)
+        twist = np.abs(self.twist(position, roll[:, 0] - roll[:, 1]))
+        # m/s: below a walking pace the ramp's share is not told from a stop's roll (and not divided by zero)
+        ramp = np.abs(self.ramp(position, np.asarray(roll_rate) * 2.0 * self.vehicle.bogie_semi_distance
+                                / np.maximum(speed, 1.0)))
+        return np.where(ramp > self.gate, np.nan, twist)

@@ -44,6 +44,7 @@ from __future__ import annotations
 
 from dataclasses import MISSING, asdict, dataclass, field, fields
 import math
+import warnings
 
 import numpy as np
 
@@ -88,11 +89,6 @@ DESIGN_SPEED = 300.0 / 3.6
 # means relate as 0.60-0.74 when the wheel's Y/Q peaks: the side ratio rises less than the flange's Q/P, so
 # the level from steady curving is not the early one (C: one model's simulation, docs/onboard-criteria.md)
 SIDE_RATIO_PER_WHEEL_Y_Q = 0.765
-# m: the twist's debounce: longer than the track run during its gate's lag at the top speed of the speed
-# range (the 2-pole Butterworth's low-frequency group delay sqrt(2) / (2 pi f_c) at 350 km/h), plus a step of
-# the trailing window, so that a cant ramp entered before the gate closes does not hold the value that long
-TWIST_DEBOUNCE_M = math.ceil(math.sqrt(2.0) / (2.0 * math.pi * oc.TWIST_GATE_HZ) * 350.0 / 3.6
-                             + en14363.RMS_STEP_M)
 
 
 def kinematic_bogie_frequency(vehicle: VehicleParameters, conicity=EQUIVALENT_CONICITY, speed=DESIGN_SPEED):
@@ -200,9 +196,6 @@ class MeasuredLimits:
                                     (0.0, 50.0))
     twist_window_m: float = _value("m", "window of the twist's trailing mean", "EN 14363: the shortest curve "
                                    "section, 100 m", "C", en14363.MIN_SECTION_M, (1.0, 10000.0), False)
-    twist_debounce_m: float = _value("m", "track over which the twist stays at or over its level before the alert",
-                                     "the gate's lag at 350 km/h (2-pole 0.2 Hz low-pass: 1.13 s, 109 m) plus a "
-                                     "window step (derived)", "A", TWIST_DEBOUNCE_M, (0.0, 10000.0))
     debounce_m: float = _ground("debounce_m")
     rearm_fraction: float = _ground("rearm_fraction")
     rearm_m: float = _ground("rearm_m")
@@ -214,8 +207,6 @@ class MeasuredLimits:
 
     def debounce(self, criterion):
         """m of track a criterion's value must stay at or above its level before the alert."""
-        if criterion == TWIST:
-            return self.twist_debounce_m
         return self.debounce_m if criterion in INSTANTANEOUS else 0.0
 
     def validated(self):
@@ -374,6 +365,14 @@ def criteria_of(units):
     return tuple(c for c in CRITERIA if all(u in units for u in units_for(c)))
 
 
+def left_out(units):
+    """{criterion: the sensor units it needs that `units` lacks} of the criteria that cannot run, and the
+    sentence saying so (a monitor degrades with a word, not silently)."""
+    missing = {c: [u for u in (ODOMETER,) + tuple(units_for(c)) if u not in units] for c in CRITERIA}
+    missing = {c: m for c, m in missing.items() if m}
+    return missing, "; ".join(f"{c} left out: no {', '.join(m)}" for c, m in missing.items())
+
+
 def measured(criterion, value, limits: MeasuredLimits, time, position):
     """The Measured of a criterion's values (n, places) on its time base."""
     meta = next(f.metadata for f in fields(MeasuredLimits) if f.name == criterion)
@@ -384,7 +383,8 @@ def measured(criterion, value, limits: MeasuredLimits, time, position):
 
 def evaluate(signals, vehicle: VehicleParameters, limits: MeasuredLimits = None, rates=None, wind=None):
     """{criterion: Measured} of every criterion on measured signals whose sensors the record holds (those
-    lacking a sensor, or all without the odometer, are left out): value (n, places), `time` and `position`
+    lacking a sensor, or all without the odometer, are left out with a warning naming them and the missing
+    units, `left_out`): value (n, places), `time` and `position`
     (n,) on the criterion's time base (the module's table). `rates`: {unit: Hz} of the sensors
     (`sample_rates`, default the shipped set's); `limits` default `measured_limits(vehicle)`; `wind`: an
     estimator.GivenWind the estimator takes into account (default: none known)."""
@@ -392,6 +392,8 @@ def evaluate(signals, vehicle: VehicleParameters, limits: MeasuredLimits = None,
     rates = sample_rates() if rates is None else rates
     units = units_of(signals)
     found = criteria_of(units)
+    if left_out(units)[0]:
+        warnings.warn(f"on-board criteria without their sensors: {left_out(units)[1]}", stacklevel=2)
     unknown = sorted(u for c in found for u in units_for(c) if u not in rates)
     if unknown:
         raise ValueError(f"no sample rate for sensor unit(s) {', '.join(dict.fromkeys(unknown))}: the rates given are "

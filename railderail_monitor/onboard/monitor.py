@@ -277,6 +277,7 @@ class MeasuredMonitor:
         check_range("stamp jitter", jitter_s, 0.0, 1.0, "s")
         self.inputs = {u: _Input(u, r, jitter_s) for u, r in rates.items()}
         found = me.criteria_of(self.inputs)
+        self.left_out = me.left_out(self.inputs)       # ({criterion: missing units}, the sentence): the node logs it
         self.criteria = [_Criterion(c, self.limits, vehicle, rates) for c in found if c in me.CHANNELS]
         self.groups = [_Group(g, self.limits, vehicle, rates, wind, on_estimate if g is me.GROUPS[0] else None)
                        for g in me.GROUPS if any(c in g.criteria for c in found)]
