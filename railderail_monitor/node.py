@@ -48,8 +48,9 @@ SIGNALS = m.ParameterSpec("signals", MODES[0], SIGNALS_MEANING, choices=MODES, r
 MEASURED_SETUP = [
     m.ParameterSpec("sensors", "shipped", "the sensor set whose topics it reads (its units and rates): shipped "
                     "(railderail_sim/config/sensors.yaml) or the path of a sensor file", read_only=True),
-    m.ParameterSpec("vehicle_set", "hs19", "the car's parameter set: masses and suspension of the estimator, "
-                    "the defaults of the levels", choices=VEHICLE_SETS, read_only=True)]
+    m.ParameterSpec("vehicle_set", "hs19", "the car: a built-in parameter set (" + ", ".join(VEHICLE_SETS) + ") or "
+                    "the path of a car file (onboard/car.py, config/car-example.yaml): masses and spacings of the "
+                    "estimator, the defaults of the levels", read_only=True)]
 
 
 def parameter_table(defaults):
@@ -126,15 +127,15 @@ class MonitorNode(Node):
 
     def _measured(self):
         """The measured mode: the sensor topics only, MeasuredMonitor, /railderail/onboard_alerts."""
-        from railderail_sim.parameters import vehicle_parameters
         from railderail_sim.sensors.config import load as load_sensors
 
         from .onboard import measured as me
+        from .onboard.car import load_car
         from .onboard.monitor import MeasuredMonitor
 
         setup = m.declare_parameters(self, MEASURED_SETUP)
         self.sensors = load_sensors(None if setup["sensors"] == "shipped" else setup["sensors"])
-        self.vehicle = vehicle_parameters(setup["vehicle_set"])
+        self.vehicle = load_car(setup["vehicle_set"])
         self.rates = me.sample_rates(self.sensors)
         self.limit_values = m.declare_parameters(
             self, parameter_table(me.measured_limits(self.vehicle))[len(MEASURED_SETUP) + 1:],
