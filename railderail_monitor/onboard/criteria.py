@@ -22,6 +22,8 @@ without it a 3-7 Hz band at 200 Hz loses 1 % at 5 Hz).
 | `car_body_lateral_qst`   | car-body floor lateral acc.    | 20 Hz low-pass  | sliding mean over 100 m, 10 m step     | 1.5 m/s^2 (C)                 |
 | `car_body_roll`          | air-spring heights             | 20 Hz low-pass  | abs. roll of the car body to its bogie | emergency-spring contact (A)  |
 | `car_body_roll_rate`     | car-body gyro, x               | 0.4-10 Hz       | abs. roll rate                         | roll level x roll frequency (A)|
+| `car_body_twist`         | air-spring heights, gyro x     | -               | abs. 100 m mean of front minus rear    | 3 sigma of the height sensors'|
+|                          |                                |                 | roll to the bogie, gated on cant ramps | offsets (A, derived)          |
 
 Track distance (the EN 14363 windows are in metres) is the odometer's speed integrated, causally (`Odometer`).
 """
