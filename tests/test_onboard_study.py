@@ -88,6 +88,7 @@ def test_the_rules_alarm_on_the_hunting_bogie_s_frame_mounts_only_and_the_table_
     (["--speeds", "250,fast"], "--speeds '250,fast' is not a comma-separated list of numbers"),
     (["--speeds", "900"], "--speeds 900 km/h is outside the accepted range [30, 800] km/h"),
     (["--cases", "healthy,derailed"], "--cases: unknown case(s) derailed; the cases are healthy"),
+    (["--estimator-error", "--seconds", "0.5"], "--seconds 0.5 s is outside the accepted range [1.5, 600] s"),
 ])
 def test_bad_arguments_are_refused_with_one_line(argv, message, capsys):
     from railderail_sim.cli import main
