@@ -22,6 +22,7 @@ leading wheelset (-1 for the car body), wheel_side the running gear's side, and 
 (parameter `vehicle_set`); changed while running, they start a new MeasuredMonitor. Run it beside a
 ground-truth monitor under another name: `--ros-args -r __node:=railderail_onboard_monitor -p signals:=measured`.
 """
+import math
 import sys
 from dataclasses import fields
 
@@ -50,7 +51,12 @@ MEASURED_SETUP = [
                     "(railderail_sim/config/sensors.yaml) or the path of a sensor file", read_only=True),
     m.ParameterSpec("vehicle_set", "hs19", "the car: a built-in parameter set (" + ", ".join(VEHICLE_SETS) + ") or "
                     "the path of a car file (onboard/car.py, config/car-example.yaml): masses and spacings of the "
-                    "estimator, the defaults of the levels", read_only=True)]
+                    "estimator, the defaults of the levels", read_only=True),
+    m.ParameterSpec("wind_speed", 0.0, "a steady wind known on board (an anemometer, the line's wind stations, a "
+                    "forecast) whose load on the car body the estimator takes out (onboard.estimator.GivenWind); "
+                    "0: none known", "m/s", (0.0, 60.0), read_only=True),
+    m.ParameterSpec("wind_direction", 90.0, "where that wind comes from, relative to the track: + from the left, "
+                    "0 a head wind", "deg", (-180.0, 180.0), read_only=True)]
 
 
 def parameter_table(defaults):
@@ -131,6 +137,7 @@ class MonitorNode(Node):
 
         from .onboard import measured as me
         from .onboard.car import load_car
+        from .onboard.estimator import GivenWind
         from .onboard.monitor import MeasuredMonitor
 
         setup = m.declare_parameters(self, MEASURED_SETUP)
@@ -141,8 +148,11 @@ class MonitorNode(Node):
             self, parameter_table(me.measured_limits(self.vehicle))[len(MEASURED_SETUP) + 1:],
             check=lambda values: me.MeasuredLimits(**values).validated(), apply=self.on_measured_limits)
         self.estimates = []            # the estimator's (stamps, values) decided by a sensor message
+        wind = (GivenWind(0.0, setup["wind_speed"], math.radians(setup["wind_direction"]))
+                if setup["wind_speed"] > 0.0 else None)
         self.make_monitor = lambda: MeasuredMonitor(self.vehicle, me.MeasuredLimits(**self.limit_values), self.rates,
-                                                    on_estimate=lambda *decided: self.estimates.append(decided))
+                                                    on_estimate=lambda *decided: self.estimates.append(decided),
+                                                    wind=wind)
         self.monitor = self.make_monitor()
         self.decoder = sm.SensorDecoder(self.sensors)
         self.publisher = self.create_publisher(m.Alert, m.ONBOARD_ALERTS, m.ALERT_QOS)
