@@ -22,6 +22,7 @@ leading wheelset (-1 for the car body), wheel_side the running gear's side, and 
 (parameter `vehicle_set`); changed while running, they start a new MeasuredMonitor. Run it beside a
 ground-truth monitor under another name: `--ros-args -r __node:=railderail_onboard_monitor -p signals:=measured`.
 """
+import math
 import sys
 from dataclasses import fields
 
@@ -49,8 +50,14 @@ SIGNALS = m.ParameterSpec("signals", MODES[0], SIGNALS_MEANING, choices=MODES, r
 MEASURED_SETUP = [
     m.ParameterSpec("sensors", "shipped", "the sensor set whose topics it reads (its units and rates): shipped "
                     "(railderail_sim/config/sensors.yaml) or the path of a sensor file", read_only=True),
-    m.ParameterSpec("vehicle_set", "hs19", "the car's parameter set: masses and suspension of the estimator, "
-                    "the defaults of the levels", choices=VEHICLE_SETS, read_only=True)]
+    m.ParameterSpec("vehicle_set", "hs19", "the car: a built-in parameter set (" + ", ".join(VEHICLE_SETS) + ") or "
+                    "the path of a car file (onboard/car.py, config/car-example.yaml): masses and spacings of the "
+                    "estimator, the defaults of the levels", read_only=True),
+    m.ParameterSpec("wind_speed", 0.0, "a steady wind known on board (an anemometer, the line's wind stations, a "
+                    "forecast) whose load on the car body the estimator takes out (onboard.estimator.GivenWind); "
+                    "0: none known", "m/s", (0.0, 60.0), read_only=True),
+    m.ParameterSpec("wind_direction", 90.0, "where that wind comes from, relative to the track: + from the left, "
+                    "0 a head wind", "deg", (-180.0, 180.0), read_only=True)]
 
 
 SUPERVISION_SETUP = [
@@ -154,22 +161,26 @@ class MonitorNode(Node):
 
     def _measured(self):
         """The measured mode: the sensor topics only, MeasuredMonitor, /railderail/onboard_alerts."""
-        from railderail_sim.parameters import vehicle_parameters
         from railderail_sim.sensors.config import load as load_sensors
 
         from .onboard import measured as me
+        from .onboard.car import load_car
+        from .onboard.estimator import GivenWind
         from .onboard.monitor import MeasuredMonitor
 
         setup = m.declare_parameters(self, MEASURED_SETUP)
         self.sensors = load_sensors(None if setup["sensors"] == "shipped" else setup["sensors"])
-        self.vehicle = vehicle_parameters(setup["vehicle_set"])
+        self.vehicle = load_car(setup["vehicle_set"])
         self.rates = me.sample_rates(self.sensors)
         self.limit_values = m.declare_parameters(
             self, parameter_table(me.measured_limits(self.vehicle))[len(MEASURED_SETUP) + 1:],
             check=lambda values: me.MeasuredLimits(**values).validated(), apply=self.on_measured_limits)
         self.estimates = []            # the estimator's (stamps, values) decided by a sensor message
+        wind = (GivenWind(0.0, setup["wind_speed"], math.radians(setup["wind_direction"]))
+                if setup["wind_speed"] > 0.0 else None)
         self.make_monitor = lambda: MeasuredMonitor(self.vehicle, me.MeasuredLimits(**self.limit_values), self.rates,
-                                                    on_estimate=lambda *decided: self.estimates.append(decided))
+                                                    on_estimate=lambda *decided: self.estimates.append(decided),
+                                                    wind=wind)
         self.monitor = self.make_monitor()
         self.decoder = sm.SensorDecoder(self.sensors)
         self.publisher = self.create_publisher(m.Alert, m.ONBOARD_ALERTS, m.ALERT_QOS)
@@ -182,6 +193,8 @@ class MonitorNode(Node):
         levels = ", ".join(f"{c} {getattr(self.monitor.limits, c):.4g}" for c in me.CRITERIA
                            if c in me.criteria_of(self.rates))
         self.get_logger().info(f"railderail monitor (measured, {len(topics)} sensor topics): monitoring {levels}")
+        if self.monitor.left_out[0]:
+            self.get_logger().warning(f"on-board criteria without their sensors: {self.monitor.left_out[1]}")
 
     def on_measured_limits(self, changed):
         self.monitor = self.make_monitor()

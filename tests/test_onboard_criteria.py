@@ -54,17 +54,29 @@ def test_the_peak_count_counts_consecutive_half_waves_over_the_limit():
     assert list(oc.consecutive_peaks(x, 8.0)) == [0, 1, 1, 1, 2, 2, 2, 2, 2, 1, 1]
 
 
-@pytest.mark.parametrize("cycles, alarms", [(2.5, False), (3.5, True)])
-def test_the_bids_rule_alarms_on_six_peaks_of_a_6_hz_burst(cycles, alarms):
-    # 6 Hz in the 4-8 Hz band (gain near 1), amplitude 10 over the 8 m/s^2 limit: 2.5 cycles give 5 half-wave
-    # peaks (no alarm), 3.5 give 7 (alarm at the sixth)
+def test_the_peak_count_within_a_window_drops_the_peaks_older_than_it():
+    x = np.array([9.0, -9.0, 9.0, 1.0, -9.0, -1.0, 1.0, 1.0, -1.0])
+    # half-wave peaks over 8 at samples 0, 1, 2, 4, the run broken by the half-wave [1, 1]; a window of 3 samples
+    # keeps those
+    # reached at n-2..n
+    assert list(oc.consecutive_peaks(x, 8.0)) == [1, 2, 3, 3, 4, 4, 4, 4, 0]
+    assert list(oc.consecutive_peaks(x, 8.0, 3)) == [1, 2, 3, 2, 2, 1, 1, 0, 0]
+
+
+@pytest.mark.parametrize("hz, cycles, alarms", [(7.5, 2.5, False), (7.5, 4.5, True), (4.5, 10.0, False)])
+def test_the_bids_rule_alarms_on_more_than_six_peaks_within_500_ms(hz, cycles, alarms):
+    # in the 4-8 Hz band, amplitude 14 (over the 8 m/s^2 limit after the band's gain): at 7.5 Hz 2.5 cycles
+    # give 5 half-wave peaks (no alarm), 4.5 give 8 within 0.47 s (alarm at the seventh); at 4.5 Hz the
+    # half-waves are 111 ms apart, so 500 ms never holds more than 5 of the 20 (no alarm)
     t = np.arange(0.0, 6.0, 1.0 / RATE)
-    burst = (t >= 1.0) & (t < 1.0 + cycles / 6.0)
-    x = np.where(burst, 10.0 * np.sin(2 * math.pi * 6.0 * (t - 1.0)), 0.0)
+    burst = (t >= 1.0) & (t < 1.0 + cycles / hz)
+    x = np.where(burst, 14.0 * np.sin(2 * math.pi * hz * (t - 1.0)), 0.0)
     m = oc.peak_count(t, x)
     s = SPEED * t
     assert m.alarm_mask(s).any() == alarms
     assert (in_alarm(m.value, s, m.level, 0.0, 0.9, 50.0) == m.alarm_mask(s)).all()
+    if hz == 4.5:        # without the window the same burst alarms: the window is what keeps it silent
+        assert oc.peak_count(t, x, window_s=None).alarm_mask(s).any()
 
 
 def test_car_body_lateral_and_its_quasi_static_value():

@@ -10,6 +10,7 @@ from railderail_sim.parameters import vehicle_parameters
 from railderail_sim.sensors.sensor_set import AIR_SPRING_EFFECTIVE_AREA, MOUNTS
 from railderail_monitor.warning.limits import SEVERITY_WARNING, default_limits
 from railderail_monitor.onboard import criteria as oc
+from railderail_monitor.onboard import estimator as est
 from railderail_monitor.onboard import measured as me
 from railderail_monitor.onboard.monitor import MeasuredMonitor
 
@@ -19,7 +20,8 @@ SPEED = 250.0 / 3.6
 
 def _record(seconds=5.0, seed=0, lost=0.01):
     """The shipped set's units at its rates (mounts 200 Hz, air springs 50 Hz, odometer 10 Hz), 2 ms latency,
-    `lost` of the mounts' samples dropped; the frames hunt at 4 Hz from 2 s, the car body rolls at 1 Hz."""
+    `lost` of the mounts' samples dropped; the frames hunt at 4 Hz from 2 s, the car body rolls at 1 Hz (its
+    front springs twisted)."""
     rng = np.random.default_rng(seed)
     out = {}
     for unit in MOUNTS:
@@ -34,7 +36,7 @@ def _record(seconds=5.0, seed=0, lost=0.01):
         out.update({f"sensor_{unit}_time": t, f"sensor_{unit}_acceleration": acc, f"sensor_{unit}_angular_rate": rate})
     t = np.arange(0.0, seconds, 1.0 / 50.0) + 0.002
     d = rng.normal(0.0, 1e-3, (len(t), 4))
-    d[:, 1] += 0.02 * np.sin(2.0 * math.pi * t)
+    d[:, 1] += 0.02 * np.sin(2.0 * math.pi * t) + 0.008          # the front springs twisted 8 mm besides
     d[:, 0] -= 0.02 * np.sin(2.0 * math.pi * t)
     p = np.full((len(t), 4), VP.car_body_mass * 9.81 / 4.0 / AIR_SPRING_EFFECTIVE_AREA) + rng.normal(0, 3e3, (len(t), 4))
     out.update(sensor_air_springs_time=t, sensor_air_springs_deflection=d, sensor_air_springs_pressure=p)
@@ -46,7 +48,8 @@ def _record(seconds=5.0, seed=0, lost=0.01):
 # levels low enough that most criteria alert on the synthetic record (the test is the stream's, not the levels')
 LOW = dict(bogie_rms=3.0, bogie_peak=6.0, bids_peak_limit=4.0, car_body_lateral=0.3, car_body_roll=0.01,
            car_body_roll_rate=0.02, estimated_running_gear_unloading=0.1, estimated_side_ratio=0.2,
-           rms_window_m=50.0, qst_window_m=50.0, car_body_lateral_qst=0.01)
+           rms_window_m=50.0, qst_window_m=50.0, car_body_lateral_qst=0.01, bids_window=5.0, car_body_twist=0.002,
+           twist_window_m=70.0)
 
 
 def _key(alert):
@@ -63,7 +66,9 @@ def test_the_limits_come_from_the_car_and_the_ground_truth_monitor():
     assert lim.hunting_frequency == pytest.approx(v / (2 * math.pi) * math.sqrt(
         0.1164 * 0.7465 / (0.46 * (0.7465 ** 2 + 1.25 ** 2))))
     assert lim.estimated_running_gear_unloading == default_limits().running_gear_unloading
-    assert lim.estimated_side_ratio == default_limits().derailment_coefficient
+    assert lim.estimated_side_ratio == pytest.approx(0.765 * default_limits().derailment_coefficient)
+    # 3 sigma of the twist the four height sensors' 0.5 mm offsets make over 2 b_s (sqrt(4) x 0.5 mm / 2.46 m)
+    assert lim.car_body_twist == pytest.approx(3.0 * 2.0 * 0.5e-3 / (2.0 * 1.23))
     assert lim.levels("bogie_rms") == [(SEVERITY_WARNING, lim.bogie_rms)]
     assert me.measured_limits(VP, car_body_lateral=math.nan).levels("car_body_lateral") == []
     with pytest.raises(ValueError, match="bids_band_low 9 Hz must be below bids_band_high 8 Hz"):
@@ -89,10 +94,16 @@ def test_each_criterion_on_its_own_time_base():
     late = found["bogie_rms"].position > found["bogie_rms"].position[-1] - 10.0
     gain = oc.filters.stability_band_pass(me.measured_limits(VP).hunting_frequency).gain(4.0)[0]
     assert found["bogie_rms"].value[late] == pytest.approx(gain * 9.0 / math.sqrt(2.0), rel=0.05)
-    # no odometer, no criterion; no air springs, neither the roll nor the estimator
-    assert me.evaluate({k: v for k, v in a.items() if "odometer" not in k}, VP) == {}
-    left = me.evaluate({k: v for k, v in a.items() if "air_springs" not in k}, VP)
+    # no odometer, no criterion; no air springs, neither the roll nor the estimator nor the twist: each said
+    with pytest.warns(UserWarning, match="bogie_rms left out: no odometer"):
+        assert me.evaluate({k: v for k, v in a.items() if "odometer" not in k}, VP) == {}
+    with pytest.warns(UserWarning, match="car_body_roll left out: no air_springs; .*car_body_twist left out: no "
+                                         "air_springs"):
+        left = me.evaluate({k: v for k, v in a.items() if "air_springs" not in k}, VP)
     assert "car_body_roll" not in left and "estimated_side_ratio" not in left and "bogie_rms" in left
+    assert MeasuredMonitor(VP, rates={u: r for u, r in me.sample_rates().items() if u != "air_springs"}).left_out[0] == {
+        c: ["air_springs"] for c in ("car_body_roll", "estimated_running_gear_unloading", "estimated_side_ratio",
+                                     "car_body_twist")}
     rates = me.sample_rates()
     del rates["bogie_rear_frame"]
     with pytest.raises(ValueError, match="no sample rate for sensor unit.s. bogie_rear_frame"):
@@ -119,6 +130,7 @@ def test_the_processors_give_the_same_numbers_whatever_the_chunks(chunk):
     x = rng.normal(0.0, 5.0, n) + 3.0 * np.sin(np.arange(n) / 7.0)
     s = np.cumsum(rng.uniform(0.2, 0.4, n))
     made = [lambda: oc.BogieRms(200.0, 4.0, 20.0, 2.0), lambda: oc.PeakCount(200.0, (4.0, 8.0), 4.0),
+            lambda: oc.PeakCount(200.0, (4.0, 8.0), 4.0, 0.1),
             lambda: oc.CarBodyLateralQst(200.0, 15.0, 1.5), lambda: oc.CarBodyLateral(200.0)]
     for make in made:
         whole = make()(x, s)
@@ -137,7 +149,7 @@ def test_the_stream_gives_the_batch_alerts_fed_whole_or_message_by_message():
     batch = me.alerts(me.evaluate(a, VP, lim), lim)
     assert {x.criterion for x in batch} >= {"bogie_rms", "bogie_peak", "bids_peak_count", "car_body_lateral",
                                              "car_body_roll", "car_body_roll_rate", "estimated_side_ratio",
-                                             "estimated_running_gear_unloading"}
+                                             "estimated_running_gear_unloading", "car_body_twist"}
     units = me.units_of(a)
     whole = MeasuredMonitor(VP, lim)
     found = []
@@ -166,3 +178,17 @@ def test_the_stream_refuses_samples_out_of_order_and_unknown_units():
         m.feed("bogie_front_frame", 0.5, acceleration=[0.0, 0.0, 9.81], angular_rate=[0.0, 0.0, 0.0])
     with pytest.raises(ValueError, match="unknown sensor unit 'roof'"):
         m.feed("roof", 1.0, acceleration=[0.0, 0.0, 9.81])
+
+
+def test_the_stream_told_a_wind_gives_the_batch_alerts():
+    a = _record()
+    lim = me.measured_limits(VP, **LOW)
+    wind = est.GivenWind([0.0, 2.0], [10.0, 30.0], math.pi / 2)
+    batch = me.alerts(me.evaluate(a, VP, lim, wind=wind), lim)
+    assert batch != me.alerts(me.evaluate(a, VP, lim), lim)     # the wind changes the estimator's alerts
+    stream = MeasuredMonitor(VP, lim, wind=wind)
+    found = []
+    for unit, signals in me.units_of(a).items():
+        found += stream.feed(unit, signals["time"], **{k: v for k, v in signals.items() if k != "time"})
+    found += stream.finish()
+    assert sorted(found, key=_key) == batch

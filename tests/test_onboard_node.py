@@ -136,3 +136,12 @@ def test_a_decoder_without_the_sensor_set_reads_the_gyro_from_the_message():
     assert decoder.decode("/railderail/alerts", None) is None
     with pytest.raises(ValueError, match="without a sensor set"):
         decoder.topics()
+
+
+def test_a_wind_and_a_car_file_given_to_the_node_reach_its_estimator(node_of, tmp_path):
+    car = tmp_path / "car.yaml"
+    car.write_text("base: hs19\ncar_body_mass: 36000\n")
+    node = node_of("signals:=measured", f"vehicle_set:={car}", "wind_speed:=25.0", "wind_direction:=-90.0")
+    assert node.vehicle.car_body_mass == 36000.0
+    wind = next(g for g in node.monitor.groups if g.group is me.GROUPS[0]).processor.wind
+    assert (wind.speed, wind.direction) == (25.0, pytest.approx(-np.pi / 2))

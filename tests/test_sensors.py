@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+from scipy import signal
 
 from railderail_sim.parameters import GRAVITY as G, TrackParameters
 from railderail_sim.sensors import config
@@ -273,3 +274,19 @@ def test_simulate_stores_each_mounts_signals_in_the_output_file(tmp_path):
     assert "sensor_axle_box_3_right_angular_rate" not in d.files
     assert np.array_equal(d["sensor_axle_box_3_right_time"], d["time"])
     assert d["sensor_odometer_speed"].mean() == pytest.approx(300.0 / 3.6, rel=0.02)
+
+
+def test_the_element_saturates_before_the_anti_alias_filter():
+    """A 30 ms pulse of 6 g into a +-2 g accelerometer: the element saturates at 2 g and the filter smooths
+    that, so the reading is the filtered 2 g pulse, not the filtered 6 g pulse clipped afterwards (which would
+    read 2 g for longer, understating the saturation)."""
+    inst = Instrument(name="fine", quantity="acceleration", unit="m/s^2", range_low=-2 * G, range_high=2 * G,
+                      anti_alias_ratio=0.25, anti_alias_order=4)
+    n = 2001
+    lateral = np.where((np.arange(n) >= 1000) & (np.arange(n) < 1006), 6 * G, 0.0)      # 6 rows at 200 Hz
+    out = SensorStream(_one_mount(inst), replace(Scenario(), output_rate=200.0)).process(
+        _synthetic(n, 200.0, lateral=lateral))["car_body_centre"]["acceleration"][:, 1]
+    sos = signal.butter(4, 0.25 * 200.0, fs=200.0, output="sos")
+    saturated = signal.sosfilt(sos, np.clip(lateral, -2 * G, 2 * G))
+    assert np.allclose(out, np.clip(saturated, -2 * G, 2 * G), atol=1e-9)
+    assert np.sum(out >= 2 * G - 1e-9) < np.sum(np.clip(signal.sosfilt(sos, lateral), -2 * G, 2 * G) >= 2 * G - 1e-9)

@@ -57,6 +57,11 @@ def assert_as_simulate(messages, sensors, npz):
     odometer = messages[f"{m.SENSORS_NS}/odometer"]
     assert np.array_equal([stamp_ns(x) for x in odometer], np.round(stored["sensor_odometer_time"] * 1e9))
     assert np.array_equal([x.twist.twist.linear.x for x in odometer], stored["sensor_odometer_speed"])
+    # the speed's variance: the pulse count's rounding and the wheel radius's error, relative to the speed
+    o = sensors.odometer
+    step = 2.0 * np.pi * 0.46 / o.pulses_per_revolution * o.sampling.sample_rate_hz
+    v = stored["sensor_odometer_speed"]
+    assert [x.twist.covariance[0] for x in odometer] == pytest.approx(step ** 2 / 12.0 + (o.radius_error * v) ** 2)
 
 
 @pytest.mark.timeout(700)

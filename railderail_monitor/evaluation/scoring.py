@@ -50,12 +50,13 @@ BOOTSTRAP_SEED = 20221111      # any fixed seed: the same runs give the same int
 
 # The places a measured criterion's channel covers (onboard.measured.PLACES): a bogie frame's mount, both
 # sides of its bogie (the frame's lateral acceleration has no side); an estimated running-gear side, itself;
-# the car body's mounts and the air springs (its roll), either side of either bogie (the body carries both).
+# the car body's mounts, the air springs (its roll) and the twist between its bogies, either side of either
+# bogie (the body carries both).
 MEASURED_PLACES = {"bogie_front_frame": [(0, 0), (0, 1)], "bogie_rear_frame": [(1, 0), (1, 1)],
                    **{f"bogie_{bogie}_{side}": [(b, s)] for b, bogie in enumerate(("front", "rear"))
                       for s, side in enumerate(SIDES)},
                    **{unit: list(PLACES) for unit in ("car_body_front", "car_body_centre", "car_body_rear",
-                                                      "air_springs")}}
+                                                      "air_springs", "front_minus_rear")}}
 
 
 def channel_places(criterion, channels):

@@ -21,15 +21,25 @@ F_s: an air spring's force, its pressure times its effective area, plus its emer
 the deflection beyond the clearance (the pressure does not carry it); phi: the car body's roll to the bogie,
 (d_R - d_L) / 2 b_s; f_wheelset: the frame's lateral reading below the axle-box sensors' AC-coupling corner
 plus the axle boxes' mean reading above it (complementary first-order filters at that corner).
+With a wind given (`GivenWind`: measured on the train or the line, or a forecast), the car body's
+aerodynamic side force F_y and yawing moment M_z (the simulator's coefficients, loads.wind.car_body_load, at
+the relative wind of the odometer's speed) are taken out of the floor accelerometers' reading, which is the
+secondary's force plus the wind's:  F_j -= F_y/2 +- M_z/(2 l). The air springs' pressures carry the wind's
+lift and rolling moment already. Without a wind given the estimate is blind to it: a steady crosswind's
+force is balanced by the secondary's and the floors read about zero (docs/onboard-criteria.md).
 Assumptions: the bogie frame does not roll on its primary springs (a few mrad); the secondary lateral force
-acts at the air springs' height (the lateral bump stop, 0.3 m lower, carries part of it once touched); no
-aerodynamic load; the two wheelsets of a bogie share its side's load equally (frame warp not observable).
+acts at the air springs' height (the lateral bump stop, 0.3 m lower, carries part of it once touched); the
+wind's load on the car body only, as the simulator applies it; the two wheelsets of a bogie share its side's
+load equally (frame warp not observable).
 """
 from __future__ import annotations
 
 import numpy as np
 from scipy import signal as sps
 
+from dataclasses import dataclass
+
+from railderail_sim.parameters import AerodynamicParameters
 from railderail_sim.sensors.instruments import INSTRUMENTS
 from railderail_sim.vehicle.layout import RUNNING_GEARS
 
@@ -45,6 +55,28 @@ AXLE_BOXES = tuple(tuple(f"axle_box_{w}_{side}" for w in gear for side in ("left
 INPUTS = (("air_springs",) + tuple(f"car_body_{g}" for g in BOGIES) + tuple(f"bogie_{g}_frame" for g in BOGIES)
           + sum(AXLE_BOXES, ()))
 TIME_BASE = "car_body_centre"
+
+
+@dataclass(frozen=True)
+class GivenWind:
+    """A wind the estimator is told: at each of `time` (s, the sensors' clock) its speed (m/s) and where it
+    comes from (rad, relative to the track, + from the left, 0 a head wind), each (n,) or a number for all;
+    held from each time to the next (a zero-order hold, as any input); the car body's coefficients
+    `aerodynamics` (the simulator's by default)."""
+    time: object
+    speed: object
+    direction: object
+    aerodynamics: AerodynamicParameters = AerodynamicParameters()
+
+    def load(self, time, train_speed):
+        """(n, 2) the car body's aerodynamic side force F_y (N, + left) and yawing moment M_z (N m) at the
+        stamps, at the train's speed (m/s) there."""
+        from railderail_sim.loads.wind import car_body_load
+        t = np.atleast_1d(np.asarray(self.time, dtype=float))
+        speed, direction = (np.broadcast_to(np.asarray(x, dtype=float), t.shape) for x in (self.speed, self.direction))
+        k = np.maximum(np.searchsorted(t, time, "right") - 1, 0)
+        load = car_body_load(self.aerodynamics, speed[k], direction[k], train_speed)
+        return load[:, [2, 6]]
 
 
 def hold(source_time, values, time):
@@ -75,9 +107,10 @@ class RollBalance:
         self.vehicle, self.effective_area = vehicle, effective_area
         self.low = SosFilter(sps.butter(1, axle_box_corner_hz, fs=rate_hz, output="sos"))
 
-    def __call__(self, h):
+    def __call__(self, h, aero=None):
         """{side_load (n, 4) N [front left, front right, rear left, rear right], unloading (n, 4),
-        lateral_force (n, 2) N, derailment_coefficient (n, 4)} from `held_inputs` at n stamps."""
+        lateral_force (n, 2) N, derailment_coefficient (n, 4)} from `held_inputs` at n stamps; `aero`: (n, 2)
+        the car body's aerodynamic side force and yawing moment there (`GivenWind.load`), if known."""
         vp = self.vehicle
         d, pressure = h["air_springs"]
         force = pressure * self.effective_area
@@ -90,6 +123,9 @@ class RollBalance:
         mean = 0.5 * (floor[:, 0] + floor[:, 1])
         turn = vp.car_body_yaw_inertia * (floor[:, 0] - floor[:, 1]) / (4.0 * l * l)
         body = np.stack([0.5 * vp.car_body_mass * mean + turn, 0.5 * vp.car_body_mass * mean - turn], axis=1)
+        if aero is not None:           # the floors read the secondary's force and the wind's: the wind's out
+            yaw = aero[:, 1] / (2.0 * l)
+            body = body - np.stack([0.5 * aero[:, 0] + yaw, 0.5 * aero[:, 0] - yaw], axis=1)
         m_f, m_w, p0 = vp.bogie_frame_mass, vp.wheelset_mass, vp.static_wheel_load
         frame = np.stack([h[f"bogie_{g}_frame"] for g in BOGIES], axis=1)          # (n, 2, 3)
         fy = frame[:, :, 1]
@@ -105,17 +141,19 @@ class RollBalance:
                     derailment_coefficient=side_ratios(lateral, side_load))
 
 
-def estimate(a, vehicle, effective_area, axle_box_corner_hz=INSTRUMENTS["iepe_axle_box"].high_pass_hz, rate_hz=None):
+def estimate(a, vehicle, effective_area, axle_box_corner_hz=INSTRUMENTS["iepe_axle_box"].high_pass_hz, rate_hz=None,
+             wind: GivenWind = None):
     """{time (n,), side_load (n, 4) N [front left, front right, rear left, rear right], unloading (n, 4) the
     mean dP/P0 of a running gear's two wheels on one side, lateral_force (n, 2) N of the rails on each bogie's
     wheels (+ left), derailment_coefficient (n, 4): the gear's lateral force toward a side's field side over
     that side's load} from the `sensor_*` arrays of a run (docs/output-format.md), at the car-body centre's
     stamps from the first at which every input has a sample; rate_hz: that sensor's sample rate (default:
-    from its stamps)."""
+    from its stamps); `wind`: a GivenWind, its load at the odometer's speed (`sensor_odometer_speed` held)."""
     t = np.asarray(a[f"sensor_{TIME_BASE}_time"], dtype=float)
     rate = rate_hz or 1.0 / float(np.median(np.diff(t)))
     t = t[t >= max(a[f"sensor_{unit}_time"][0] for unit in INPUTS)]
-    out = RollBalance(vehicle, effective_area, axle_box_corner_hz, rate)(held_inputs(a, t))
+    aero = None if wind is None else wind.load(t, hold(a["sensor_odometer_time"], a["sensor_odometer_speed"], t))
+    out = RollBalance(vehicle, effective_area, axle_box_corner_hz, rate)(held_inputs(a, t), aero)
     return dict(time=t, **out)
 
 
@@ -135,16 +173,24 @@ def truth(a, vehicle):
                 lateral_force=lateral, derailment_coefficient=side_ratios(lateral, side))
 
 
-def estimator_error(a, vehicle, effective_area, settle_s=1.0):
-    """{quantity: {bias, rms, p95}} of the estimate against the truth (at the estimate's stamps, so the
-    sensors' latency counts as error), over all places, after settle_s of the run (its start-up); p95 is the
-    95th percentile of the absolute error."""
-    est, tru = estimate(a, vehicle, effective_area), truth(a, vehicle)
+# the places of each estimated quantity: a running gear's side, or a bogie
+PLACES = {"unloading": tuple(f"{b}_{side}" for b in BOGIES for side in ("left", "right")),
+          "lateral_force": BOGIES,
+          "derailment_coefficient": tuple(f"{b}_{side}" for b in BOGIES for side in ("left", "right"))}
+
+
+def estimator_error(a, vehicle, effective_area, settle_s=1.0, wind: GivenWind = None, truth_vehicle=None):
+    """{quantity: {place: {bias, rms, p95}}} of the estimate against the truth (at the estimate's stamps, so
+    the sensors' latency counts as error) per place (PLACES: the sides' errors have opposite signs and are
+    never pooled), after settle_s of the run (its start-up); p95 is the 95th percentile of the absolute error.
+    `vehicle` is the estimator's model of the car, `truth_vehicle` the simulated car (default the same: a
+    model mismatch is the two differing); `wind`: a GivenWind told to the estimator."""
+    est, tru = estimate(a, vehicle, effective_area, wind=wind), truth(a, truth_vehicle or vehicle)
     keep = est["time"] >= tru["time"][0] + settle_s
     out = {}
-    for name in ("unloading", "lateral_force", "derailment_coefficient"):
+    for name, places in PLACES.items():
         ref = np.stack([np.interp(est["time"], tru["time"], c) for c in tru[name].T], axis=1)
         e = (est[name] - ref)[keep]
-        out[name] = dict(bias=float(np.mean(e)), rms=float(np.sqrt(np.mean(e * e))),
-                         p95=float(np.percentile(np.abs(e), 95.0)))
+        out[name] = {place: dict(bias=float(np.mean(e[:, k])), rms=float(np.sqrt(np.mean(e[:, k] ** 2))),
+                                 p95=float(np.percentile(np.abs(e[:, k]), 95.0))) for k, place in enumerate(places)}
     return out

@@ -4,7 +4,7 @@ in stamp order, the units interleaved in any order), raises the same alerts, at 
 
 How it can: every criterion's value is a processor that gives the same numbers whatever the chunks it is fed
 (onboard.criteria: filters with their state carried, the trailing windows, the peak counts, the odometer;
-estimator.RollBalance), and a stamp is decided only once nothing that arrives later can change it. A unit's
+estimator.RollBalance, the twist), and a stamp is decided only once nothing that arrives later can change it. A unit's
 samples are complete up to its watermark, its last stamp plus its sample period less the stamps' jitter
 (`measured.sample_rates`, STAMP_JITTER: the next stamp comes about a period later, or later still if samples
 are lost); a channel's sample is processed once
@@ -30,7 +30,6 @@ from railderail_sim.sensors.sensor_set import ODOMETER
 from ..warning.limits import SEVERITY_WARNING
 from ..warning.alarms import Detector
 from . import criteria as oc
-from . import estimator as est
 from . import measured as me
 
 PRUNE_EVERY = 64        # feeds between dropping the samples no stamp still to be decided needs
@@ -216,26 +215,27 @@ class _Criterion:
         return min(ch.done for ch in self.channels if ch.unit == unit)
 
 
-class _Estimator:
-    """The roll balance at the time base's stamps from the first at which every input has a sample;
-    `on_estimate(stamps, estimates)` gets each batch of decided stamps (RollBalance's dict), if given."""
+class _Group:
+    """A criterion group (measured.Group: the estimator, the twist) at its time base's stamps from the first at
+    which every input has a sample; `on_values(stamps, values)` gets each batch of decided stamps (the
+    group processor's dict), if given."""
 
-    def __init__(self, limits, vehicle, rates, on_estimate=None):
-        self.balance = est.RollBalance(vehicle, limits.air_spring_effective_area, limits.axle_box_corner,
-                                       rates[est.TIME_BASE])
-        self.alarms = [_Alarms(c, limits) for c in me.ESTIMATED]
+    def __init__(self, group: me.Group, limits, vehicle, rates, wind=None, on_values=None):
+        self.group, self.processor = group, group.make(limits, vehicle, rates, wind)
+        self.units = group.units
+        self.alarms = [_Alarms(c, limits) for c in group.criteria]
         self.done, self.start = -math.inf, None
-        self.on_estimate = on_estimate
+        self.on_values = on_values
 
     def advance(self, inputs, odometer, odometer_watermark, unit=None):
         if self.start is None:
-            if not all(inputs[u].started for u in me.ESTIMATOR_UNITS):
+            if not all(inputs[u].started for u in self.units):
                 return []
-            self.start = max(inputs[u].first for u in est.INPUTS)
-            self.sources = [inputs[u] for u in me.ESTIMATOR_UNITS]
+            self.start = max(inputs[u].first for u in self.group.inputs)
+            self.sources = [inputs[u] for u in self.units]
             self.slowest = None
         start = self.start
-        base = inputs[est.TIME_BASE]
+        base = inputs[self.group.base]
         if not base.last > self.done:
             return []
         # the inputs' watermark only moves when the slowest one's does
@@ -248,14 +248,15 @@ class _Estimator:
         stamps = base.t[base.after(max(self.done, np.nextafter(start, -math.inf)), bound)]
         if not len(stamps):
             return []
-        arrays = {f"sensor_{u}_{name}": values for u in est.INPUTS for name, values in inputs[u].signals.items()}
-        arrays.update({f"sensor_{u}_time": inputs[u].t for u in est.INPUTS})
-        e = self.balance(est.held_inputs(arrays, stamps))
+        arrays = {f"sensor_{u}_{name}": values for u in self.units for name, values in inputs[u].signals.items()}
+        arrays.update({f"sensor_{u}_time": inputs[u].t for u in self.units})
+        values = self.processor(arrays, stamps, odometer)
         self.done = float(stamps[-1])
-        if self.on_estimate is not None:
-            self.on_estimate(stamps, e)
+        if self.on_values is not None:
+            self.on_values(stamps, values)
         positions = odometer.position(stamps)
-        return sum((a.update(stamps, e[key], positions) for a, key in zip(self.alarms, me.ESTIMATED.values())), [])
+        return sum((a.update(stamps, values[key], positions) for a, key in zip(self.alarms, self.group.criteria.values())),
+                   [])
 
 
 class MeasuredMonitor:
@@ -266,26 +267,26 @@ class MeasuredMonitor:
     fed, and the criteria run (those whose units, and the odometer, are all there). `jitter_s`: how much
     earlier than a period after its previous one a unit's stamp may come (at most half a period is used).
     `on_estimate(stamps, estimates)`: called with the estimator's values (estimator.RollBalance's dict) at
-    each batch of stamps it decides, in stamp order (the node publishes them)."""
+    each batch of stamps it decides, in stamp order (the node publishes them). `wind`: an
+    estimator.GivenWind the estimator takes into account (measured.evaluate's)."""
 
     def __init__(self, vehicle, limits: me.MeasuredLimits = None, rates=None, jitter_s=STAMP_JITTER,
-                 on_estimate=None):
+                 on_estimate=None, wind=None):
         self.limits = (limits or me.measured_limits(vehicle)).validated()
         rates = me.sample_rates() if rates is None else dict(rates)
         check_range("stamp jitter", jitter_s, 0.0, 1.0, "s")
         self.inputs = {u: _Input(u, r, jitter_s) for u, r in rates.items()}
         found = me.criteria_of(self.inputs)
+        self.left_out = me.left_out(self.inputs)       # ({criterion: missing units}, the sentence): the node logs it
         self.criteria = [_Criterion(c, self.limits, vehicle, rates) for c in found if c in me.CHANNELS]
-        self.estimator = (_Estimator(self.limits, vehicle, rates, on_estimate)
-                          if any(c in me.ESTIMATED for c in found) else None)
+        self.groups = [_Group(g, self.limits, vehicle, rates, wind, on_estimate if g is me.GROUPS[0] else None)
+                       for g in me.GROUPS if any(c in g.criteria for c in found)]
         self.odometer = oc.Odometer()
         self.feeds = self.pruned = 0
-        self.all = self.criteria + ([self.estimator] if self.estimator is not None else [])
+        self.all = self.criteria + self.groups
         self.waiting = set()        # the consumers with samples added since the last advance (None: all)
         # the consumers each unit's samples may advance (the odometer's: all)
-        self.consumers = {u: [c for c in self.criteria if u in c.units]
-                          + ([self.estimator] if self.estimator is not None and u in me.ESTIMATOR_UNITS else [])
-                          for u in self.inputs}
+        self.consumers = {u: [c for c in self.all if u in c.units] for u in self.inputs}
 
     def feed(self, unit, time, **signals):
         """A unit's sample (time a float, each signal its values) or samples (time (n,), signals (n, ...)):
@@ -354,8 +355,7 @@ class MeasuredMonitor:
         oldest = math.inf
         for unit, source in self.inputs.items():
             needed = [c.progress(unit) for c in self.criteria if unit in c.units]
-            if self.estimator is not None and unit in me.ESTIMATOR_UNITS:
-                needed.append(self.estimator.done)
+            needed += [g.done for g in self.groups if unit in g.units]
             if unit != ODOMETER:
                 before = min(needed, default=source.last)
                 source.forget(before)

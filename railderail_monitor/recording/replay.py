@@ -241,15 +241,16 @@ def review_measured(recording, vehicle_set="hs19", sensors=None, limits=None, on
     log-time order: decoded (sensor_messages.SensorDecoder) into a MeasuredMonitor as the measured-mode
     monitor node does, without its last undecided stamps (the node, fed live, never ends its streams);
     the recorded ones are those of /railderail/onboard_alerts, as dicts. `sensors`: the sensor set
-    (sensors.sensor_set.SensorSet, default the shipped one); `limits`: MeasuredLimits (default the car's)."""
-    from railderail_sim.parameters import vehicle_parameters
+    (sensors.sensor_set.SensorSet, default the shipped one); `limits`: MeasuredLimits (default the car's);
+    `vehicle_set`: a built-in set or a car file (onboard.car.load_car)."""
     from railderail_sim.sensors.config import default_set
 
     from ..onboard import measured as me
+    from ..onboard.car import load_car
     from ..onboard.monitor import MeasuredMonitor
 
     sensors = sensors or default_set()
-    vehicle = vehicle_parameters(vehicle_set)
+    vehicle = load_car(vehicle_set)
     monitor = MeasuredMonitor(vehicle, limits or me.measured_limits(vehicle), me.sample_rates(sensors))
     decoder = sm.SensorDecoder(sensors)
     topics = set(decoder.topics())
@@ -393,8 +394,9 @@ def command(parser: argparse.ArgumentParser):
     parser.add_argument("--signals", choices=("ground_truth", "measured"),
                         help="the criteria run over it: ground_truth (the wheelset states and contact forces) or "
                         "measured (the on-board sensors' topics); default ground_truth if it holds the states")
-    parser.add_argument("--vehicle-set", default="hs19", choices=VEHICLE_SETS,
-                        help="measured: the car's parameter set (default hs19)")
+    parser.add_argument("--vehicle-set", default="hs19", metavar="SET|FILE.yaml",
+                        help="measured: the car, a built-in set (" + ", ".join(VEHICLE_SETS) + ") or a car file "
+                        "(onboard/car.py; default hs19)")
     parser.add_argument("--sensors", metavar="FILE.yaml",
                         help="measured: the sensor set recorded (default the shipped railderail_sim/config/sensors.yaml)")
 

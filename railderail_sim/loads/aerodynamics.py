@@ -73,8 +73,13 @@ def aerodynamic_load(aero, s, v):
     level below the car-body centre); zeros when the aerodynamics are off."""
     if aero[AeroHeader.active] < 0.5:
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-    w = wind_speed(aero, s)
-    theta = aero[AeroHeader.wind_direction]
+    return relative_wind_load(aero, wind_speed(aero, s), aero[AeroHeader.wind_direction], v)
+
+
+@core
+def relative_wind_load(aero, w, theta, v):
+    """`aerodynamic_load` of a wind of speed w (m/s) from theta (rad, relative to the track) at the train's
+    speed v, the coefficients of `aero` (also what an on-board estimator given a wind computes)."""
     ux = v + w * math.cos(theta)
     uy = w * math.sin(theta)
     beta = math.atan2(uy, ux)

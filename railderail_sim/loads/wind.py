@@ -93,3 +93,16 @@ def pack_aero(parameters: AerodynamicParameters, wind: Wind, centre_m):
     points[:, WindPoint.s] = s
     points[:, WindPoint.speed] = speed
     return np.concatenate((head, rows.ravel(), points.ravel()))
+
+
+def car_body_load(parameters: AerodynamicParameters, wind_speed, direction, train_speed):
+    """(n, 7) the core's (W, beta, F_y, F_z, M_x, M_y, M_z) of `loads.aerodynamics.relative_wind_load` at n
+    instants: the wind's speed (m/s) and where it comes from (rad, relative to the track, + from the left),
+    measured or given, at the train's speed (m/s): the load of the simulator's coefficients, for an on-board
+    estimator told the wind."""
+    from .aerodynamics import relative_wind_load
+    aero = pack_aero(parameters, Wind(speed=1.0), 0.0)
+    w, theta, v = (np.broadcast_to(np.asarray(x, dtype=float), np.shape(train_speed))
+                   for x in (wind_speed, direction, train_speed))
+    return np.array([relative_wind_load(aero, *x) for x in zip(w.tolist(), theta.tolist(), v.tolist())],
+                    dtype=float).reshape(-1, 7)

@@ -71,6 +71,7 @@ class SensorConverter:
             # the count's rounding, uniform over one pulse in the period: (its speed)^2 / 12
             step = 2.0 * math.pi * rolling_radius / o.pulses_per_revolution * o.sampling.sample_rate_hz
             self.speed_variance = step * step / 12.0
+            self.radius_error = o.radius_error       # 1 sigma, relative: the speed read off by as much
 
     def arrays_messages(self, arrays):
         """`messages` of a run's `sensor_<unit>_<signal>` arrays (`sensors.measure.SensorLog.arrays()`, the
@@ -121,7 +122,8 @@ class SensorConverter:
                 m = stamp(TwistWithCovarianceStamped(), t)
                 m.header.frame_id = self.odometer
                 m.twist.twist.linear.x = float(odometer["speed"][k])
-                m.twist.covariance[0] = self.speed_variance
+                # the count's rounding and the wheel radius's error (a relative error of the speed read)
+                m.twist.covariance[0] = self.speed_variance + (self.radius_error * m.twist.twist.linear.x) ** 2
                 out.append((t, f"{SENSORS_NS}/{self.odometer}", m))
         out.sort(key=lambda item: item[0])
         return out

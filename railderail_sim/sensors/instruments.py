@@ -6,10 +6,11 @@ is quoted in SOURCES).
 An instrument measures one quantity on three axes (accelerometers, gyros) or one (air-spring pressure and
 height). Its model, applied by `measure` to the ideal signal at the simulator's output rate, in this order:
 the constant bias (drawn once per axis from the seed, 1-sigma `bias`) and its random walk
-(`bias_random_walk` per square root of a second) and white noise of `noise_density` are added; an AC
-coupling (first-order high-pass at `high_pass_hz`, IEPE sensors) and the anti-alias low-pass (Butterworth
-of `anti_alias_order` at `anti_alias_ratio` times the mount's sample rate) filter it; it is sampled at the
-mount's rate, clipped to [range_low, range_high] and quantised to `bits` over that range. The mount adds
+(`bias_random_walk` per square root of a second) and white noise of `noise_density` are added; the
+sensing element saturates at [range_low, range_high]; an AC coupling (first-order high-pass at
+`high_pass_hz`, IEPE sensors) and the anti-alias low-pass (Butterworth of `anti_alias_order` at
+`anti_alias_ratio` times the mount's sample rate) filter it; it is sampled at the mount's rate, clipped to
+the range again (the filter's overshoot) and quantised to `bits` over that range. The mount adds
 its latency and drops samples (sensor_set.Mount).
 """
 from dataclasses import dataclass, fields, replace

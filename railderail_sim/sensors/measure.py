@@ -3,9 +3,9 @@
 The ideal signals come from the output rows: each mount's specific force and angular rate in its body's
 axes (`vehicle.motion.points_motion`), each air spring's deflection and elastic force from the bodies'
 positions (the core's own kinematics, `vehicle.dynamics.kinematics`), the odometer's pulses from the
-distance run. Each instrument's model (instruments.py) is applied at the output rate, then the samples are
-taken at the mount's rate (every k-th row, k = output rate / sample rate, counted from the run's first row),
-clipped and quantised, stamped with the physical instant plus the latency, and some dropped.
+distance run. Each instrument's model (instruments.py: its element saturating before its filters) is applied
+at the output rate, then the samples are taken at the mount's rate (every k-th row, k = output rate / sample
+rate, counted from the run's first row), clipped and quantised, stamped with the physical instant plus the latency, and some dropped.
 
 Determinism: every mount (and the air springs, the odometer) draws from its own PCG64 generators seeded by
 `SeedSequence(seed, spawn_key=(crc32 of its name,))`, spawned into the white noise with the bias's random
@@ -183,6 +183,9 @@ class SensorStream:
             walk = np.cumsum(np.concatenate([self.walk[None, :], steps]), axis=0)[1:]
             self.walk = walk[-1].copy()
             y += walk
+        # the sensing element saturates before the filters (a reading beyond the range does not come back
+        # within it through the anti-alias filter, as clipping only after it would let it)
+        y = np.minimum(np.maximum(y, self.low), self.high)
         for k, (sos, cols, state) in enumerate(self.filters):
             if state is None:
                 state = signal.sosfilt_zi(sos)[..., None] * y[0, cols]
