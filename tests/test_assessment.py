@@ -200,6 +200,10 @@ def test_bad_input_is_one_line(tmp_path, steady):
         signals.from_npz(tmp_path / "foreign.npz")
     with pytest.raises(ValueError, match="no such file"):
         signals.from_npz(tmp_path / "missing.npz")
+    (tmp_path / "notes.npz").write_text("speed 280 km/h, R 1000 m\n")
+    with pytest.raises(ValueError, match=r"notes.npz is not a .npz archive .* starts with b'spee'") as refused:
+        signals.from_npz(tmp_path / "notes.npz")
+    assert "pickle" not in str(refused.value)
 
 
 def test_a_recording_gives_the_runs_force_quantities(tmp_path, steady):

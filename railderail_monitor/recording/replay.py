@@ -45,6 +45,7 @@ from ..warning.limits import Limits, default_limits
 from ..warning.monitor import Monitor
 from ..warning.alerts import lead_times
 from ..warning.alarms import nanoseconds
+from ..node import measured_alert_text
 from .recorder import MAGIC, recover_hint, schema_definitions, schema_text, split_type
 
 # what the mcap readers raise on a cut or damaged file (besides McapError)
@@ -269,9 +270,23 @@ def review_measured(recording, vehicle_set="hs19", sensors=None, limits=None, on
 
 
 def measured_key(alert):
-    """What a measured alert and its recorded message share: sample, criterion, place, stamp in ns."""
+    """What identifies a measured alert, live or replayed: criterion, place and stamp in ns. Not its sample
+    number, which counts the messages a monitor received (a replay of a recording that lost one counts
+    differently from the live node)."""
     a = alert if isinstance(alert, dict) else alert.as_dict()
-    return a["sample"], a["criterion"], a["place"], nanoseconds(a["time_s"])
+    return a["criterion"], a["place"], nanoseconds(a["time_s"])
+
+
+def compare_measured(found, recorded):
+    """(same, why): whether the alerts found are those the recording holds, by measured_key, and if not one
+    sentence naming the alerts on either side only."""
+    mine, theirs = set(map(measured_key, found)), set(map(measured_key, recorded))
+    if mine == theirs:
+        return True, ""
+    name = lambda keys: "; ".join(f"{c} at {p}, t = {t * 1e-9:.3f} s" for c, p, t in sorted(keys, key=lambda k: k[2]))  # noqa: E731
+    parts = ([f"found here only: {name(mine - theirs)}"] if mine - theirs else []) + \
+        ([f"in the recording only: {name(theirs - mine)}"] if theirs - mine else [])
+    return False, "; ".join(parts)
 
 
 # --- publishing -----------------------------------------------------------------------------------
@@ -468,18 +483,18 @@ def _run_measured(args, recording, callbacks, publisher, err):
         found, recorded = review_measured(
             recording, args.vehicle_set, sensors,
             on_alert=None if args.json else lambda a: print(
-                f"t = {a.time_s:8.3f} s  s = {a.track_position:7.1f} m  measured {a.criterion} {a.value:.4g} >= "
-                f"{a.threshold:.4g} at {a.place}", flush=True))
+                f"t = {a.time_s:8.3f} s  s = {a.track_position:7.1f} m  "
+                + measured_alert_text(a.criterion, a.severity, a.value, a.threshold, a.place), flush=True))
     finally:
         if publisher is not None:
             publisher.close()
-    same = sorted(map(measured_key, found)) == sorted(map(measured_key, recorded))
+    same, why = compare_measured(found, recorded)
     if args.json:
         print(jsonout.dumps(dict(file=str(recording.path), signals="measured", truncated=recording.truncated,
                                  messages=len(recording.messages), duration_s=recording.duration_s,
                                  alerts=[a.as_dict() for a in found], recorded_alerts=recorded,
-                                 same_as_recorded=same), indent=1))
+                                 same_as_recorded=same, differences=why), indent=1))
     else:
         print(f"{len(found)} measured alerts found; the recording holds {len(recorded)} "
-              f"({'the same' if same else 'they differ'})")
+              + ("(the same criteria, places and stamps)" if same else f"(they differ: {why})"))
     return 0

@@ -124,12 +124,20 @@ def from_arrays(arrays, vehicle: VehicleParameters = None, source="run"):
                       floor=floor, bogie_frame=frame, source=source, notes=notes).validated()
 
 
+ZIP_MAGIC = b"PK\x03\x04"
+
+
 def from_npz(path, vehicle_set=None):
     """RunSignals of a `railderail simulate --out` file; the vehicle parameter set from its metadata unless
     `vehicle_set` is given (ValueError naming the file and what it lacks)."""
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"{path}: no such file")
+    with open(path, "rb") as f:
+        head = f.read(4)
+    if head != ZIP_MAGIC:           # numpy would speak of pickles about any other file
+        raise ValueError(f"{path} is not a .npz archive of `railderail simulate --out` (a .npz is a zip file; "
+                         f"this one starts with {head!r})")
     try:
         data = np.load(path, allow_pickle=False)
         arrays = {name: data[name] for name in data.files}
