@@ -457,9 +457,9 @@ def run_demo(args, say=print):
     say("recorder: " + (delivery_text(recording) if recording is not None else
                         "the simulator's log has no run report: what the recording lost is not known"))
     if not args.no_rrd:
-        from .recording.replay import read_recording, write_rrd
+        from .recording.replay import read_recording, viewed, write_rrd
         t0 = time.monotonic()
-        write_rrd(read_recording(mcap_path), rrd_path, limits)
+        write_rrd(read_recording(mcap_path, decode=viewed), rrd_path, limits)
         say(f"wrote {rrd_path} in {time.monotonic() - t0:.1f} s")
     summary = dict(run_folder=str(out), mcap=str(mcap_path), rrd=None if args.no_rrd else str(rrd_path),
                    simulator=sim_params, limits=limits.as_dict(), derailment=d, final_status=listener.final_status,

@@ -127,25 +127,30 @@ def message_decoders():
 
 
 def read_recording(path, allow_truncated=False, decode=True):
-    """All messages of a railderail MCAP in log-time order (RecordingError if it cannot be used)."""
+    """All messages of a railderail MCAP in log-time order (RecordingError if it cannot be used); `decode`:
+    True (every message), False (none: the decoded field None) or topic -> bool (those it names: decoding
+    is most of the reading's time)."""
     path = Path(path)
     complete = _check_head(path)
     decoder = message_decoders()
+    wanted = decode if callable(decode) else (lambda topic: decode)
     messages, problem = [], ""
     metadata = {}
 
     def collect(iterator):
         for schema, channel, message in iterator:
             name = schema.name if schema else ""
-            decoded = decoder(schema)(message.data) if decode and schema is not None and schema.encoding == "ros2msg" \
-                and channel.message_encoding == "cdr" else None
+            decoded = decoder(schema)(message.data) if schema is not None and schema.encoding == "ros2msg" \
+                and channel.message_encoding == "cdr" and wanted(channel.topic) else None
             messages.append((channel.topic, name, message.log_time, message.data, decoded))
 
+    # in file order, then a stable sort by log time: the order the reader's log-time merge gives (equal times in
+    # file order), at a fraction of its cost
     with open(path, "rb") as f:
         if complete:
             try:
                 reader = make_reader(f)
-                collect(reader.iter_messages(log_time_order=True))
+                collect(reader.iter_messages(log_time_order=False))
                 for record in reader.iter_metadata():
                     metadata[record.name] = dict(record.metadata)
             except READ_ERRORS as error:
@@ -155,15 +160,16 @@ def read_recording(path, allow_truncated=False, decode=True):
                 collect(NonSeekingReader(f).iter_messages(log_time_order=False))
             except READ_ERRORS:
                 pass                      # the cut: everything before it has been read
-            messages.sort(key=lambda item: item[2])
-            last = f" up to t = {messages[-1][2] * 1e-9:.2f} s" if messages else ""
-            problem = (f"{path} is truncated (no MCAP footer: the recording was cut off, e.g. the recorder was "
-                       f"killed); {len(messages)} messages{last} are readable")
-            if not messages:
-                raise RecordingError(problem + ": nothing to replay")
-            if not allow_truncated:
-                raise RecordingError(problem + f": add --allow-truncated to use them, or make a complete copy: "
-                                     f"{recover_hint(path)}")
+    messages.sort(key=lambda item: item[2])
+    if not complete:
+        last = f" up to t = {messages[-1][2] * 1e-9:.2f} s" if messages else ""
+        problem = (f"{path} is truncated (no MCAP footer: the recording was cut off, e.g. the recorder was "
+                   f"killed); {len(messages)} messages{last} are readable")
+        if not messages:
+            raise RecordingError(problem + ": nothing to replay")
+        if not allow_truncated:
+            raise RecordingError(problem + f": add --allow-truncated to use them, or make a complete copy: "
+                                 f"{recover_hint(path)}")
     ours = {topic for topic, type_name, *_ in messages
             if type_name.startswith("railderail_msgs/") or topic.startswith(m.SENSORS_NS + "/")}
     if not ours:
@@ -351,10 +357,18 @@ class Publisher:
 
 # --- Rerun --------------------------------------------------------------------------------------
 
+VIEWED = (STATES, FORCES, STATUS, ALERTS, m.ONBOARD_ALERTS, DERAILMENT, FINAL_STATUS)
+
+
+def viewed(topic):
+    """The topics a viewer.RunViewer shows (the others need no decoding for a .rrd)."""
+    return topic in VIEWED or topic.startswith(m.SENSORS_NS + "/")
+
+
 def feed_viewer(viewer):
     """An on_message callback that shows the recorded topics (the sensors' included) in a viewer.RunViewer."""
-    handlers = {STATES: viewer.on_states, FORCES: viewer.on_forces, STATUS: viewer.on_status,
-                ALERTS: viewer.on_alert, DERAILMENT: viewer.on_derailment, FINAL_STATUS: viewer.on_final_status}
+    handlers = dict(zip(VIEWED, (viewer.on_states, viewer.on_forces, viewer.on_status, viewer.on_alert,
+                                 viewer.on_onboard_alert, viewer.on_derailment, viewer.on_final_status)))
 
     def on_message(topic, type_name, log_time, data, decoded):
         if decoded is None:
