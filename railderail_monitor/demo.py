@@ -35,7 +35,7 @@ from pathlib import Path
 from railderail_sim import jsonout
 from railderail_sim.ros.interface import REAL_TIME_FACTOR_RANGE
 
-from .recording.recorder import delivery, delivery_text, recorded_counts
+from .recording.recorder import delivery, delivery_text, lost_count, recorded_counts
 from .warning.alerts import label, lead_times, margin_kmh, user_alert
 from .warning.limits import SEVERITY_NAMES, default_limits
 
@@ -58,12 +58,13 @@ def cpu_ticks(pid):
     return int(fields[11]) + int(fields[12])
 
 
-def wait_idle(pid, quiet_s=0.5, timeout=120.0):
-    """Wait until a process used no CPU for `quiet_s` (a node that worked through its queue), at most `timeout`."""
+def wait_idle(pid, quiet_s=0.5, timeout=120.0, pause=time.sleep):
+    """Wait until a process used no CPU for `quiet_s` (a node that worked through its queue), at most `timeout`;
+    `pause(0.1)` between looks (the demo spins its listener there, which gets that node's last alerts)."""
     deadline = time.monotonic() + timeout
     last, since = cpu_ticks(pid), time.monotonic()
     while last is not None and time.monotonic() < deadline:
-        time.sleep(0.1)
+        pause(0.1)
         now = cpu_ticks(pid)
         if now != last:
             last, since = now, time.monotonic()
@@ -391,8 +392,12 @@ def run_demo(args, say=print):
         if "onboard" in nodes:
             # a Python node behind a simulator faster than real time may still be working through the sensor
             # messages in its queue: stopping it now would lose them
-            wait_idle(nodes["onboard"].process.pid)
-        codes = {name: nodes.pop(name).stop() for name in ("monitor", "onboard", "recorder") if name in nodes}
+            wait_idle(nodes["onboard"].process.pid, pause=listener.spin_once)
+        codes = {name: nodes.pop(name).stop() for name in ("monitor", "onboard") if name in nodes}
+        linger = time.monotonic() + 1.0             # what the monitors published as they stopped
+        while time.monotonic() < linger:
+            listener.spin_once(0.1)
+        codes["recorder"] = nodes.pop("recorder").stop()
         if any(codes.values()):
             raise RuntimeError("exit status " + ", ".join(f"{k} {v}" for k, v in codes.items())
                                + f"; see {out / 'logs'}")
@@ -466,7 +471,7 @@ def run_demo(args, say=print):
                    alerts=[user_alert(a) for a in listener.alerts], lead_times=leads,
                    simulator_log=rate_line.split("]: ", 1)[-1], simulator_pace=simulator_pace,
                    recording_delivery=recording,
-                   recording_lost=None if recording is None else sum(max(r["lost"], 0) for r in recording.values()),
+                   recording_lost=None if recording is None else lost_count(recording),
                    monitor_log=mon_line.split("] ", 1)[-1],
                    onboard_alerts=None if args.no_sensors else [user_alert(a) for a in listener.onboard_alerts],
                    onboard_lead_times=onboard_leads, entry_rule=entry_rule,

@@ -237,7 +237,8 @@ def test_recorder_survives_ctrl_c_and_sigkill(spawn, read_until, tmp_path):
 
 
 def test_what_the_recording_lost_is_counted_per_topic(tmp_path):
-    from railderail_monitor.recording.recorder import McapRecording, delivery, delivery_text, recorded_counts
+    from railderail_monitor.recording.recorder import (McapRecording, delivery, delivery_text, lost_count,
+                                                       recorded_counts)
 
     path = tmp_path / "lossy.mcap"
     with McapRecording(path) as rec:
@@ -260,6 +261,12 @@ def test_what_the_recording_lost_is_counted_per_topic(tmp_path):
     assert table[m.STATES]["lost"] == 0 and table[m.FINAL_STATUS] == dict(published=1, recorded=0, lost=1)
     text = delivery_text(table)
     assert text.startswith(f"the recording LOST 10 of 100 {m.FORCES}, 1 of 1 {m.FINAL_STATUS}")
+    assert lost_count(table) == 11
     assert delivery_text(delivery({m.STATES: 100}, recorded)) == \
         "the recording holds every one of the 100 messages published on 1 topic"
     assert m.run_report("[INFO] no report here") is None
+    # the clock's subscribers keep only its latest message: its shortfall is said apart, not as a loss
+    recorded[m.CLOCK] = 70
+    text = delivery_text(delivery({m.STATES: 100, m.CLOCK: 100}, recorded))
+    assert text == (f"the recording holds every one of the 100 messages published on 1 topic; {m.CLOCK} 70 of 100 "
+                    "(its depth-1 QoS keeps only the latest)")
