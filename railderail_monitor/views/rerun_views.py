@@ -8,7 +8,7 @@ Entities (timeline `sim_time`, simulation time):
   plots/attack_angle_mrad/values   front-to-rear wheelsets, mrad; the warning line once the
                                    attack angle reaches half of it (so that the data sets the scale)
   plots/NAME/left, plots/NAME/right    the left and the right wheels of the four wheelsets, for NAME
-                                   wheel_lift_mm, derailment_coefficient (Q/P), unloading_ratio (dP/P0),
+                                   wheel_lift_mm, derailment_coefficient (Y/Q), unloading_ratio (ΔQ/Q0),
                                    lateral_force_kN (Q), vertical_force_kN (P); levels in
                                    plots/NAME/limit_warning and limit_critical, named as the alerts
                                    round them (warning.alerts.level_text)
@@ -28,7 +28,7 @@ Entities (timeline `sim_time`, simulation time):
                                (computed over the record so far every `estimate_period` s of simulated time)
   scene/...                    the track frame at the car: rails, a wire-frame car body, bogies, labelled
                                wheelsets (wheels coloured by their lift levels) and the contact patches
-                               (coloured by the worst level their wheel reached: Q/P, lift, unloading);
+                               (coloured by the worst level their wheel reached: Y/Q, lift, unloading);
                                displacements and angles drawn `exaggeration` times (10) larger, patches 10 times
 One colour per wheelset in every plot; left and right wheels in side-by-side panels. Every plot shows
 the run so far (from its start to the time cursor). Scene frames are drawn at `scene_rate` (25 Hz of
