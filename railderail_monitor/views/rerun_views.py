@@ -9,7 +9,7 @@ Entities (timeline `sim_time`, simulation time):
                                    attack angle reaches half of it (so that the data sets the scale)
   plots/NAME/left, plots/NAME/right    the left and the right wheels of the four wheelsets, for NAME
                                    wheel_lift_mm, derailment_coefficient (Y/Q), unloading_ratio (ΔQ/Q0),
-                                   lateral_force_kN (Q), vertical_force_kN (P); levels in
+                                   lateral_force_kN (Y), vertical_force_kN (Q); levels in
                                    plots/NAME/limit_warning and limit_critical, named as the alerts
                                    round them (warning.alerts.level_text)
   plots/speed_kmh
