@@ -27,7 +27,7 @@ def recording_signals(path, vehicle_set="hs19", allow_truncated=False):
 
     from .replay import read_recording
 
-    recording = read_recording(path, allow_truncated=allow_truncated)
+    recording = read_recording(path, allow_truncated=allow_truncated, decode=lambda topic: topic in (FORCES, STATUS))
     forces, status = {}, {}
     for topic, _, _, _, msg in recording.messages:
         if msg is None:
