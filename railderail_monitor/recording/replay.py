@@ -510,5 +510,7 @@ def _run_measured(args, recording, callbacks, publisher, err):
                                  same_as_recorded=same, differences=why), indent=1))
     else:
         print(f"{len(found)} measured alerts found; the recording holds {len(recorded)} "
-              + ("(the same criteria, places and stamps)" if same else f"(they differ: {why})"))
+              + ("(the same criteria, places and stamps)" if same else
+                 f"(they differ: {why}; the recording holds what the sensors sent: a live monitor that missed some "
+                 "of it, which its log counts as incomplete stamps, decides later or not at all)"))
     return 0
