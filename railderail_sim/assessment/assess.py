@@ -103,7 +103,8 @@ class Assessment:
             unit, scale = DISPLAY.get(first.unit, (first.unit, 1.0))
             unit = f" {TABLE_UNITS.get(unit, unit)}" if TABLE_UNITS.get(unit, unit) else ""
             lines += ["", f"Closest to its limit: {NAMES[first.quantity]} at {first.place}, {first.section}: "
-                          f"|{first.value * scale:.3g}|{unit} against {first.limit * scale:.3g}{unit} "
+                          f"{abs(first.value) * scale:.3g}{unit} ({'−' if first.value < 0 else '+'}) against "
+                          f"{first.limit * scale:.3g}{unit} "
                           f"({100.0 * first.utilisation:.0f} % of it)."]
         lines += [f"Not assessed: {n}" for n in self.notes]
         return "\n".join(lines)
