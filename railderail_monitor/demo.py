@@ -335,8 +335,9 @@ def run_demo(args, say=print):
     sim_params = simulator_parameters(args)
     say(f"railderail demo: R = {args.radius:g} m, progressive trial from {args.start_kmh:g} km/h, "
         f"{args.rate:g} Hz, " + ("as fast as possible" if args.real_time_factor == 0 else
-                                 f"asking for {args.real_time_factor:g} x real time ({args.rate * args.real_time_factor:g} "
-                                 "samples/s; the end says if the machine kept up)") + f"; run folder {out}")
+                                 f"asking for {args.real_time_factor:g} x real time "
+                                 f"({args.rate * args.real_time_factor:g} samples/s; the end says if the machine "
+                                 "kept up)") + f"; run folder {out}")
     say("starting the recorder, the monitor and the simulator (the first run in a fresh checkout also "
         "compiles the core: about a minute)")
     listener = Listener(say)

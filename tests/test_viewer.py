@@ -201,7 +201,8 @@ def test_rrd_has_the_sensors_views_and_the_estimate_beside_the_truth(run):
         for plot in ("lateral", "vertical"):
             assert rows[f"/sensors/{group}/{plot}/{mount}"] == len(measured[mount]["time"]), (mount, plot)
     assert rows["/sensors/car_body/roll_rate/car_body_centre"] == len(measured["car_body_centre"]["time"])
-    for line in ("bogie_frame/lateral/limit_peak", "bogie_frame/lateral/limit_bids", "car_body/roll_rate/limit_roll_rate",
+    for line in ("bogie_frame/lateral/limit_peak", "bogie_frame/lateral/limit_bids",
+                 "car_body/roll_rate/limit_roll_rate",
                  "estimator/rear/limit_warning"):
         assert rows[f"/sensors/{line}"] >= 2, line
     # the car body's raw reading carries the curve's steady part: no filtered rule's level drawn against it

@@ -286,10 +286,12 @@ def measured_key(alert):
 def compare_measured(found, recorded):
     """(same, why): whether the alerts found are those the recording holds, by measured_key, and if not one
     sentence naming the alerts on either side only."""
+    def name(keys):
+        return "; ".join(f"{c} at {p}, t = {t * 1e-9:.3f} s" for c, p, t in sorted(keys, key=lambda k: k[2]))
+
     mine, theirs = set(map(measured_key, found)), set(map(measured_key, recorded))
     if mine == theirs:
         return True, ""
-    name = lambda keys: "; ".join(f"{c} at {p}, t = {t * 1e-9:.3f} s" for c, p, t in sorted(keys, key=lambda k: k[2]))  # noqa: E731
     parts = ([f"found here only: {name(mine - theirs)}"] if mine - theirs else []) + \
         ([f"in the recording only: {name(theirs - mine)}"] if theirs - mine else [])
     return False, "; ".join(parts)

@@ -144,7 +144,8 @@ def conditions_text(c):
 
 def row_dict(r: Row):
     unit, scale = DISPLAY.get(r.unit, (r.unit, 1.0))
-    return dict(quantity=r.quantity, name=NAMES[r.quantity], section=r.section, wheelset=r.wheelset, side=r.side, value=r.value * scale,
+    return dict(quantity=r.quantity, name=NAMES[r.quantity], section=r.section, wheelset=r.wheelset, side=r.side,
+                value=r.value * scale,
                 limit=None if r.limit is None else r.limit * scale, unit=unit, passes=r.passes)
 
 
