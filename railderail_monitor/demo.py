@@ -43,7 +43,8 @@ from pathlib import Path
 from railderail_sim import jsonout
 from railderail_sim.ros.interface import REAL_TIME_FACTOR_RANGE
 
-from .warning.alerts import lead_times
+from .recording.recorder import delivery, delivery_text, lost_count, recorded_counts
+from .warning.alerts import label, lead_times, margin_kmh, user_alert
 from .warning.limits import SEVERITY_NAMES, default_limits
 
 NODES = {  # name: python -m module
@@ -65,12 +66,13 @@ def cpu_ticks(pid):
     return int(fields[11]) + int(fields[12])
 
 
-def wait_idle(pid, quiet_s=0.5, timeout=120.0):
-    """Wait until a process used no CPU for `quiet_s` (a node that worked through its queue), at most `timeout`."""
+def wait_idle(pid, quiet_s=0.5, timeout=120.0, pause=time.sleep):
+    """Wait until a process used no CPU for `quiet_s` (a node that worked through its queue), at most `timeout`;
+    `pause(0.1)` between looks (the demo spins its listener there, which gets that node's last alerts)."""
     deadline = time.monotonic() + timeout
     last, since = cpu_ticks(pid), time.monotonic()
     while last is not None and time.monotonic() < deadline:
-        time.sleep(0.1)
+        pause(0.1)
         now = cpu_ticks(pid)
         if now != last:
             last, since = now, time.monotonic()
@@ -241,40 +243,111 @@ class Listener:
         self.rclpy.try_shutdown()
 
 
-def lead_table(alerts, derailment):
-    """Lines: every alert with its lead (s, m) before the derailment."""
+ENTRY_RULE = ("an alert below the trial's entry speed plus one step ({limit:g} km/h) is marked 'entry': the trial "
+              "starts at a speed the car runs safely, so such an alert says its level lies below this curve's "
+              "normal running at that speed, not that a derailment comes; it is no warning")
+
+
+def entry_speed_kmh(sim_params):
+    """The speed below which an alert is the trial's entry, not a warning (ENTRY_RULE): the progressive trial's
+    start plus one step; None for a run at constant speed (no entry to set apart)."""
+    if sim_params.get("speed_mode") != "progressive":
+        return None
+    from railderail_sim.ros.node import PARAMETERS
+    step = sim_params.get("step_kmh", next(spec.default for spec in PARAMETERS if spec.name == "step_kmh"))
+    return float(sim_params["speed_kmh"]) + float(step)
+
+
+def is_entry(alert, entry_kmh):
+    return entry_kmh is not None and alert["speed"] * 3.6 < entry_kmh
+
+
+def lead_text(lead_s, lead_m, margin):
+    """How far before the derailment: km/h of speed still gained, metres and seconds."""
+    return f"{margin:5.1f} km/h {lead_m:7.0f} m {lead_s:7.2f} s"
+
+
+def lead_table(alerts, derailment, entry_kmh=None):
+    """Lines: every alert with its margin (km/h), lead distance (m) and time (s) before the derailment."""
     lines = []
     for a in alerts:
-        lines.append(f"  {a['criterion']:23s} {SEVERITY_NAMES[a['severity']]:8s} ws{a['wheelset']} "
-                     f"{a['wheel_side'] or '-':5s} {a['rail_side'] or '-':5s} "
-                     f"{derailment['time_s'] - a['time_s']:7.2f} s {derailment['track_position_m'] - a['track_position']:8.1f} m"
-                     f"   ({a['speed'] * 3.6:.1f} km/h)")
+        lead = lead_text(derailment["time_s"] - a["time_s"], derailment["track_position_m"] - a["track_position"],
+                         margin_kmh(a, derailment))
+        lines.append(f"  {label(a['criterion']):31s} {SEVERITY_NAMES[a['severity']]:8s} ws{a['wheelset']} "
+                     f"{a['wheel_side'] or '-':5s} {a['rail_side'] or '-':5s} {a['speed'] * 3.6:6.1f} km/h  {lead}"
+                     + ("  entry: no warning" if is_entry(a, entry_kmh) else ""))
     return lines
 
 
-def measured_leads(alerts, derailment):
-    """{criterion at place: first measured alert's time_s, track_position_m, lead_s, lead_m (NaN without a
-    derailment)}."""
+def measured_leads(alerts, derailment, entry_kmh=None):
+    """{criterion at place: first measured alert's time_s, track_position_m, speed_kmh, lead_s, lead_m,
+    margin_kmh (NaN without a derailment), entry (ENTRY_RULE)}."""
     out = {}
     for a in alerts:
         key = f"{a['criterion']} at {a['place']}"
         if key not in out:
             lead_s = derailment["time_s"] - a["time_s"] if derailment else math.nan
             lead_m = derailment["track_position_m"] - a["track_position"] if derailment else math.nan
-            out[key] = dict(time_s=a["time_s"], track_position_m=a["track_position"], lead_s=lead_s, lead_m=lead_m)
+            out[key] = dict(time_s=a["time_s"], track_position_m=a["track_position"], speed_kmh=a["speed"] * 3.6,
+                            lead_s=lead_s, lead_m=lead_m, margin_kmh=margin_kmh(a, derailment),
+                            entry=is_entry(a, entry_kmh))
     return out
 
 
-def measured_summary(alerts, derailment):
+def first_alert_lines(leads, derailment, name):
+    """Lines: the first alert of each key, its speed and how far before the derailment."""
+    lines = []
+    for key, v in sorted(leads.items(), key=lambda kv: kv[1]["time_s"]):
+        lead = lead_text(v["lead_s"], v["lead_m"], v["margin_kmh"]) if derailment else "no derailment followed"
+        lines.append(f"  {name(key):55s} {v['speed_kmh']:6.1f} km/h  {lead}"
+                     + ("  entry: no warning" if v.get("entry") else ""))
+    return lines
+
+
+def measured_summary(alerts, derailment, entry_kmh=None):
     """Lines about the measured-mode monitor's alerts beside the derailment."""
     if not alerts:
         return "measured-mode monitor: no alert" + (" before the derailment" if derailment else "")
-    leads = measured_leads(alerts, derailment)
-    lines = [f"measured-mode monitor: {len(alerts)} alerts; first of each criterion and place:"]
-    for key, v in sorted(leads.items(), key=lambda kv: kv[1]["time_s"]):
-        lead = f"{v['lead_s']:.2f} s / {v['lead_m']:.0f} m before" if derailment else "no derailment followed"
-        lines.append(f"  {key:48s} t = {v['time_s']:7.3f} s  {lead}")
+    leads = measured_leads(alerts, derailment, entry_kmh)
+    lines = [f"measured-mode monitor: {len(alerts)} alerts; the first of each criterion and place (speed at it"
+             + ("; before the derailment: km/h still gained, m, s" if derailment else "") + "):"]
+    lines += first_alert_lines(leads, derailment,
+                               lambda key: "{} at {}".format(label(key.split(" at ")[0]), key.split(" at ")[1]))
     return "\n".join(lines)
+
+
+def pace(report):
+    """{achieved, requested samples per wall second, behind}: behind when the simulator managed less than 95 %
+    of the rate asked for (requested 0: as fast as possible, never behind)."""
+    achieved, requested = report["achieved_samples_per_s"], report["requested_samples_per_s"]
+    return dict(achieved_samples_per_s=achieved, requested_samples_per_s=requested,
+                behind=bool(requested > 0 and achieved < 0.95 * requested))
+
+
+def pace_text(p, rate):
+    """One line on the simulator's pace: a warning when it fell behind."""
+    achieved, requested = p["achieved_samples_per_s"], p["requested_samples_per_s"]
+    if p["behind"]:
+        return (f"WARNING: the simulator fell behind: {achieved:.1f} of the requested {requested:g} samples/s "
+                f"({achieved / rate:.2f} x real time instead of {requested / rate:g}; the machine is slower or "
+                "busier than the rate asked for: lower --real-time-factor, or expect the run to take longer)")
+    return f"simulator pace: {achieved:.1f} samples/s (requested {requested:g}" + \
+        (", as fast as possible)" if requested == 0 else ")")
+
+
+def command_prefix():
+    """How the user ran railderail, for the hints: the script's path (e.g. .venv/bin/railderail), or this
+    Python with -m."""
+    script = Path(sys.argv[0])
+    if script.name == "railderail":
+        return str(script)
+    return f"{sys.executable} -m railderail_sim.cli"
+
+
+def rerun_command():
+    """The Rerun viewer beside this Python (the venv's), else bare `rerun`."""
+    beside = Path(sys.executable).parent / "rerun"
+    return str(beside) if beside.exists() else "rerun"
 
 
 def run_demo(args, say=print):
@@ -285,13 +358,16 @@ def run_demo(args, say=print):
     limits = default_limits()
     sim_params = simulator_parameters(args)
     survey = closed_loop_survey(args.survey or SHIPPED_SURVEY, sim_params, out) if args.closed_loop else None
+    pace_asked = ("as fast as possible" if args.real_time_factor == 0 else
+                  f"asking for {args.real_time_factor:g} x real time ({args.rate * args.real_time_factor:g} samples/s; "
+                  "the end says if the machine kept up)")
     if args.closed_loop:
         say(f"railderail demo, closed loop: R = {args.radius:g} m at a constant {args.speed_kmh:g} km/h after "
             f"{args.approach_m:g} m of straight, the speed supervised against {survey}; {args.rate:g} Hz, "
-            f"{args.real_time_factor:g} x real time; run folder {out}")
+            f"{pace_asked}; run folder {out}")
     else:
         say(f"railderail demo: R = {args.radius:g} m, progressive trial from {args.start_kmh:g} km/h, "
-            f"{args.rate:g} Hz, {args.real_time_factor:g} x real time; run folder {out}")
+            f"{args.rate:g} Hz, {pace_asked}; run folder {out}")
     say("starting the recorder, the monitor and the simulator (the first run in a fresh checkout also "
         "compiles the core: about a minute)")
     listener = Listener(say)
@@ -348,8 +424,12 @@ def run_demo(args, say=print):
         if "onboard" in nodes:
             # a Python node behind a simulator faster than real time may still be working through the sensor
             # messages in its queue: stopping it now would lose them
-            wait_idle(nodes["onboard"].process.pid)
-        codes = {name: nodes.pop(name).stop() for name in ("monitor", "onboard", "recorder") if name in nodes}
+            wait_idle(nodes["onboard"].process.pid, pause=listener.spin_once)
+        codes = {name: nodes.pop(name).stop() for name in ("monitor", "onboard") if name in nodes}
+        linger = time.monotonic() + 1.0             # what the monitors published as they stopped
+        while time.monotonic() < linger:
+            listener.spin_once(0.1)
+        codes["recorder"] = nodes.pop("recorder").stop()
         if any(codes.values()):
             raise RuntimeError("exit status " + ", ".join(f"{k} {v}" for k, v in codes.items())
                                + f"; see {out / 'logs'}")
@@ -370,52 +450,67 @@ def run_demo(args, say=print):
     wall_run = time.monotonic() - started
 
     d = listener.derailment
+    entry_kmh = entry_speed_kmh(sim_params)
     say("")
     if d is not None:
         say(f"DERAILED at t = {d['time_s']:.3f} s, s = {d['track_position_m']:.1f} m, {d['speed_kmh']:.1f} km/h: "
             f"wheelset {d['wheelset']} {d['wheel_side']} ({d['rail_side']} rail), {d['mechanism'].replace('_', ' ')}")
         if listener.alerts:
-            say("alerts and their lead before the derailment (criterion, level, wheel, rail, lead time, lead "
-                "distance, speed at the alert):")
-            for line in lead_table(listener.alerts, d):
+            say("alerts (criterion, level, wheelset, wheel, rail, speed at the alert; before the derailment: km/h "
+                "still gained, metres, seconds):")
+            for line in lead_table(listener.alerts, d, entry_kmh):
                 say(line)
         else:
             say("no alert came before the derailment")
     else:
         say(f"the run stopped without a derailment: {listener.final_status or 'no final status received'}")
     leads = lead_times(listener.alerts, d)
+    for v in leads.values():
+        v["entry"] = entry_kmh is not None and v["speed_kmh"] < entry_kmh
     if leads:
         say("first alert of each criterion:")
-        for key, v in sorted(leads.items(), key=lambda kv: kv[1]["time_s"]):
-            lead = f"{v['lead_s']:.2f} s / {v['lead_m']:.0f} m before" if d else "no derailment followed"
-            say(f"  {key:32s} t = {v['time_s']:7.3f} s  {lead}")
+        for line in first_alert_lines(leads, d, lambda key: "{} ({})".format(label(key.split("/")[0]),
+                                                                              key.split("/")[1])):
+            say(line)
+    onboard_leads = None if args.no_sensors else measured_leads(listener.onboard_alerts, d, entry_kmh)
     if not args.no_sensors:
-        say(measured_summary(listener.onboard_alerts, d))
+        say(measured_summary(listener.onboard_alerts, d, entry_kmh))
+    entry_rule = None if entry_kmh is None else ENTRY_RULE.format(limit=entry_kmh)
+    if entry_rule and any(v["entry"] for v in [*leads.values(), *(onboard_leads or {}).values()]):
+        say("entry: " + entry_rule)
     open_loop = None
     if args.closed_loop:
         open_loop = open_loop_run(sim_params)
         say(closed_loop_summary(listener.brakes, d, open_loop))
     sim_log = (out / "logs" / "simulator.log").read_text()
     rate_line = next((l for l in sim_log.splitlines() if "published" in l), "")
+    report = listener.m.run_report(sim_log)
     logs = {name: next((l for l in (out / "logs" / f"{name}.log").read_text().splitlines() if "processed" in l), "")
             for name in ("monitor", "onboard") if (out / "logs" / f"{name}.log").exists()}
-    if rate_line:
-        say("simulator: " + rate_line.split("; ", 1)[-1])
+    simulator_pace = None if report is None else pace(report)
+    if simulator_pace is not None:
+        say(pace_text(simulator_pace, args.rate))
     for name, line in logs.items():
         if line:
             say(f"{name + ':':10s} " + line.split("] ", 1)[-1])
     mon_line = logs.get("monitor", "")
+    recording = None if report is None else delivery(report["published"], recorded_counts(mcap_path))
+    say("recorder: " + (delivery_text(recording) if recording is not None else
+                        "the simulator's log has no run report: what the recording lost is not known"))
     if not args.no_rrd:
-        from .recording.replay import read_recording, write_rrd
+        from .recording.replay import read_recording, viewed, write_rrd
         t0 = time.monotonic()
-        write_rrd(read_recording(mcap_path), rrd_path, limits)
+        write_rrd(read_recording(mcap_path, decode=viewed), rrd_path, limits)
         say(f"wrote {rrd_path} in {time.monotonic() - t0:.1f} s")
     summary = dict(run_folder=str(out), mcap=str(mcap_path), rrd=None if args.no_rrd else str(rrd_path),
                    simulator=sim_params, limits=limits.as_dict(), derailment=d, final_status=listener.final_status,
-                   alerts=listener.alerts, lead_times=leads, simulator_log=rate_line.split("]: ", 1)[-1],
+                   alerts=[user_alert(a) for a in listener.alerts], lead_times=leads,
+                   simulator_log=rate_line.split("]: ", 1)[-1], simulator_pace=simulator_pace,
+                   recording_delivery=recording,
+                   recording_lost=None if recording is None else lost_count(recording),
                    monitor_log=mon_line.split("] ", 1)[-1],
-                   onboard_alerts=None if args.no_sensors else listener.onboard_alerts,
-                   onboard_lead_times=None if args.no_sensors else measured_leads(listener.onboard_alerts, d),
+                   onboard_alerts=None if args.no_sensors else [user_alert(a) for a in listener.onboard_alerts],
+                   onboard_lead_times=onboard_leads, entry_rule=entry_rule,
                    onboard_log=logs.get("onboard", "").split("] ", 1)[-1] or None,
                    closed_loop=None if not args.closed_loop else dict(survey=survey, brake_commands=listener.brakes,
                                                                       without_supervision=open_loop),
@@ -424,7 +519,8 @@ def run_demo(args, say=print):
     jsonout.write(summary_path, summary)
     say(f"run folder: {out}  (demo.mcap, {'' if args.no_rrd else 'demo.rrd, '}summary.json, logs/); "
         f"wall time {summary['wall_time_s']:.0f} s")
-    say(f"review it: railderail replay {mcap_path} --no-publish   |   rerun {rrd_path}")
+    say(f"review it: {command_prefix()} replay {mcap_path} --no-publish"
+        + ("" if args.no_rrd else f"   |   {rerun_command()} {rrd_path}"))
     return 0 if d is not None or listener.final_state is not None else 1
 
 

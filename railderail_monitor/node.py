@@ -35,7 +35,7 @@ from railderail_sim.ros import sensor_messages as sm
 from railderail_sim.supervision.braking import ADHESIONS
 from railderail_sim.vehicle.layout import RUNNING_GEARS
 
-from .warning.alerts import AlertRecord
+from .warning.alerts import AlertRecord, amount_text, label
 from .warning.limits import SEVERITY_NAMES, SIGNALS as MODES, SIGNALS_MEANING, Limits, default_limits
 from .warning.monitor import Monitor
 
@@ -83,6 +83,13 @@ def parameter_table(defaults):
         for f in fields(defaults)]
 
 
+def measured_alert_text(criterion, severity, value, threshold, place):
+    """One line of a measured alert, its values with the unit of the criterion's level (MeasuredLimits)."""
+    from .onboard.measured import MeasuredLimits
+    unit = next((f.metadata["unit"] for f in fields(MeasuredLimits) if f.name == criterion), "")
+    return f"measured {SEVERITY_NAMES[severity]}: {label(criterion)} {amount_text(value, threshold, unit)} at {place}"
+
+
 def measured_alert_message(alert, speed):
     """The Alert message of an on-board monitor's alert (`onboard.measured.MeasuredAlert`) at the odometer's
     speed (m/s)."""
@@ -95,8 +102,7 @@ def measured_alert_message(alert, speed):
     message.sample, message.criterion, message.severity = alert.sample, alert.criterion, alert.severity
     message.value, message.threshold = alert.value, alert.threshold
     message.track_position, message.speed = alert.track_position, speed
-    message.message = (f"measured {SEVERITY_NAMES[alert.severity]}: {alert.criterion.replace('_', ' ')} "
-                       f"{alert.value:.4g} >= {alert.threshold:.4g} at {alert.place}")
+    message.message = measured_alert_text(alert.criterion, alert.severity, alert.value, alert.threshold, alert.place)
     return message
 
 

@@ -452,7 +452,7 @@ def position_figure(path, series, ylabel, markers=(), xlabel="position of the ca
 
 def run_figure(result, path):
     """One run against track position (`vehicle.simulate.Result`): the rails' deviations (if irregular),
-    the front wheelset's lateral displacement and attack angle, and each of its wheels' Q/P and lift."""
+    the front wheelset's lateral displacement and attack angle, and each of its wheels' Y/Q and lift."""
     irregular = result.scenario.irregularity is not None
     position = result.position
     with figure(path, (8.0, 9.0 if irregular else 7.0)) as fig:
@@ -471,7 +471,7 @@ def run_figure(result, path):
         for k, side in enumerate(("left", "right")):
             ax_qp.plot(position, result.wheel("derailment_coefficient")[:, k], lw=0.6, label=f"{side} wheel")
             ax_lift.plot(position, result.wheel("wheel_lift")[:, k] * 1e3, lw=0.6, label=f"{side} wheel")
-        ax_qp.set_ylabel("Q/P, front wheelset")
+        ax_qp.set_ylabel("Y/Q, front wheelset")
         ax_qp.legend(fontsize="small")
         ax_lift.set_ylabel("wheel lift, front wheelset (mm)")
         ax_lift.set_xlabel("position of the car-body centre (m)")

@@ -173,10 +173,10 @@ def test_assessment_rows_and_json(steady):
     _, path = steady
     a = assess.assess(signals.from_npz(path))
     d = a.as_dict()
-    assert set(d) == {"static_wheel_load_kN", "standard", "quantities"}
+    assert set(d) == {"static_wheel_load_kN", "standard", "run_conditions", "quantities"}
     assert d["static_wheel_load_kN"] == pytest.approx(56.064, rel=1e-4)
     for row in d["quantities"]:
-        assert set(row) == {"quantity", "section", "wheelset", "side", "value", "limit", "unit", "passes"}
+        assert set(row) == {"quantity", "name", "section", "wheelset", "side", "value", "limit", "unit", "passes"}
         assert row["quantity"] in assess.QUANTITIES
     found = {row["quantity"] for row in d["quantities"]}
     assert found == set(assess.QUANTITIES)
@@ -184,6 +184,18 @@ def test_assessment_rows_and_json(steady):
     assert y["unit"] == "kN" and y["limit"] == pytest.approx(47.376, rel=1e-3) and y["side"] is None
     table = a.markdown()
     assert "| curve R 1000 m" in table and "Closest to its limit" in table
+    # rows in words with units, the magnitude against the limit and the sign apart: the outer wheels' Y_qst
+    # pushes right (-), 250 km/h on R 1000 m with 175 mm cant is 558 mm of cant deficiency
+    assert "sum_Y_2m" not in table and "| track-shift force ΣY, 2 m mean |" in table
+    row = next(line for line in table.splitlines() if "| quasi-static lateral wheel force Y_qst |" in line)
+    cells = [c.strip() for c in row.split("|")]
+    assert float(cells[4]) > 0 and cells[5] == "−" and cells[7] == "kN"
+    (curve,) = d["run_conditions"]["curves"]
+    e, g = 1.5, 9.81
+    aq = TrackParameters(radius=1000.0).uncompensated_acceleration(STEADY_KMH / 3.6)
+    assert curve["cant_deficiency_mm"] == pytest.approx(e * aq / g * 1e3, rel=0.01) and curve["outside_test_conditions"]
+    assert f"up to {curve['cant_deficiency_mm']:.0f} mm, OUTSIDE the standard's test conditions (up to 165 mm" in table
+    assert d["run_conditions"]["comfort_indicative"] and "N_MV from" in table and "indicative" in table
 
 
 def test_bad_input_is_one_line(tmp_path, steady):
@@ -200,6 +212,10 @@ def test_bad_input_is_one_line(tmp_path, steady):
         signals.from_npz(tmp_path / "foreign.npz")
     with pytest.raises(ValueError, match="no such file"):
         signals.from_npz(tmp_path / "missing.npz")
+    (tmp_path / "notes.npz").write_text("speed 280 km/h, R 1000 m\n")
+    with pytest.raises(ValueError, match=r"notes.npz is not a .npz archive .* starts with b'spee'") as refused:
+        signals.from_npz(tmp_path / "notes.npz")
+    assert "pickle" not in str(refused.value)
 
 
 def test_a_recording_gives_the_runs_force_quantities(tmp_path, steady):
@@ -228,7 +244,7 @@ def test_assess_command(tmp_path, steady, capsys):
     _, path = steady
     assert main(["assess", str(path), "--json", "--plot", str(tmp_path / "a.png")]) == 0
     d = json.loads(capsys.readouterr().out)
-    assert set(d) == {"static_wheel_load_kN", "standard", "quantities"}
+    assert set(d) == {"static_wheel_load_kN", "standard", "run_conditions", "quantities"}
     assert (tmp_path / "a.png").stat().st_size > 10_000
     assert main(["assess", str(path)]) == 0
     assert capsys.readouterr().out.startswith(f"Assessment of {path}")

@@ -87,3 +87,19 @@ def test_help_imports_no_heavy_modules():
             "except SystemExit:\n    pass\nprint(sorted({'numba', 'rclpy', 'scipy'} & set(sys.modules)))")
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert result.stdout.splitlines()[-1] == "[]"
+
+
+def test_simulate_for_a_duration_prints_rounded_values_with_units(capsys):
+    assert cli.main(["simulate", "--radius", "1000", "--speed-kmh", "280", "--duration-s", "0.4"]) == 0
+    out = capsys.readouterr().out
+    rows = {line[:30].strip(): line[30:] for line in out.splitlines()}
+    # 0.4 s at 280 km/h from the start: 31.1 m, up to the output period (5 ms, 0.4 m) the run stops on
+    assert rows["simulated time"].endswith(" s") and 0.4 <= float(rows["simulated time"][:-2]) <= 0.41
+    assert 31.1 <= float(rows["car-body position at the end"][:-2]) <= 31.5
+    for line in out.splitlines():
+        assert line.split()[-1] in ("s", "m", "mrad", "mm", "kN", "finished", "rigid") or "Y/Q" in line, line
+        assert not any(len(word.split(".")[-1]) > 3 for word in line.split() if word.replace(".", "").isdigit())
+    assert cli.main(["simulate", "--speed-kmh", "280", "--duration-s", "99"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("railderail: error: --duration-s 99 s is outside the accepted range (0, 23.") and \
+        err.count("\n") == 1

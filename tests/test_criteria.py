@@ -202,11 +202,24 @@ def test_lead_times_by_hand():
                    value=0.61, threshold=0.6, wheelset=1, wheel_side="left", rail_side="inner"),
               dict(criterion="wheel_unloading", severity=1, time_s=11.0, track_position=880.0, speed=80.0,
                    value=0.62, threshold=0.6, wheelset=3, wheel_side="left", rail_side="inner")]
-    leads = lead_times(alerts, dict(time_s=12.5, track_position_m=1000.0))
+    leads = lead_times(alerts, dict(time_s=12.5, track_position_m=1000.0, speed_kmh=300.0))
     assert leads["wheel_unloading/warning"]["lead_s"] == pytest.approx(2.5)
+    assert leads["wheel_unloading/warning"]["margin_kmh"] == pytest.approx(12.0)       # 300 - 80 x 3.6
     assert leads["wheel_unloading/warning"]["lead_m"] == pytest.approx(200.0)
     assert leads["wheel_unloading/warning"]["speed_kmh"] == pytest.approx(288.0)
     assert math.isnan(lead_times(alerts, None)["wheel_unloading/warning"]["lead_s"])   # false alarm
+    assert math.isnan(lead_times(alerts, None)["wheel_unloading/warning"]["margin_kmh"])
+
+
+def test_what_a_user_reads_of_an_alert():
+    from railderail_monitor.warning.alerts import describe, user_alert
+    a = dict(criterion="derailment_coefficient", severity=1, time_s=10.0, track_position=800.0, speed=80.0)
+    shown = user_alert(a)
+    assert shown["speed_kmh"] == pytest.approx(288.0) and shown["track_position_m"] == 800.0
+    assert "speed" not in shown and "track_position" not in shown
+    text = describe("derailment_coefficient", 1, 0.8123, 0.8, 0, "left", "inner")
+    assert text == "warning: derailment quotient Y/Q 0.812 >= 0.800 on wheelset 0 left (inner)"
+    assert "ΔQ/Q0" in describe("wheel_unloading", 2, 0.9, 0.9, 1, "right", "outer")
 
 
 # --- warning-quality scoring (railderail warnings) -----------------------------------------------

@@ -68,4 +68,5 @@ def test_the_commands(live_recording, tmp_path, capsys):
     out = json.loads(capsys.readouterr().out)
     assert out["signals"] == "measured" and len(out["alerts"]) == len(live) and out["recorded_alerts"] == []
     assert main(["replay", str(full), "--no-publish", "--signals", "measured"]) == 0
-    assert f"{len(live)} measured alerts found; the recording holds {len(live)} (the same)" in capsys.readouterr().out
+    assert f"{len(live)} measured alerts found; the recording holds {len(live)} (the same criteria, places and stamps)" \
+        in capsys.readouterr().out

@@ -234,3 +234,39 @@ def test_recorder_survives_ctrl_c_and_sigkill(spawn, read_until, tmp_path):
     with pytest.raises(RecordingError, match="killed.mcap is truncated .* add --allow-truncated"):
         read_recording(killed)
     assert len(read_recording(killed, allow_truncated=True).messages) == len(recovered)
+
+
+def test_what_the_recording_lost_is_counted_per_topic(tmp_path):
+    from railderail_monitor.recording.recorder import (McapRecording, delivery, delivery_text, lost_count,
+                                                       recorded_counts)
+
+    path = tmp_path / "lossy.mcap"
+    with McapRecording(path) as rec:
+        for topic in (m.STATES, m.FORCES):
+            rec.add_topic(topic, m.TOPICS[topic][0])
+        for i in range(100):
+            states = m.stamp(m.WheelsetStates(sample=i), 0.005 * i)
+            rec.write(m.STATES, serialize_message(states))
+            if i % 10 != 3:                  # the recorder missed every tenth contact-forces message
+                rec.write(m.FORCES, serialize_message(m.stamp(m.ContactForces(sample=i), 0.005 * i)))
+    recorded = recorded_counts(path)
+    assert recorded == {m.STATES: 100, m.FORCES: 90}
+    # the simulator's run report, as its log carries it
+    report = m.run_report("[INFO] [1.0] [railderail_simulator]: finished; published 100 samples\n"
+                          "[INFO] [1.1] [railderail_simulator]: "
+                          + m.run_report_line({m.STATES: 100, m.FORCES: 100, m.FINAL_STATUS: 1}, 134.46, 600.0))
+    assert report["achieved_samples_per_s"] == 134.46 and report["requested_samples_per_s"] == 600.0
+    table = delivery(report["published"], recorded)
+    assert table[m.FORCES] == dict(published=100, recorded=90, lost=10)
+    assert table[m.STATES]["lost"] == 0 and table[m.FINAL_STATUS] == dict(published=1, recorded=0, lost=1)
+    text = delivery_text(table)
+    assert text.startswith(f"the recording LOST 10 of 100 {m.FORCES}, 1 of 1 {m.FINAL_STATUS}")
+    assert lost_count(table) == 11
+    assert delivery_text(delivery({m.STATES: 100}, recorded)) == \
+        "the recording holds every one of the 100 messages published on 1 topic"
+    assert m.run_report("[INFO] no report here") is None
+    # the clock's subscribers keep only its latest message: its shortfall is said apart, not as a loss
+    recorded[m.CLOCK] = 70
+    text = delivery_text(delivery({m.STATES: 100, m.CLOCK: 100}, recorded))
+    assert text == (f"the recording holds every one of the 100 messages published on 1 topic; {m.CLOCK} 70 of 100 "
+                    "(its depth-1 QoS keeps only the latest)")

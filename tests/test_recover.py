@@ -107,6 +107,37 @@ def test_nothing_to_recover_and_bad_names_are_one_line(tmp_path, capsys):
     assert "does not exist" in error_line(capsys, ["recover", str(full), str(tmp_path / "no" / "fixed.mcap")])
 
 
+def test_an_existing_file_is_not_replaced_without_force(tmp_path, capsys):
+    full = tmp_path / "full.mcap"
+    write_synthetic(full, samples=3000)
+    broken = tmp_path / "broken.mcap"
+    broken.write_bytes(full.read_bytes()[:len(full.read_bytes()) // 2])
+    before = broken.read_bytes()
+    err = error_line(capsys, ["recover", str(broken), str(broken)])
+    assert "broken.mcap is the recording being recovered" in err and "--force" in err
+    assert broken.read_bytes() == before
+    other = tmp_path / "other.mcap"
+    other.write_text("keep me")
+    assert "other.mcap exists: give another name, or add --force" in error_line(
+        capsys, ["recover", str(broken), str(other)])
+    assert other.read_text() == "keep me"
+    assert main(["recover", str(broken), str(other), "--force"]) == 0
+    assert "recovered" in capsys.readouterr().err and len(read_with_rosbags(other)) > 100
+
+
+def test_a_cut_inside_a_record_is_said_in_words(tmp_path, capsys):
+    full = tmp_path / "full.mcap"
+    write_synthetic(full, samples=3000)
+    data = full.read_bytes()
+    for cut in (len(data) - 1, len(data) // 2):       # in the footer, in a chunk
+        broken, fixed = tmp_path / f"cut{cut}.mcap", tmp_path / f"fixed{cut}.mcap"
+        broken.write_bytes(data[:cut])
+        assert main(["recover", str(broken), str(fixed)]) == 0
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and err.rstrip().endswith("was cut off (the file ends inside a record)"), err
+        assert "error" not in err and "buffer" not in err and "EndOfFile" not in err
+
+
 @pytest.mark.timeout(180)
 def test_a_killed_recorder_s_file_recovers_and_is_not_overwritten(spawn, read_until, tmp_path, capsys):
     publisher = spawn([sys.executable, "-c", PUBLISHER])

@@ -93,3 +93,19 @@ def test_json_output(capsys, recorded):
     assert out["samples"] == len(result.time)
     first = min(out["lead_times"].values(), key=lambda v: v["time_s"])
     assert first["lead_s"] > 0 and first["lead_m"] > 0
+
+
+def test_measured_alerts_are_compared_by_what_identifies_them():
+    from railderail_monitor.recording.replay import compare_measured
+
+    live = [dict(sample=1200, criterion="car_body_roll", place="air_springs", time_s=6.0, severity=1),
+            dict(sample=5000, criterion="bogie_rms", place="bogie_front_frame", time_s=25.005, severity=1)]
+    # the replay counted the messages of a recording that lost some: other sample numbers, the same alerts
+    replayed = [dict(a, sample=a["sample"] - 46, message="") for a in live]
+    assert compare_measured(replayed, live) == (True, "")
+    same, why = compare_measured(replayed[:1], live)
+    assert not same and why == "in the recording only: bogie_rms at bogie_front_frame, t = 25.005 s"
+    moved = [replayed[0], dict(replayed[1], time_s=25.010)]
+    same, why = compare_measured(moved, live)
+    assert why == ("found here only: bogie_rms at bogie_front_frame, t = 25.010 s; "
+                   "in the recording only: bogie_rms at bogie_front_frame, t = 25.005 s")

@@ -201,9 +201,12 @@ def test_rrd_has_the_sensors_views_and_the_estimate_beside_the_truth(run):
         for plot in ("lateral", "vertical"):
             assert rows[f"/sensors/{group}/{plot}/{mount}"] == len(measured[mount]["time"]), (mount, plot)
     assert rows["/sensors/car_body/roll_rate/car_body_centre"] == len(measured["car_body_centre"]["time"])
-    for line in ("car_body/lateral/limit_ydd", "bogie_frame/lateral/limit_bids", "car_body/roll_rate/limit_roll_rate",
+    for line in ("bogie_frame/lateral/limit_peak", "bogie_frame/lateral/limit_bids",
+                 "car_body/roll_rate/limit_roll_rate",
                  "estimator/rear/limit_warning"):
         assert rows[f"/sensors/{line}"] >= 2, line
+    # the car body's raw reading carries the curve's steady part: no filtered rule's level drawn against it
+    assert not any(e.startswith("/sensors/car_body/lateral/limit_") for e in rows)
     est = estimator.estimate(log.arrays(), VehicleParameters(), AIR_SPRING_EFFECTIVE_AREA)
     for bogie in estimator.BOGIES:
         assert rows[f"/sensors/estimator/{bogie}/estimated"] == len(est["time"]) > 0.9 * samples
@@ -249,3 +252,16 @@ def test_sensor_topics_decode_back_into_the_run_s_sensor_arrays(run):
             assert np.allclose(got[name], values, rtol=0.0, atol=1e-7), name
         else:
             assert np.array_equal(got[name], values), name               # bit for bit
+
+
+def test_the_measured_monitor_s_alerts_are_in_the_rrd(tmp_path):
+    from railderail_monitor.recording.replay import feed_viewer
+    from railderail_monitor.views.rerun_views import RunViewer
+    from railderail_sim.ros import interface as m
+
+    viewer = RunViewer(flush_every=10**9)
+    viewer.save(tmp_path / "alerts.rrd")
+    alert = m.stamp(m.Alert(criterion="car_body_roll", severity=1, speed=60.0, message="measured warning: ..."), 58.4)
+    feed_viewer(viewer)(m.ONBOARD_ALERTS, "railderail_msgs/msg/Alert", 58_400_000_000, b"", alert)
+    viewer.close()
+    assert entity_rows(tmp_path / "alerts.rrd")["/alerts"] == 1

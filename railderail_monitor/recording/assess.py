@@ -27,7 +27,7 @@ def recording_signals(path, vehicle_set="hs19", allow_truncated=False):
 
     from .replay import read_recording
 
-    recording = read_recording(path, allow_truncated=allow_truncated)
+    recording = read_recording(path, allow_truncated=allow_truncated, decode=lambda topic: topic in (FORCES, STATUS))
     forces, status = {}, {}
     for topic, _, _, _, msg in recording.messages:
         if msg is None:
@@ -51,6 +51,7 @@ def recording_signals(path, vehicle_set="hs19", allow_truncated=False):
         time=np.array([seconds(m.header.stamp) for m in f]), position=np.array([m.track_position for m in f]),
         speed=np.array([m.speed for m in f]), section=np.array([m.section for m in s], dtype=int),
         curvature=np.array([m.curvature for m in s]),
+        uncompensated_acceleration=np.array([m.uncompensated_lateral_acceleration for m in s]),
         lateral_force=signals.track_axes_lateral(np.array([m.lateral_force for m in f])),
         vertical_force=np.array([m.vertical_force for m in f]), wheelset_stations=ws, bogie_stations=bg,
         static_wheel_load=vp.static_wheel_load, bogie_mass=vp.bogie_frame_mass + 2.0 * vp.wheelset_mass,

@@ -318,6 +318,46 @@ def record_run(path, result, limits=None, metadata=None, sensor_log=None):
     return alerts
 
 
+# --- what was lost -------------------------------------------------------------------------------
+
+def recorded_counts(path):
+    """{topic: messages} a complete MCAP holds, from its summary's statistics (what the recorder wrote)."""
+    from mcap.reader import make_reader
+    with open(path, "rb") as f:
+        summary = make_reader(f).get_summary()
+    counts = summary.statistics.channel_message_counts
+    return {channel.topic: counts.get(cid, 0) for cid, channel in summary.channels.items()}
+
+
+def delivery(published, recorded):
+    """{topic: {published, recorded, lost}} of every topic published (the simulator's run report), in
+    topic order; lost is published - recorded (negative: the recording holds more, another publisher's)."""
+    return {topic: dict(published=n, recorded=recorded.get(topic, 0), lost=n - recorded.get(topic, 0))
+            for topic, n in sorted(published.items())}
+
+
+def lost_count(table):
+    """The messages the recording lost, /clock's left out (delivery_text)."""
+    return sum(max(row["lost"], 0) for topic, row in table.items() if topic != m.CLOCK)
+
+
+def delivery_text(table):
+    """One line: every published message recorded, or how many of what were lost on which topics; /clock's
+    apart, whose subscribers keep only the latest message (its QoS, depth 1), so it loses some by design."""
+    lost = {topic: row for topic, row in table.items() if row["lost"] > 0 and topic != m.CLOCK}
+    kept = {topic: row for topic, row in table.items() if topic != m.CLOCK}
+    total = sum(row["published"] for row in kept.values())
+    clock = table.get(m.CLOCK)
+    note = "" if clock is None or clock["lost"] <= 0 else \
+        f"; {m.CLOCK} {clock['recorded']} of {clock['published']} (its depth-1 QoS keeps only the latest)"
+    if not lost:
+        return (f"the recording holds every one of the {total} messages published on {len(kept)} "
+                f"topic{'s' if len(kept) != 1 else ''}" + note)
+    return ("the recording LOST " + ", ".join(f"{row['lost']} of {row['published']} {topic}"
+                                              for topic, row in lost.items())
+            + " (best-effort topics: a recorder behind the simulator drops what its queue cannot hold)" + note)
+
+
 # --- the recorder node --------------------------------------------------------------------------
 
 class RecorderNode(Node):

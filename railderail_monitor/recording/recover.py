@@ -8,7 +8,8 @@ messages), and the metadata and attachments between chunks; a chunk cut in two i
 compressed data cannot be read in part). The mcap writer then writes those records again, with new
 chunk indexes, statistics, summary and footer, so that every MCAP reader (rosbags, Foxglove,
 `ros2 bag`, `mcap info`) opens the result. FIXED is written atomically (`atomic.atomic_write`): a
-failure leaves no half file, and FIXED may be BROKEN itself.
+failure leaves no half file. An existing FIXED, BROKEN itself above all (the only copy of a crashed run), is
+not replaced without `--force`.
 
 Message times, sequence numbers, channel metadata and the header's profile are kept; schema and
 channel ids are renumbered in the order they appear. The library string of the header says the
@@ -21,12 +22,14 @@ schemas, and the metadata: the recording a train's own logger would have made, w
 from __future__ import annotations
 
 import argparse
+import struct
 import sys
 from dataclasses import dataclass
 from pathlib import Path
 
 import mcap
 import mcap.writer
+from mcap.exceptions import EndOfFile
 from mcap.records import Attachment, Channel, Header, Message, Metadata, Schema
 from mcap.stream_reader import StreamReader
 from mcap.writer import CompressionType
@@ -52,16 +55,27 @@ def sensors_only(topic):
     return topic.startswith(m.SENSORS_NS + "/") or topic == m.CLOCK
 
 
-def recover(broken, fixed, chunk_size=512 * 1024, keep=None) -> Recovered:
+def cut_reason(error):
+    """Why reading stopped, in words: the reader's own error text names bytes and buffers, not the file."""
+    if isinstance(error, (EndOfFile, struct.error, EOFError)):
+        return "the file ends inside a record"
+    return f"the bytes after them are damaged ({type(error).__name__})"
+
+
+def recover(broken, fixed, chunk_size=512 * 1024, keep=None, force=False) -> Recovered:
     """Write `fixed`, a complete MCAP of every record of `broken` up to its cut (RecordingError naming
-    the file when it is missing, not an MCAP file or holds no complete chunk); `keep(topic)`, if given,
-    chooses the channels written (their schemas with them)."""
+    the file when it is missing, not an MCAP file or holds no complete chunk, or when `fixed` exists and
+    `force` is false); `keep(topic)`, if given, chooses the channels written (their schemas with them)."""
     broken, fixed = Path(broken), Path(fixed)
     complete = _check_head(broken)
     if fixed.suffix != ".mcap":
         raise RecordingError(f"{fixed}: the recovered file's name must end in .mcap")
     if not fixed.resolve().parent.is_dir():
         raise RecordingError(f"{fixed}: its folder {fixed.parent} does not exist")
+    if fixed.exists() and not force:
+        what = ("is the recording being recovered, perhaps the only copy of the run"
+                if fixed.resolve() == broken.resolve() else "exists")
+        raise RecordingError(f"{fixed} {what}: give another name, or add --force to replace it")
     schemas, channels = {}, {}           # old id -> new id
     schema_records = {}                  # old id -> the record, registered with its first kept channel
     messages, end_time, stopped_by = 0, 0, ""
@@ -98,7 +112,7 @@ def recover(broken, fixed, chunk_size=512 * 1024, keep=None) -> Recovered:
                 # the summary section's records (indexes, statistics) are made anew by the writer
         except READ_ERRORS as error:
             # the cut (EndOfFile), or damage after it: everything before it has been read
-            stopped_by = type(error).__name__ + (f": {error}" if str(error) else "")
+            stopped_by = cut_reason(error)
         if not started or not channels:
             raise RecordingError(f"{broken} has nothing to recover: no complete chunk after its header"
                                  + (" with a sensor topic" if keep is not None else "")
@@ -113,9 +127,10 @@ def command(parser: argparse.ArgumentParser):
     parser.add_argument("fixed", metavar="FIXED.mcap", help="the complete MCAP to write (atomically)")
     parser.add_argument("--sensors-only", action="store_true",
                         help="keep only the on-board sensors' topics (/railderail/sensors/*) and /clock")
+    parser.add_argument("--force", action="store_true", help="replace FIXED.mcap if it exists (even BROKEN.mcap)")
 
     def run(args):
-        done = recover(args.broken, args.fixed, keep=sensors_only if args.sensors_only else None)
+        done = recover(args.broken, args.fixed, keep=sensors_only if args.sensors_only else None, force=args.force)
         if args.sensors_only:
             print(f"wrote the {done.messages} messages of {done.channels} sensor topics of {args.broken} to "
                   f"{args.fixed}" + ("" if done.complete else f" (it was cut off: {done.stopped_by})"),

@@ -45,6 +45,7 @@ from ..warning.limits import Limits, default_limits
 from ..warning.monitor import Monitor
 from ..warning.alerts import lead_times
 from ..warning.alarms import nanoseconds
+from ..node import measured_alert_text
 from .recorder import MAGIC, recover_hint, schema_definitions, schema_text, split_type
 
 # what the mcap readers raise on a cut or damaged file (besides McapError)
@@ -126,25 +127,30 @@ def message_decoders():
 
 
 def read_recording(path, allow_truncated=False, decode=True):
-    """All messages of a railderail MCAP in log-time order (RecordingError if it cannot be used)."""
+    """All messages of a railderail MCAP in log-time order (RecordingError if it cannot be used); `decode`:
+    True (every message), False (none: the decoded field None) or topic -> bool (those it names: decoding
+    is most of the reading's time)."""
     path = Path(path)
     complete = _check_head(path)
     decoder = message_decoders()
+    wanted = decode if callable(decode) else (lambda topic: decode)
     messages, problem = [], ""
     metadata = {}
 
     def collect(iterator):
         for schema, channel, message in iterator:
             name = schema.name if schema else ""
-            decoded = decoder(schema)(message.data) if decode and schema is not None and schema.encoding == "ros2msg" \
-                and channel.message_encoding == "cdr" else None
+            decoded = decoder(schema)(message.data) if schema is not None and schema.encoding == "ros2msg" \
+                and channel.message_encoding == "cdr" and wanted(channel.topic) else None
             messages.append((channel.topic, name, message.log_time, message.data, decoded))
 
+    # in file order, then a stable sort by log time: the order the reader's log-time merge gives (equal times in
+    # file order), at a fraction of its cost
     with open(path, "rb") as f:
         if complete:
             try:
                 reader = make_reader(f)
-                collect(reader.iter_messages(log_time_order=True))
+                collect(reader.iter_messages(log_time_order=False))
                 for record in reader.iter_metadata():
                     metadata[record.name] = dict(record.metadata)
             except READ_ERRORS as error:
@@ -154,15 +160,16 @@ def read_recording(path, allow_truncated=False, decode=True):
                 collect(NonSeekingReader(f).iter_messages(log_time_order=False))
             except READ_ERRORS:
                 pass                      # the cut: everything before it has been read
-            messages.sort(key=lambda item: item[2])
-            last = f" up to t = {messages[-1][2] * 1e-9:.2f} s" if messages else ""
-            problem = (f"{path} is truncated (no MCAP footer: the recording was cut off, e.g. the recorder was "
-                       f"killed); {len(messages)} messages{last} are readable")
-            if not messages:
-                raise RecordingError(problem + ": nothing to replay")
-            if not allow_truncated:
-                raise RecordingError(problem + f": add --allow-truncated to use them, or make a complete copy: "
-                                     f"{recover_hint(path)}")
+    messages.sort(key=lambda item: item[2])
+    if not complete:
+        last = f" up to t = {messages[-1][2] * 1e-9:.2f} s" if messages else ""
+        problem = (f"{path} is truncated (no MCAP footer: the recording was cut off, e.g. the recorder was "
+                   f"killed); {len(messages)} messages{last} are readable")
+        if not messages:
+            raise RecordingError(problem + ": nothing to replay")
+        if not allow_truncated:
+            raise RecordingError(problem + f": add --allow-truncated to use them, or make a complete copy: "
+                                 f"{recover_hint(path)}")
     ours = {topic for topic, type_name, *_ in messages
             if type_name.startswith("railderail_msgs/") or topic.startswith(m.SENSORS_NS + "/")}
     if not ours:
@@ -270,9 +277,25 @@ def review_measured(recording, vehicle_set="hs19", sensors=None, limits=None, on
 
 
 def measured_key(alert):
-    """What a measured alert and its recorded message share: sample, criterion, place, stamp in ns."""
+    """What identifies a measured alert, live or replayed: criterion, place and stamp in ns. Not its sample
+    number, which counts the messages a monitor received (a replay of a recording that lost one counts
+    differently from the live node)."""
     a = alert if isinstance(alert, dict) else alert.as_dict()
-    return a["sample"], a["criterion"], a["place"], nanoseconds(a["time_s"])
+    return a["criterion"], a["place"], nanoseconds(a["time_s"])
+
+
+def compare_measured(found, recorded):
+    """(same, why): whether the alerts found are those the recording holds, by measured_key, and if not one
+    sentence naming the alerts on either side only."""
+    def name(keys):
+        return "; ".join(f"{c} at {p}, t = {t * 1e-9:.3f} s" for c, p, t in sorted(keys, key=lambda k: k[2]))
+
+    mine, theirs = set(map(measured_key, found)), set(map(measured_key, recorded))
+    if mine == theirs:
+        return True, ""
+    parts = ([f"found here only: {name(mine - theirs)}"] if mine - theirs else []) + \
+        ([f"in the recording only: {name(theirs - mine)}"] if theirs - mine else [])
+    return False, "; ".join(parts)
 
 
 # --- publishing -----------------------------------------------------------------------------------
@@ -337,10 +360,18 @@ class Publisher:
 
 # --- Rerun --------------------------------------------------------------------------------------
 
+VIEWED = (STATES, FORCES, STATUS, ALERTS, m.ONBOARD_ALERTS, DERAILMENT, FINAL_STATUS)
+
+
+def viewed(topic):
+    """The topics a viewer.RunViewer shows (the others need no decoding for a .rrd)."""
+    return topic in VIEWED or topic.startswith(m.SENSORS_NS + "/")
+
+
 def feed_viewer(viewer):
     """An on_message callback that shows the recorded topics (the sensors' included) in a viewer.RunViewer."""
-    handlers = {STATES: viewer.on_states, FORCES: viewer.on_forces, STATUS: viewer.on_status,
-                ALERTS: viewer.on_alert, DERAILMENT: viewer.on_derailment, FINAL_STATUS: viewer.on_final_status}
+    handlers = dict(zip(VIEWED, (viewer.on_states, viewer.on_forces, viewer.on_status, viewer.on_alert,
+                                 viewer.on_onboard_alert, viewer.on_derailment, viewer.on_final_status)))
 
     def on_message(topic, type_name, log_time, data, decoded):
         if decoded is None:
@@ -470,18 +501,20 @@ def _run_measured(args, recording, callbacks, publisher, err):
         found, recorded = review_measured(
             recording, args.vehicle_set, sensors,
             on_alert=None if args.json else lambda a: print(
-                f"t = {a.time_s:8.3f} s  s = {a.track_position:7.1f} m  measured {a.criterion} {a.value:.4g} >= "
-                f"{a.threshold:.4g} at {a.place}", flush=True))
+                f"t = {a.time_s:8.3f} s  s = {a.track_position:7.1f} m  "
+                + measured_alert_text(a.criterion, a.severity, a.value, a.threshold, a.place), flush=True))
     finally:
         if publisher is not None:
             publisher.close()
-    same = sorted(map(measured_key, found)) == sorted(map(measured_key, recorded))
+    same, why = compare_measured(found, recorded)
     if args.json:
         print(jsonout.dumps(dict(file=str(recording.path), signals="measured", truncated=recording.truncated,
                                  messages=len(recording.messages), duration_s=recording.duration_s,
                                  alerts=[a.as_dict() for a in found], recorded_alerts=recorded,
-                                 same_as_recorded=same), indent=1))
+                                 same_as_recorded=same, differences=why), indent=1))
     else:
         print(f"{len(found)} measured alerts found; the recording holds {len(recorded)} "
-              f"({'the same' if same else 'they differ'})")
+              + ("(the same criteria, places and stamps)" if same else
+                 f"(they differ: {why}; the recording holds what the sensors sent: a live monitor that missed some "
+                 "of it, which its log counts as incomplete stamps, decides later or not at all)"))
     return 0

@@ -62,15 +62,15 @@ def _series(value, label, color, **style):
 
 
 def estimator_panels(style, wheel_colours, vehicle=None):
-    """{panel id: config} of the estimator's plots: the four sides' unloading and Q/P at the measured
-    monitor's levels, and per bogie the sides' wheel loads beside the ground truth's P of each of its
+    """{panel id: config} of the estimator's plots: the four sides' unloading and Y/Q at the measured
+    monitor's levels, and per bogie the sides' wheel loads beside the ground truth's Q of each of its
     wheels (`wheel_colours` {wheel: colour}, the run tab's)."""
     vehicle = vehicle or VehicleParameters()
     limits, p0 = measured_limits(vehicle), vehicle.static_wheel_load
     panels = {}
     for name, field, criterion, what in (("unloading", "unloading", "estimated_running_gear_unloading",
-                                          "unloading dQ/Q0"),
-                                         ("ratio", "derailment_coefficient", "estimated_side_ratio", "Q/P")):
+                                          "unloading ΔQ/Q0"),
+                                         ("ratio", "derailment_coefficient", "estimated_side_ratio", "Y/Q")):
         level = getattr(limits, criterion)
         paths = [_series(f"{ONBOARD_ESTIMATES}.{field}[{k}]", side.replace("_", " "), _hex(GEAR_SIDE_COLORS[k]))
                  for k, side in enumerate(GEAR_SIDES)]
@@ -88,7 +88,7 @@ def estimator_panels(style, wheel_colours, vehicle=None):
                   _series(repr(p0), "static wheel load P0", _hex(GREY), lineSize=1)]
         panels[f"Plot!sensors_estimator_{bogie}_loads"] = {
             "foxglove.panelTitle": f"{bogie} bogie wheel loads (N): each side's estimated from the sensors (its two "
-                                   "wheels alike) beside the ground truth's P", "paths": paths, **style}
+                                   "wheels alike) beside the ground truth's Q", "paths": paths, **style}
     return panels
 
 

@@ -27,6 +27,7 @@ class ViewerNode(Node):
                     m.FINAL_STATUS: viewer.on_final_status, m.BRAKE: viewer.on_brake}
         for topic, (_, cls, _, qos) in m.TOPICS.items():
             self.create_subscription(cls, topic, handlers[topic], qos)
+        self.create_subscription(m.Alert, m.ONBOARD_ALERTS, viewer.on_onboard_alert, m.ALERT_QOS)
         # every mount's, the air springs' and the odometer's topics: those of a smaller set never publish
         for topic, (_, cls, _, qos) in sm.sensor_topics(default_set()).items():
             self.create_subscription(cls, topic, lambda msg, topic=topic: viewer.on_sensor(topic, msg), qos)

@@ -14,13 +14,13 @@ the monitor's parameters; the defaults are the shipped parameter file's, `defaul
 | ------------------------ | ---------------------------------------------- | --------------------- | ---------------------- |
 | `attack_angle`           | abs. attack angle of the front wheelset (rad)  | 0.06 (Yu 2022)        | none                   |
 | `wheel_lift`             | wheel lift hp of each wheel (m)                | 1/3 flange height     | 2/3 flange height      |
-| `derailment_coefficient` | Q/P of each wheel (-)                          | 0.8 (EN 14363)        | Nadal's limit          |
-| `wheel_unloading`        | unloading ratio dP/P0 of each wheel (-)        | 0.60 (GB 5599-85)     | 0.65 (GB 5599-85)      |
-| `running_gear_unloading` | mean dP/P0 of a bogie's two wheels on one side | 0.90 (EN 14067-6)     | none                   |
-| `derailment_coefficient_duration` | Q/P of each wheel held 50 ms  | 1.0 (AAR Chapter XI)  | Nadal's limit          |
-| `derailment_coefficient_mean` | 2 m sliding mean of Q/P of each wheel | 0.8 (EN 14363) | Nadal's limit     |
+| `derailment_coefficient` | Y/Q of each wheel (-)                          | 0.8 (EN 14363)        | Nadal's limit          |
+| `wheel_unloading`        | unloading ratio ΔQ/Q0 of each wheel (-)        | 0.60 (GB 5599-85)     | 0.65 (GB 5599-85)      |
+| `running_gear_unloading` | mean ΔQ/Q0 of a bogie's two wheels on one side | 0.90 (EN 14067-6)     | none                   |
+| `derailment_coefficient_duration` | Y/Q of each wheel held 50 ms  | 1.0 (AAR Chapter XI)  | Nadal's limit          |
+| `derailment_coefficient_mean` | 2 m sliding mean of Y/Q of each wheel | 0.8 (EN 14363) | Nadal's limit     |
 
-Each criterion has its own two levels (a Limits field each): the three Q/P rules start with the same
+Each criterion has its own two levels (a Limits field each): the three Y/Q rules start with the same
 CRITICAL level, Nadal's limit, but choosing one of them never moves another's.
 | `flange_climb_distance`  | climb run at Nadal / TCRP's distance (-)       | 0.5 (half the limit)  | 1 (TCRP Report 71)     |
 
@@ -35,14 +35,14 @@ Sources and confidence:
   for the value; the standard applies it to the 2 m sliding mean, here a 2 m persistence); Nadal's
   limit (tan d - mu)/(1 + mu tan d) at the profile pair's maximum contact angle and the scenario's
   friction (1.319 for LM on UIC60, mu = 0.3) is the physical flange-climbing limit.
-- wheel unloading ratio dP/P0 = (P0 - P)/P0: GB 5599-85 gives 0.60 (allowable) and 0.65 (danger
+- wheel unloading ratio ΔQ/Q0 = (Q0 - Q)/Q0: GB 5599-85 gives 0.60 (allowable) and 0.65 (danger
   limit) (medium confidence: later Chinese codes, GB/T 5599-2019 and TB 10761, keep 0.6-0.65 for
   the dynamic ratio but with different evaluation windows and speed classes).
 
 - running-gear unloading: EN 14067-6's crosswind criterion, the mean unloading ratio of a running gear's
   (bogie's) wheels on one side, limit 0.90 (as quoted in ../shared/reference/track-and-loads.md;
   medium confidence on the evaluation, the standard's filter is not applied here).
-- derailment coefficient with a duration rule: Q/P at or above its level for at least
+- derailment coefficient with a duration rule: Y/Q at or above its level for at least
   `duration_s` = 50 ms of time, not of track (AAR Manual of Standards, Chapter XI, single-wheel L/V
   1.0 over 50 ms, and the Japanese practice of a duration; medium confidence, as quoted in the
   issue tracker and TCRP Report 71; its CRITICAL level is Nadal's limit like the 2 m rule's). The time is
@@ -51,12 +51,12 @@ Sources and confidence:
 - flange-climb distance: TCRP Report 71 Vol. 5 (2005, Wu and Wilson) eq. 2.4, the distance over which a
   wheel's L/V may stay at Nadal's limit, falling with the attack angle (`climb_distance`: the formula, its
   constants and why their grouping is uncertain). Its limit is the CRITICAL level 1; the WARNING level
-  at half of it is a modelling choice. The distance runs while Q/P is at or above Nadal's limit with
+  at half of it is a modelling choice. The distance runs while Y/Q is at or above Nadal's limit with
   mu = 0.5 (climb_nadal_limit, 0.931 for LM on UIC60), whatever the scenario's friction: the rule of
   49 CFR 238 App. C, and the friction of TCRP's simulations.
 
 One event, one alert: a value must stay at or above its level over `debounce_m` of track (default
-2 m, the window length of EN 14363's Q/P sliding mean) before the alert is raised, and the channel
+2 m, the window length of EN 14363's Y/Q sliding mean) before the alert is raised, and the channel
 re-arms only when the value has stayed below `rearm_fraction` x level (default 0.9) over `rearm_m`
 of track (default 50 m, two car lengths: the dynamic unloading in a transition oscillates around
 its level at a few metres' spacing). Each (criterion, level, wheel or wheelset) is its own channel.
@@ -128,18 +128,18 @@ class Limits:
                                         "2/3 of the flange height (the core declares a derailment near the "
                                         "full height)")
     derailment_coefficient_critical: float = _level(
-        "", "derailment coefficient Q/P of each wheel, CRITICAL level",
+        "", "derailment quotient Y/Q of each wheel, CRITICAL level",
         "Nadal's limit (tan d - mu)/(1 + mu tan d) at the profile pair's largest contact angle d, friction mu")
     derailment_coefficient_duration_critical: float = _level(
-        "", "Q/P held for duration_s, CRITICAL level",
+        "", "Y/Q held for duration_s, CRITICAL level",
         "Nadal's limit (tan d - mu)/(1 + mu tan d) at the profile pair's largest contact angle d, friction mu")
     derailment_coefficient_mean_critical: float = _level(
-        "", "2 m sliding mean of Q/P, CRITICAL level",
+        "", "2 m sliding mean of Y/Q, CRITICAL level",
         "Nadal's limit (tan d - mu)/(1 + mu tan d) at the profile pair's largest contact angle d, friction mu")
-    static_wheel_load: float = _value("N", "static wheel load P0 of the unloading ratio (P0 - P)/P0",
+    static_wheel_load: float = _value("N", "static wheel load Q0 of the unloading ratio (Q0 - Q)/Q0",
                                       "the car's load per wheel at rest on level track "
                                       "(VehicleParameters.static_wheel_load)")
-    climb_nadal_limit: float = _value("", "Nadal's limit that starts the climb distance: Q/P at or above it counts",
+    climb_nadal_limit: float = _value("", "Nadal's limit that starts the climb distance: Y/Q at or above it counts",
                                       "Nadal at the profile pair's largest contact angle with mu = 0.5, the "
                                       "friction of the US single-wheel L/V rule (49 CFR 238 App. C) and of TCRP "
                                       "Report 71's climb simulations; the monitor does not know the friction")
@@ -153,9 +153,9 @@ class Limits:
                                  "Yu et al., Appl. Sci. 2022, 12, 11199", 0.06)
     attack_angle_critical: float = _level("rad", "attack angle, CRITICAL level",
                                           "none in the sources, so disabled", math.nan)
-    derailment_coefficient: float = _level("", "derailment coefficient Q/P of each wheel, WARNING level",
+    derailment_coefficient: float = _level("", "derailment quotient Y/Q of each wheel, WARNING level",
                                            "EN 14363:2016 / UIC 518 limit (Y/Q)lim", 0.8)
-    wheel_unloading: float = _level("", "wheel unloading ratio dP/P0 of each wheel, WARNING level",
+    wheel_unloading: float = _level("", "wheel unloading ratio ΔQ/Q0 of each wheel, WARNING level",
                                     "GB 5599-85 allowable value", 0.60)
     wheel_unloading_critical: float = _level("", "wheel unloading ratio, CRITICAL level",
                                              "GB 5599-85 danger limit", 0.65)
@@ -164,22 +164,22 @@ class Limits:
                                            RUNNING_GEAR_UNLOADING_LIMIT)
     running_gear_unloading_critical: float = _level("", "running-gear unloading, CRITICAL level",
                                                     "none in the sources, so disabled", math.nan)
-    derailment_coefficient_duration: float = _level("", "Q/P of each wheel held for duration_s, WARNING level",
+    derailment_coefficient_duration: float = _level("", "Y/Q of each wheel held for duration_s, WARNING level",
                                                     "AAR Chapter XI single-wheel L/V limit", 1.0)
-    derailment_coefficient_mean: float = _level("", "sliding mean of Q/P over sliding_mean_m of track, each "
+    derailment_coefficient_mean: float = _level("", "sliding mean of Y/Q over sliding_mean_m of track, each "
                                                 "wheel, WARNING level", "EN 14363:2016 / UIC 518 limit (Y/Q)lim "
                                                 "of the 2 m sliding mean", 0.8)
-    flange_climb_distance: float = _level("", "track run with Q/P at Nadal's limit over TCRP's limiting climb "
+    flange_climb_distance: float = _level("", "track run with Y/Q at Nadal's limit over TCRP's limiting climb "
                                           "distance at the wheelset's attack angle, each wheel, WARNING level",
                                           "half TCRP's limit (a modelling choice)", 0.5)
     flange_climb_distance_critical: float = _level("", "flange-climb distance ratio, CRITICAL level",
                                                    "TCRP Report 71 Vol. 5 eq. 2.4: the limiting distance", 1.0)
-    sliding_mean_m: float = _value("m", "track over which Q/P is averaged for its sliding-mean criterion",
+    sliding_mean_m: float = _value("m", "track over which Y/Q is averaged for its sliding-mean criterion",
                                    "EN 14363:2016: 2 m", 2.0, (0.0, 100.0))
-    duration_s: float = _value("s", "time Q/P must stay at or above a level for the duration criterion",
+    duration_s: float = _value("s", "time Y/Q must stay at or above a level for the duration criterion",
                                "AAR Chapter XI: 50 ms", 0.05, (0.0, 10.0), False)
     debounce_m: float = _value("m", "track a value must stay at or above a level before its alert",
-                               "the 2 m window of EN 14363's Q/P sliding mean", 2.0, (0.0, 100.0), False)
+                               "the 2 m window of EN 14363's Y/Q sliding mean", 2.0, (0.0, 100.0), False)
     rearm_fraction: float = _value("", "re-arm level of a channel after its alert, as a fraction of the threshold",
                                    "a modelling choice (10 % hysteresis)", 0.9, (0.0, 1.0))
     rearm_m: float = _value("m", "track the value must stay below the re-arm level before the channel re-arms",

@@ -6,12 +6,27 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numpy as np
+
+from ..parameters import GRAVITY, TrackParameters
 from . import comfort, en14363
 from .en14363 import Row
 
 QUANTITIES = ("sum_Y_2m", "Y_Q_2m", "Q_max", "Q_qst", "Y_qst", "ydd_car_body", "zdd_car_body", "ydd_qst",
               "sum_Y_rms", "ydd_bogie_rms", "N_MV", "Wz_lateral", "Wz_vertical")
+# each quantity in words, in EN 14363's notation (Y lateral, Q vertical wheel-rail force; docs/output-format.md)
+NAMES = {"sum_Y_2m": "track-shift force ΣY, 2 m mean", "Y_Q_2m": "derailment quotient Y/Q, 2 m mean",
+         "Q_max": "largest vertical wheel force Q", "Q_qst": "quasi-static vertical wheel force Q_qst",
+         "Y_qst": "quasi-static lateral wheel force Y_qst", "ydd_car_body": "car-body lateral acceleration ÿ*",
+         "zdd_car_body": "car-body vertical acceleration z̈*",
+         "ydd_qst": "car-body quasi-static lateral acceleration ÿ*_qst",
+         "sum_Y_rms": "track-shift force ΣY r.m.s. (stability)",
+         "ydd_bogie_rms": "bogie-frame lateral acceleration r.m.s. (stability)",
+         "N_MV": "mean comfort N_MV (EN 12299)", "Wz_lateral": "Sperling's ride index W_z, lateral",
+         "Wz_vertical": "Sperling's ride index W_z, vertical"}
 DISPLAY = {"N": ("kN", 1e-3)}                 # SI inside, kN in the JSON and the table
+TABLE_UNITS = {"m/s^2": "m/s²", "-": ""}      # as the table prints them
+N_MV_BLOCK_S = 300.0        # EN 12299: N_MV is the mean over 5 min; a shorter run's value is indicative only
 STANDARD = {
     "edition": "EN 14363:2005 / UIC 518 (EN 14363:2016's Y/Q limit below R 250 m); EN 12299:2009; "
                "Sperling W_z as GB 5599",
@@ -32,13 +47,14 @@ class Assessment:
     instability_frequency: float         # Hz
     source: str = ""
     notes: list = field(default_factory=list)
+    conditions: dict = field(default_factory=dict)       # run_conditions
 
     def as_dict(self):
         """The JSON of `railderail assess --json` (forces in kN)."""
         return dict(static_wheel_load_kN=self.static_wheel_load / 1e3,
                     standard=dict(STANDARD, instability_frequency_Hz=self.instability_frequency,
                                   not_assessed=self.notes),
-                    quantities=[row_dict(r) for r in self.rows])
+                    run_conditions=self.conditions, quantities=[row_dict(r) for r in self.rows])
 
     def governing(self):
         """The row of the largest |value| / limit (or |value|) per quantity and section, in QUANTITIES order."""
@@ -62,13 +78,17 @@ class Assessment:
         lines = [f"Assessment of {self.source}: {STANDARD['edition']}.",
                  f"Static wheel load Q0 = {self.static_wheel_load / 1e3:.2f} kN, Prud'homme's limit "
                  f"{en14363.prudhomme_limit(self.static_wheel_load) / 1e3:.2f} kN, instability frequency "
-                 f"f0 = {self.instability_frequency:.2f} Hz. The governing place of each quantity and section; "
-                 "forces in track axes (y left).", "",
-                 "| section | quantity | place | value | limit | unit | margin | result |",
-                 "| --- | --- | --- | ---: | ---: | --- | ---: | --- |"]
+                 f"f0 = {self.instability_frequency:.2f} Hz. The governing place of each quantity and section: "
+                 "its magnitude against the limit, its sign apart (forces and accelerations in track axes, y "
+                 "left, z up); Y lateral, Q vertical wheel-rail force (EN 14363's notation).", ""]
+        lines += conditions_text(self.conditions) + [""]
+        lines += ["| section | quantity | place | magnitude | sign | limit | unit | margin | result |",
+                  "| --- | --- | --- | ---: | :---: | ---: | --- | ---: | --- |"]
         for r in self.governing():
             unit, scale = DISPLAY.get(r.unit, (r.unit, 1.0))
-            value = f"{r.value * scale:.3g}"
+            unit = TABLE_UNITS.get(unit, unit)
+            value = f"{abs(r.value) * scale:.3g}"
+            sign = "−" if r.value < 0 else "+"
             if r.limit is None:
                 limit = margin = "-"
                 result = comfort.comfort_class(r.value) if r.quantity == "N_MV" else "-"
@@ -76,20 +96,56 @@ class Assessment:
                 limit = f"{r.limit * scale:.3g}"
                 margin = f"{(r.limit - abs(r.value)) * scale:.3g}"
                 result = "passes" if r.passes else "**fails**"
-            lines.append(f"| {r.section} | {r.quantity} | {r.place} | {value} | {limit} | {unit} | {margin} | {result} |")
+            lines.append(f"| {r.section} | {NAMES[r.quantity]} | {r.place} | {value} | {sign} | {limit} | {unit} | "
+                         f"{margin} | {result} |")
         first = self.limiting()
         if first is not None:
             unit, scale = DISPLAY.get(first.unit, (first.unit, 1.0))
-            lines += ["", f"Closest to its limit: {first.quantity} at {first.place}, {first.section}: "
-                          f"{first.value * scale:.3g} {unit} against {first.limit * scale:.3g} {unit} "
+            unit = f" {TABLE_UNITS.get(unit, unit)}" if TABLE_UNITS.get(unit, unit) else ""
+            lines += ["", f"Closest to its limit: {NAMES[first.quantity]} at {first.place}, {first.section}: "
+                          f"{abs(first.value) * scale:.3g}{unit} ({'−' if first.value < 0 else '+'}) against "
+                          f"{first.limit * scale:.3g}{unit} "
                           f"({100.0 * first.utilisation:.0f} % of it)."]
         lines += [f"Not assessed: {n}" for n in self.notes]
         return "\n".join(lines)
 
 
+def run_conditions(sig, sections):
+    """The run against the standard's test conditions: each circular curve's largest cant deficiency (mm; D = e
+    a_q / g, a_q the uncompensated acceleration, e the rail spacing) beside EN 14363's test range, and how long
+    the comfort record is; the cant deficiency None when the signals have no uncompensated acceleration."""
+    e, limit = TrackParameters().rail_spacing, en14363.TEST_CANT_DEFICIENCY
+    curves = []
+    if sig.uncompensated_acceleration is not None:
+        for sec in sections:
+            if sec.kind == "curve":
+                a_q = float(np.max(sig.uncompensated_acceleration[sec.samples(sig.position)]))
+                curves.append(dict(section=sec.name, cant_deficiency_mm=e * a_q / GRAVITY * 1e3,
+                                   outside_test_conditions=bool(e * a_q / GRAVITY > limit.value)))
+    duration = float(sig.time[-1] - sig.time[0])
+    return dict(curves=curves, test_cant_deficiency_mm=limit.value * 1e3, test_cant_deficiency_source=limit.source,
+                duration_s=duration, comfort_indicative=bool(sig.floor is not None and duration < N_MV_BLOCK_S))
+
+
+def conditions_text(c):
+    """Lines: each curve's cant deficiency against the test conditions, and the comfort record's caveat."""
+    lines = []
+    for curve in c["curves"]:
+        outside = curve["outside_test_conditions"]
+        lines.append(f"Cant deficiency on {curve['section']}: up to {curve['cant_deficiency_mm']:.0f} mm, "
+                     f"{'OUTSIDE' if outside else 'within'} the standard's test conditions (up to "
+                     f"{c['test_cant_deficiency_mm']:.0f} mm; {c['test_cant_deficiency_source']})"
+                     + (": its limits were not set for such a run." if outside else "."))
+    if c["comfort_indicative"]:
+        lines.append(f"N_MV from {c['duration_s']:.0f} s of record: EN 12299 takes it over {N_MV_BLOCK_S / 60:.0f} "
+                     "min blocks, so this value is indicative only.")
+    return lines
+
+
 def row_dict(r: Row):
     unit, scale = DISPLAY.get(r.unit, (r.unit, 1.0))
-    return dict(quantity=r.quantity, section=r.section, wheelset=r.wheelset, side=r.side, value=r.value * scale,
+    return dict(quantity=r.quantity, name=NAMES[r.quantity], section=r.section, wheelset=r.wheelset, side=r.side,
+                value=r.value * scale,
                 limit=None if r.limit is None else r.limit * scale, unit=unit, passes=r.passes)
 
 
@@ -118,5 +174,5 @@ def assess(sig):
     if sig.floor is not None:
         rows += comfort_rows(sig)
     return Assessment(rows=rows, sections=secs, static_wheel_load=sig.static_wheel_load,
-                      instability_frequency=f0, source=sig.source, notes=notes)
+                      instability_frequency=f0, source=sig.source, notes=notes, conditions=run_conditions(sig, secs))
 

@@ -39,6 +39,7 @@ class RunSignals:
     bogie_stations: np.ndarray          # (2,) m ahead of the car-body centre
     static_wheel_load: float            # N, Q0
     bogie_mass: float                   # kg, a bogie with its wheelsets (EN 14363's M_b)
+    uncompensated_acceleration: np.ndarray = None   # (n,) m/s^2, in the track plane, + outward, or None
     floor: dict = None                  # place -> (n, 3) m/s^2 car-body floor (x, y, z body axes), or None
     bogie_frame: np.ndarray = None      # (n, 4) m/s^2 bogie frame's lateral reading over each wheelset, or None
     source: str = ""
@@ -117,11 +118,16 @@ def from_arrays(arrays, vehicle: VehicleParameters = None, source="run"):
     return RunSignals(time=np.asarray(arrays["time"], float), position=np.asarray(arrays["position"], float),
                       speed=np.asarray(arrays["speed"], float), section=np.asarray(arrays["section"]).astype(int),
                       curvature=np.asarray(arrays["curvature"], float),
+                      uncompensated_acceleration=(np.asarray(arrays["uncompensated_acceleration"], float)
+                                                  if "uncompensated_acceleration" in arrays else None),
                       lateral_force=track_axes_lateral(arrays["lateral_force"]),
                       vertical_force=np.asarray(arrays["vertical_force"], float),
                       wheelset_stations=ws, bogie_stations=bg, static_wheel_load=vehicle.static_wheel_load,
                       bogie_mass=vehicle.bogie_frame_mass + 2.0 * vehicle.wheelset_mass,
                       floor=floor, bogie_frame=frame, source=source, notes=notes).validated()
+
+
+ZIP_MAGIC = b"PK\x03\x04"
 
 
 def from_npz(path, vehicle_set=None):
@@ -130,6 +136,11 @@ def from_npz(path, vehicle_set=None):
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"{path}: no such file")
+    with open(path, "rb") as f:
+        head = f.read(4)
+    if head != ZIP_MAGIC:           # numpy would speak of pickles about any other file
+        raise ValueError(f"{path} is not a .npz archive of `railderail simulate --out` (a .npz is a zip file; "
+                         f"this one starts with {head!r})")
     try:
         data = np.load(path, allow_pickle=False)
         arrays = {name: data[name] for name in data.files}

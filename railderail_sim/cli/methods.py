@@ -116,8 +116,10 @@ def simulate_command(parser):
     parser.add_argument("--right", action="store_true", help="curve to the right (default: left)")
     parser.add_argument("--out", help="write the time histories to this .npz file (docs/output-format.md)")
     parser.add_argument("--rate", type=float, default=200.0, help="output rate (Hz)")
+    parser.add_argument("--duration-s", type=float, default=None, metavar="S",
+                        help="simulated time (s) from the start of the line; default: the whole line")
     parser.add_argument("--plot", metavar="FILE.png",
-                        help="the run against position: rails, front wheelset, Q/P, lift (.png, .pdf or .svg)")
+                        help="the run against position: rails, front wheelset, Y/Q, lift (.png, .pdf or .svg)")
     parser.add_argument("--sensors", nargs="?", const=SHIPPED_SENSORS, metavar="FILE.yaml",
                         help="also record what the on-board sensors measure (docs/onboard.md): the sensor set of "
                              "FILE.yaml, without a file the shipped one (railderail_sim/config/sensors.yaml); "
@@ -155,8 +157,7 @@ def simulate_command(parser):
         if plot:
             plotting.run_figure(r, plot)
         s = r.summary()
-        human = "\n".join(f"{k:28s} {v}" for k, v in s.items())
-        _emit(args, s, human)
+        _emit(args, s, summary_text(s))
     return run
 
 
@@ -207,7 +208,33 @@ def _simulate_scenario(args):
     """The Scenario of `simulate`'s options."""
     track = {} if args.approach_m is None else dict(straight_in=check_range("approach", args.approach_m, 0.0, 1e5, "m"))
     sc = base_scenario(args, radius=args.radius, direction=-1 if args.right else 1, **track)
-    return replace(sc, speed_table=constant_speed(args.speed_kmh), output_rate=args.rate).validated()
+    sc = replace(sc, speed_table=constant_speed(args.speed_kmh), output_rate=args.rate).validated()
+    if args.duration_s is not None:
+        line = sc.track.line_length
+        check_range("--duration-s", args.duration_s, 0.0, (line - sc.start_position) / (args.speed_kmh / 3.6),
+                    "s", lo_open=True)     # the rest of the line at the run's speed
+        sc = replace(sc, end_position=sc.start_position + args.duration_s * args.speed_kmh / 3.6)
+    return sc
+
+
+def summary_text(s):
+    """A run's summary (Result.summary) as a user reads it: rounded, with units, in EN 14363's notation (Y
+    lateral, Q vertical wheel-rail force; docs/output-format.md)."""
+    d = s["derailment"]
+    lines = [f"status                        {s['status']}",
+             f"simulated time                {s['duration_s']:.2f} s",
+             f"car-body position at the end  {s['end_position_m']:.1f} m",
+             f"largest attack angle, ws 0    {s['max_attack_angle_rad'] * 1e3:.2f} mrad",
+             f"largest wheel lift h_p        {s['max_wheel_lift_m'] * 1e3:.2f} mm",
+             f"largest lateral force Y       {s['max_lateral_force_n'] / 1e3:.1f} kN",
+             f"largest vertical force Q      {s['max_vertical_force_n'] / 1e3:.1f} kN",
+             f"largest derailment quotient   Y/Q {s['max_derailment_coefficient']:.3f}",
+             f"track                         {s['track_model']}"]
+    if d:
+        lines.append(f"derailment                    wheelset {d['wheelset']} {d['wheel_side']} ({d['rail_side']} "
+                     f"rail), {d['mechanism'].replace('_', ' ')}, t = {d['time_s']:.3f} s, "
+                     f"{d['speed_kmh']:.1f} km/h")
+    return "\n".join(lines)
 
 
 def root_locus_command(parser):

@@ -30,6 +30,7 @@ that a burst does not overwrite samples before the callback runs.
 from __future__ import annotations
 
 import importlib
+import json
 import math
 import signal
 import sys
@@ -243,6 +244,25 @@ def derailment_dict(message):
                 mechanism=message.mechanism, speed_kmh=float(message.speed) * 3.6,
                 wheel_lift_m=float(message.wheel_lift), lateral_displacement_m=float(message.lateral_displacement),
                 attack_angle_rad=float(message.attack_angle), contact_position_m=float(message.contact_position))
+
+
+# --- the simulator's run report ------------------------------------------------------------------
+
+RUN_REPORT = "run report: "     # the simulator node's last log line: this, then one JSON object
+
+
+def run_report_line(published, achieved_rate, requested_rate):
+    """The simulator's last log line: messages published per topic, achieved and requested samples per wall
+    second (requested 0: as fast as possible); what a recording and a monitor are checked against."""
+    return RUN_REPORT + json.dumps(dict(published=dict(sorted(published.items())),
+                                        achieved_samples_per_s=round(achieved_rate, 3),
+                                        requested_samples_per_s=requested_rate))
+
+
+def run_report(log_text):
+    """The run report of a simulator log (run_report_line's dict), or None when the log has none."""
+    line = next((line for line in reversed(log_text.splitlines()) if RUN_REPORT in line), None)
+    return None if line is None else json.loads(line.split(RUN_REPORT, 1)[1])
 
 
 # --- parameters ---------------------------------------------------------------------------------

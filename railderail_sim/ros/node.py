@@ -164,6 +164,7 @@ class SimulatorNode(Node):
         if self.p["brake_on_command"]:
             self.create_subscription(m.BrakeCommand, m.BRAKE, self.on_brake, m.BRAKE_QOS)
         self.clock_pub = None
+        self.published = {}                    # topic -> messages published
         self.sample = 0
         self.done = Future()
         self.exit_code = 0
@@ -296,13 +297,13 @@ class SimulatorNode(Node):
         if self.clock_pub is not None:
             clock = self.Clock()
             m.set_time(clock.clock, a["time"][i])
-            self.clock_pub.publish(clock)
+            self.send(m.CLOCK, clock)
         if self.sensor_stream is not None:
             self.publish_sensors(a["time"][i])
-        self.pubs[m.STATES].publish(self.convert.states(a, i, self.sample))
-        self.pubs[m.FORCES].publish(self.convert.forces(a, i, self.sample))
+        self.send(m.STATES, self.convert.states(a, i, self.sample))
+        self.send(m.FORCES, self.convert.forces(a, i, self.sample))
         if self.sample % self.status_every == 0:
-            self.pubs[m.STATUS].publish(self.convert.status(a, i, self.sample))
+            self.send(m.STATUS, self.convert.status(a, i, self.sample))
         self.sample += 1
         if self.sample % int(10 * self.p["publish_rate"]) == 0:
             self.get_logger().info(f"t = {a['time'][i]:.1f} s, s = {a['position'][i]:.0f} m, "
@@ -313,9 +314,14 @@ class SimulatorNode(Node):
         due = 0
         while due < len(self.sensor_queue) and self.sensor_queue[due][0] <= now + 1e-9:
             _, topic, message = self.sensor_queue[due]
-            self.pubs[topic].publish(message)
+            self.send(topic, message)
             due += 1
         del self.sensor_queue[:due]
+
+    def send(self, topic, message):
+        """Publish on a topic and count it: the recorder's and the monitors' counts are compared with these."""
+        (self.clock_pub if topic == m.CLOCK else self.pubs[topic]).publish(message)
+        self.published[topic] = self.published.get(topic, 0) + 1
 
     def achieved_rate(self):
         wall = time.monotonic() - self.run_start if self.run_start else 0.0
@@ -327,7 +333,7 @@ class SimulatorNode(Node):
         a, i = self.last_arrays, self.last_index
         if event is not None:
             body_position = event["car_body_position_m"]
-            self.pubs[m.DERAILMENT].publish(m.derailment_message(event, body_position, self.p["frame_id"]))
+            self.send(m.DERAILMENT, m.derailment_message(event, body_position, self.p["frame_id"]))
             text = (f"derailed: wheelset {event['wheelset']} {event['wheel_side']} ({event['rail_side']} rail), "
                     f"{event['mechanism'].replace('_', ' ')}, at t = {event['time_s']:.3f} s, "
                     f"s = {body_position:.1f} m, {event['speed_kmh']:.1f} km/h")
@@ -343,11 +349,13 @@ class SimulatorNode(Node):
             status = m.msgs.VehicleStatus(state=state, message=text)
         else:
             status = self.convert.status(a, i, max(self.sample - 1, 0), state=state, message=text)
-        self.pubs[m.FINAL_STATUS].publish(status)
+        self.send(m.FINAL_STATUS, status)
         log = self.get_logger().error if code else self.get_logger().info
         log(f"{text}; published {self.sample} samples at {self.achieved_rate():.1f} samples/s "
             f"(requested {self.p['publish_rate'] * self.p['real_time_factor']:g}"
             f"{'' if self.p['real_time_factor'] else ' = as fast as possible'})")
+        self.get_logger().info(m.run_report_line(self.published, self.achieved_rate(),
+                                                 self.p["publish_rate"] * self.p["real_time_factor"]))
         if self.timer is not None:
             self.timer.cancel()
         self.exit_code = code
