@@ -38,21 +38,45 @@ def scenario_targets(track, critical_speed, limits):
 
 
 def survey_targets(path):
-    """The targets of a survey's JSON file: one per curve under its safe speed."""
+    """The targets of a survey's JSON file. A whole survey (`railderail survey --out`, with its line): the most
+    restrictive speed profile along the line (railderail_sim.methods.survey.survey_targets: the line speed, the
+    civil limits, each curve's permitted and safe speed, each defect's safe speed), a curve's safe-speed piece
+    carrying the curve's per-friction limits. A survey of curves only (its `curves`, each with `start_m`,
+    `end_m`, `safe_speed_kmh`): one target per curve under its safe speed."""
     try:
         with open(path) as f:
-            curves = json.load(f)["curves"]
+            data = json.load(f)
+        curves = data["curves"]
     except (OSError, ValueError, KeyError, TypeError) as error:
         raise ValueError(f"survey {path}: not a survey's JSON with 'curves' ({error})") from None
+    if "line" in data:
+        return _profile_targets(path, data)
     targets = []
     for i, c in enumerate(curves):
         try:
-            by_friction = tuple((float(f), float(v) * KMH) for f, v in c.get("safe_speed_by_friction_kmh", {}).items())
             targets.append(Target(float(c["start_m"]), float(c["end_m"]), float(c["safe_speed_kmh"]) * KMH,
                                   f"curve {i} of {path}: safe speed {float(c['safe_speed_kmh']):.1f} km/h (survey)",
-                                  by_friction).validated())
+                                  _by_friction(c)).validated())
         except (KeyError, TypeError, ValueError) as error:
             raise ValueError(f"survey {path}, curve {i}: {error}") from None
+    return targets
+
+
+def _by_friction(curve):
+    return tuple((float(f), float(v) * KMH) for f, v in (curve.get("safe_speed_by_friction_kmh") or {}).items())
+
+
+def _profile_targets(path, data):
+    from railderail_sim.methods.survey import survey_targets as profile
+    try:
+        pieces = profile(data)
+    except (KeyError, TypeError, ValueError) as error:
+        raise ValueError(f"survey {path}: {error}") from None
+    targets = []
+    for a, b, v, why in pieces:
+        curve = next((c for c in data["curves"] if c["start_m"] <= a and b <= c["end_m"]
+                      and c.get("safe_speed_kmh") is not None and abs(c["safe_speed_kmh"] * KMH - v) < 1e-9), None)
+        targets.append(Target(a, b, v, why, () if curve is None else _by_friction(curve)).validated())
     return targets
 
 
