@@ -8,6 +8,7 @@ waits allow for a cold numba compile in the simulator node (about a minute; it h
 physics code changed since the cache was written).
 """
 import json
+import re
 import signal
 import sys
 import time
@@ -220,10 +221,15 @@ def test_demo_command(tmp_path):
     recover(out / "demo.mcap", out / "sensors.mcap", keep=sensors_only)
     found, recorded = review_measured(read_recording(out / "sensors.mcap"))
     assert recorded == []
-    # the sensor topics alone give the live measured alerts, when the recording holds what the live monitor got
-    sensor_lost = {t: r["lost"] for t, r in delivered.items() if t.startswith(m.SENSORS_NS + "/") and r["lost"]}
-    if not sensor_lost:
+    # the sensor topics alone give the live measured alerts, when the recording and the live monitor got the same
+    # messages (best effort: under load either side may lose some, and an alert then moves by a few samples);
+    # then the replay still finds the criteria alerting
+    sensor = {t: r for t, r in delivered.items() if t.startswith(m.SENSORS_NS + "/")}
+    processed = int(re.search(r"processed (\d+) sensor messages", summary["onboard_log"]).group(1))
+    if not any(r["lost"] for r in sensor.values()) and processed == sum(r["recorded"] for r in sensor.values()):
         assert sorted(map(measured_key, found)) == sorted(map(measured_key, summary["onboard_alerts"]))
+    else:
+        assert bool(found) == bool(summary["onboard_alerts"])
 
 
 DIVERGING_SIMULATOR = """
