@@ -9,7 +9,7 @@ NOT_WRITTEN (drawing arrays, back references) is left out, one marked WRITTEN_IF
 import dataclasses
 import json
 import math
-from pathlib import PurePath
+from pathlib import Path, PurePath
 
 import numpy as np
 
@@ -57,3 +57,14 @@ def write(path, obj, indent=1):
     """Write obj as JSON to path atomically (`atomic.atomic_write`)."""
     with atomic_write(path) as handle:
         handle.write(dumps(obj, indent=indent) + "\n")
+
+
+def write_report(folder, name, data, text):
+    """A report section: FOLDER/NAME.json (the data, as `write` writes it) and FOLDER/NAME.md (the markdown text),
+    each written whole, the folder made when it is missing; the .md's path."""
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    write(folder / f"{name}.json", data)
+    with atomic_write(folder / f"{name}.md") as handle:
+        handle.write(text + "\n")
+    return folder / f"{name}.md"

@@ -161,13 +161,6 @@ def markdown(result):
 
 
 def write(result, out):
-    from pathlib import Path
-
+    """OUT/estimator-error.json and OUT/estimator-error.md."""
     from railderail_sim import jsonout
-    from railderail_sim.atomic import atomic_write
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    jsonout.write(out / "estimator-error.json", result)
-    with atomic_write(out / "estimator-error.md") as handle:
-        handle.write(markdown(result) + "\n")
-    return out / "estimator-error.md"
+    return jsonout.write_report(out, "estimator-error", result, markdown(result))

@@ -46,6 +46,7 @@ import numpy as np
 
 from railderail_sim.assessment.en14363 import RMS_WINDOW_M
 from railderail_sim.parameters import ContactParameters
+from railderail_sim.methods.survey import SurveyRules
 from railderail_sim.supervision.braking import BrakingModel
 from railderail_sim.vehicle.layout import RUNNING_GEARS
 
@@ -70,9 +71,10 @@ def _rule(value, unit, meaning, source, sure):
     return field(default=value, metadata=dict(unit=unit, meaning=meaning, source=source, sure=sure))
 
 
-def _braking(name):
-    """A rule whose value, unit, source and sureness are the braking model's (railderail_sim.supervision)."""
-    f = next(f for f in fields(BrakingModel) if f.name == name)
+def _defined_in(record, name):
+    """A rule whose value, unit, source and sureness are a field of `record`, a parameter table of railderail_sim
+    (the braking model's, the survey's hazard margins), so that each is defined once."""
+    f = next(f for f in fields(record) if f.name == name)
     return _rule(f.default, f.metadata["unit"], f.metadata["note"], f.metadata["source"], f.metadata["sure"])
 
 
@@ -85,11 +87,8 @@ class HazardRules:
                              "modelling choice (the useful lead at 300 km/h is about 13 s)", "-")
     window_s: float = _rule(20.0, "s", "the derailment window of the recommendation and of the runs' rows",
                             "a modelling choice: longer than the useful lead at the catalogue's top speeds", "-")
-    unloading_level: float = _rule(0.90, "-", "near miss: a wheel's unloading dQ/Q0 at or above",
-                                   "49 CFR 213.333 (single-wheel vertical load ratio >= 0.10); EN 14067-6 "
-                                   "running-gear unloading 0.90", "B")
-    margin_window_m: float = _rule(5.0 * FOOT, "m", "track over which the wheel margins are averaged",
-                                   "49 CFR 213.333: the 5 ft window of the wheel-force limits", "B")
+    unloading_level: float = _defined_in(SurveyRules, "unloading_level")
+    margin_window_m: float = _defined_in(SurveyRules, "margin_window_m")
     track_shift_alpha: float = _rule(1.0, "-", "Prud'homme's alpha of the track-shift limit",
                                      "EN 14363 / UIC 518: alpha = 1 for passenger vehicles", "B")
     track_shift_window_m: float = _rule(2.0, "m", "track over which the track-shift force is averaged",
@@ -100,20 +99,16 @@ class HazardRules:
                                      "B (formula), C (window)")
     instability_window_m: float = _rule(RMS_WINDOW_M, "m", "track over which the instability r.m.s. is taken",
                                         "EN 14363: 100 m sliding r.m.s. (en14363.RMS_WINDOW_M)", "C")
-    lift_share: float = _rule(0.5, "-", "near miss: a wheel's lift at or above this share of the flange height",
-                              "no standard value (none of EN 14363, 49 CFR 213.333, GB/T 5599 limits a lift): "
-                              "half way up the flange, a modelling choice; the derailment itself is the full "
-                              "flange height. Sensitivity: the report counts the runs whose lift reaches 0.25, "
-                              "0.5 and 0.75 of it (`margin_peaks`)", "-")
+    lift_share: float = _defined_in(SurveyRules, "lift_share")
     low_pass_forces: bool = _rule(True, "-", "the wheel forces low-passed 20 Hz before their margins are judged",
                                  "EN 14363 / UIC 518: Y and Q through a 20 Hz low-pass (49 CFR 213.333: a cut-off "
                                  "of at least 25 Hz); unfiltered, the rigid track's wheel-force spikes of a few ms "
                                  "read as margins falling in ordinary running", "B")
     merge_m: float = _rule(50.0, "m", "near misses of one margin at one place closer than this are one",
                            "the monitor's re-arm distance (warning.limits.Limits.rearm_m)", "-")
-    reaction_s: float = _braking("reaction_s")
-    brake_buildup_s: float = _braking("buildup_s")
-    deceleration_bands: tuple = _braking("emergency_bands")
+    reaction_s: float = _defined_in(BrakingModel, "reaction_s")
+    brake_buildup_s: float = _defined_in(BrakingModel, "buildup_s")
+    deceleration_bands: tuple = _defined_in(BrakingModel, "emergency_bands")
     safe_speed_reduction: float = _rule(0.10, "-", "share of the speed to brake off where no cure is known "
                                         "(`hazard_cure`: straight track, no gust, defect or hunting)",
                                         "a modelling choice: the quasi-static loads fall with v^2 (19 % for 10 "

@@ -19,7 +19,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 import math
-from pathlib import Path
 
 import numpy as np
 
@@ -202,13 +201,7 @@ def markdown(result):
 def write(result, out):
     """OUT/onboard-study.json and OUT/onboard-study.md."""
     from railderail_sim import jsonout
-    from railderail_sim.atomic import atomic_write
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    jsonout.write(out / "onboard-study.json", result)
-    with atomic_write(out / "onboard-study.md") as handle:
-        handle.write(markdown(result) + "\n")
-    return out / "onboard-study.md"
+    return jsonout.write_report(out, "onboard-study", result, markdown(result))
 
 
 def command(parser):

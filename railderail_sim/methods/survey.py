@@ -76,10 +76,16 @@ class SurveyRules:
                                        "dies out within it)")
     defect_lead_m: float = parameter(500.0, "m", "a modelling choice", "-",
                                      "straight run before a defect on straight track")
-    margin_window_m: float = parameter(1.524, "m", "49 CFR 213.333 (5 ft), as the warning evaluation", "B",
-                                       "track over which Q/P and dQ/Q0 are averaged")
-    unloading_level: float = parameter(0.90, "-", "49 CFR 213.333 / EN 14067-6 (as the warning evaluation)", "B")
-    lift_share: float = parameter(0.5, "-", "a modelling choice (as the warning evaluation)", "-",
+    margin_window_m: float = parameter(5.0 * 0.3048, "m", "49 CFR 213.333: the 5 ft window of the wheel-force "
+                                       "limits", "B", "track over which a wheel's Q/P and dQ/Q0 are averaged (the "
+                                       "one definition of the hazard margins: the warning evaluation takes it)")
+    unloading_level: float = parameter(0.90, "-", "49 CFR 213.333 (single-wheel vertical load ratio >= 0.10); "
+                                       "EN 14067-6 running-gear unloading 0.90", "B",
+                                       "a wheel's unloading dQ/Q0 at or above this breaks its margin (a near miss)")
+    lift_share: float = parameter(0.5, "-", "no standard value (none of EN 14363, 49 CFR 213.333, GB/T 5599 limits "
+                                  "a lift): half way up the flange, a modelling choice; the derailment itself is "
+                                  "the full flange height. Sensitivity: the warning evaluation's report counts the "
+                                  "runs whose lift reaches 0.25, 0.5 and 0.75 of it (`margin_peaks`)", "-",
                                   "a wheel's lift at or above this share of the flange height breaks its margin")
     defect_guard_m: float = parameter(25.0, "m", "ICE 3 end car's length (ICE3)", "B",
                                       "a defect's speed limit holds this far before and after it (survey_targets)")
