@@ -70,6 +70,11 @@ def keys(alerts):
                   for a in alerts)
 
 
+def events(alerts):
+    """The alerts without their samples: which criterion, level and wheel alerted."""
+    return sorted(key[1:] for key in keys(alerts))
+
+
 def stop(process, timeout=20):
     process.send_signal(signal.SIGINT)
     return process.wait(timeout=timeout)
@@ -110,11 +115,17 @@ def test_nodes_warn_before_the_derailment_and_the_recording_replays_to_the_same_
         assert "wheelset states (0 missed) and" in monitor_log and "contact forces (0 missed)" in monitor_log
         assert stop(recorder) == 0
 
-        # the recording: complete, and the criteria over it give the alerts the monitor raised
+        # the recording, and the criteria over it give the alerts the monitor raised: sample for sample when the
+        # recording holds every sample the monitor processed; when the recorder (best effort, under load) lost
+        # some, the same alerts at the same wheels, their samples moved by what was lost
         recording = read_recording(mcap)
         found = review(recording)
         assert keys(found.recorded_alerts) == keys(live)
-        assert keys(a.as_dict() for a in found.alerts) == keys(live)
+        processed = re.search(r"processed (\d+) wheelset states \(0 missed\) and (\d+) contact forces", monitor_log)
+        held = recording.topics()
+        complete = (held[m.STATES][1], held[m.FORCES][1]) == tuple(int(n) for n in processed.groups())
+        same = keys if complete else events
+        assert same(a.as_dict() for a in found.alerts) == same(live)
         assert found.derailment["time_s"] == pytest.approx(d["time_s"])
 
         # replayed on the topics to a fresh monitor node: the same alerts again
@@ -127,7 +138,7 @@ def test_nodes_warn_before_the_derailment_and_the_recording_replays_to_the_same_
         listener.spin_until(lambda: len(listener.alerts) >= len(live), timeout=10)
         listener.spin_for(1.0)
         assert stop(monitor2) == 0
-        assert keys(listener.alerts) == keys(live)
+        assert same(listener.alerts) == same(live)
     finally:
         listener.close()
 
