@@ -195,3 +195,15 @@ def test_a_whole_survey_is_supervised_as_its_most_restrictive_profile(tmp_path):
     assert (curve.start_m, curve.end_m) == (2000.0, 3000.0)
     assert friction_limit(curve, 0.2) == pytest.approx(250.0 * KMH)
     assert [t.speed_limit_m_s for t in targets if t.start_m == 5475.0] == [pytest.approx(150.0 * KMH)]   # the kink
+
+
+def test_the_closed_loop_demo_places_the_survey_s_curve_on_its_own_approach(tmp_path):
+    from railderail_monitor.supervision.demo_loop import SHIPPED_SURVEY, closed_loop_survey
+    run = dict(radius=1000.0, speed_mode="constant", speed_kmh=320.0, approach_m=3000.0)
+    (placed,) = json.loads(open(closed_loop_survey(SHIPPED_SURVEY, run, tmp_path)).read())["curves"]
+    (shipped,) = json.loads(SHIPPED_SURVEY.read_text())["curves"]
+    # Table 2's transitions of 200 m and arc of 1000 m, after the run's 3000 m of straight
+    assert (placed["start_m"], placed["end_m"]) == (3000.0, 4400.0)
+    assert placed["safe_speed_kmh"] == shipped["safe_speed_kmh"]
+    with pytest.raises(ValueError, match="no curve of R 1200 m and 175 mm cant"):
+        closed_loop_survey(SHIPPED_SURVEY, dict(run, radius=1200.0), tmp_path)
