@@ -36,15 +36,20 @@ class BrakingModel:
     or the degraded-adhesion (wet rail) variant."""
     emergency_bands: tuple = parameter(
         ((170.0, 1.2), (230.0, 1.05), (300.0, 0.9), (math.inf, 0.85)), "km/h, m/s^2",
-        "TSI HS RST 2008/232/EC, minimum mean emergency deceleration by speed band, dry rail (as quoted in "
-        "../shared/reference/onboard-and-assessment.md section 5; the CRH380A's 3760 m from 300 km/h, a mean "
-        "0.92 m/s^2 with its build-up, agrees)", "C",
+        "TSI HS RST 2008/232/EC, minimum mean emergency deceleration by speed band, its Case A (level track, "
+        "normal mode, dry rail), as recalled (reference sheet, section 5): the TSI's table was not reached. ETCS "
+        "takes Case A of 2008/232/EC as a high-speed train's nominal emergency deceleration (SUBSET-040 "
+        "4.4.1.2.1.1, A); with the TSI's 3 s equivalent response time the bands give 3651, 2431 and 1504 m from "
+        "300, 250 and 200 km/h, the stopping distances recalled from TSI LOC&PAS 1302/2014 4.2.4.5.2 (3650, 2430, "
+        "1500 m); the CRH380A's 3760 m from 300 km/h agrees", "C",
         "deceleration below each upper speed, dry rail")
     wet_bands: tuple = parameter(
         ((170.0, 0.9), (230.0, 0.8), (300.0, 0.7), (math.inf, 0.65)), "km/h, m/s^2",
-        "TSI HS RST 2008/232/EC, the degraded case of its emergency braking table, recalled and not read (the "
-        "table could not be reached); ETCS lowers its safe deceleration on wet rail the same way, by a train's "
-        "K_wet_rw (SUBSET-026 §3.13.6.2.1), whose values are train data", "C",
+        "TSI HS RST 2008/232/EC, its Case B row as recalled (its conditions, wet rail and/or a brake unit "
+        "isolated, unverified; the table was not reached); ETCS lowers its safe deceleration on wet rail by a "
+        "train's K_wet (SUBSET-026 3.13.6.2.1; SUBSET-040 4.4.1.5 measures it by EN 15595's low-adhesion tests, "
+        "A); the rows are the dry bands times 0.75-0.78, a K_wet within the 0.7-0.9 of ETCS example values "
+        "(C): used as the wet-rail case", "C",
         "deceleration below each upper speed, degraded adhesion (wet rail)")
     adhesion: str = parameter("dry", "-", "the run's choice", "-", "which emergency bands apply: dry or wet")
     buildup_s: float = parameter(2.0, "s", "EMU electro-pneumatic brakes 1.5-3 s (reference sheet, section 5); "
