@@ -52,11 +52,16 @@ class SensorConverter:
     and, where the set has them, the scale-factor errors and the mounts' misalignment at each reading
     (`sensor_set.reading_covariance`; the pressure's scale factor likewise)."""
 
-    def __init__(self, sensors, output_rate, rolling_radius):
-        # here, not at the top: the noise model imports the numba core, which a decoding node (the monitor,
-        # the recorder, the viewer) must not load
-        from railderail_sim.sensors.measure import noise_variance
+    def __init__(self, sensors, output_rate=None, rolling_radius=None):
+        """Without the simulator's `output_rate` (Hz) the noise model is not known (a logger's data,
+        recording.import_imu): every covariance is 0, which sensor_msgs reads as unknown."""
         self.sensors, self.springs, self.odometer = sensors, AIR_SPRINGS, ODOMETER
+        if output_rate is None:
+            noise_variance = lambda inst, sampling, rate: 0.0
+        else:
+            # here, not at the top: the noise model imports the numba core, which a decoding node (the
+            # monitor, the recorder, the viewer) must not load
+            from railderail_sim.sensors.measure import noise_variance
         self.imu_covariance, self.imu_variance = {}, {}
         for mount in sensors.mounts:
             acc = noise_variance(mount.accelerometer, mount.sampling, output_rate)
@@ -72,9 +77,11 @@ class SensorConverter:
         if sensors.odometer is not None:
             o = sensors.odometer
             # the count's rounding, uniform over one pulse in the period: (its speed)^2 / 12
-            step = 2.0 * math.pi * rolling_radius / o.pulses_per_revolution * o.sampling.sample_rate_hz
+            step = (0.0 if output_rate is None else
+                    2.0 * math.pi * rolling_radius / o.pulses_per_revolution * o.sampling.sample_rate_hz)
             self.speed_variance = step * step / 12.0
-            self.radius_error = o.radius_error       # 1 sigma, relative: the speed read off by as much
+            # 1 sigma, relative: the speed read off by as much
+            self.radius_error = 0.0 if output_rate is None else o.radius_error
 
     @staticmethod
     def sensed_covariance(mount, inst, variance, readings, constant):

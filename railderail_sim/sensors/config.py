@@ -101,13 +101,18 @@ def load(path=None, output_rate=None):
     return sensors if output_rate is None else sensors.validated(output_rate)
 
 
+def shipped_accelerometer(mount):
+    """The shipped set's accelerometer at a mount: ADXL355 on the car body, ADXL357 on the bogie frames, IEPE
+    on the axle boxes."""
+    return INSTRUMENTS[{"car": "adxl355", "bog": "adxl357", "axl": "iepe_axle_box"}[mount[:3]]]
+
+
 def default_set():
     """The shipped sensor set, built here (config/sensors.yaml is this written out by `file_text`): every
     mount at 200 Hz, MEMS accelerometers (ADXL355 on the car body, ADXL357 on the bogie frames) and IEPE ones
     on the axle boxes, a MEMS gyro at every mount but those over the wheelsets on the frames (a frame is one
     rigid body: its centre's gyro reads its rates); the air springs at 50 Hz; the odometer at 10 Hz."""
-    accelerometer = {"car": "adxl355", "bog": "adxl357", "axl": "iepe_axle_box"}
-    mounts = tuple(Mount(name=name, accelerometer=INSTRUMENTS[accelerometer[name[:3]]],
+    mounts = tuple(Mount(name=name, accelerometer=shipped_accelerometer(name),
                          gyro=None if name.startswith("bogie_frame_") else INSTRUMENTS["adis16470"],
                          sampling=Sampling(200.0)) for name in MOUNTS)
     return SensorSet(seed=0, mounts=mounts,
