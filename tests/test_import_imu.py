@@ -21,7 +21,11 @@ from railderail_monitor.recording.replay import measured_key, read_recording
 
 def _columns(path):
     """{column: values} of a CSV, by numpy, NaN where empty."""
-    rows = [line for line in path.read_text().splitlines() if not line.startswith("#")]
+    return _table(path.read_text())
+
+
+def _table(text):
+    rows = [line for line in text.splitlines() if not line.startswith("#")]
     table = np.genfromtxt(io.StringIO("\n".join(rows)), delimiter=",", names=True)
     return {name: table[name] for name in table.dtype.names}
 
@@ -58,6 +62,12 @@ def test_the_example_s_recording_carries_its_readings(example):
                        rtol=0, atol=1e-7)
     assert np.array_equal(got["sensor_air_springs_pressure"][:, 0], csv["air_spring_front_left_pressure_pa"][springs])
     assert np.array_equal(got["sensor_odometer_speed"], csv["odometer_speed_m_s"][~np.isnan(csv["odometer_speed_m_s"])])
+    # and written back as a log (csv_text, which wrote the example from a run's arrays): the same table
+    again = _table(ii.csv_text(got))
+    assert list(again) == list(csv)
+    for name, values in csv.items():
+        assert np.array_equal(np.isnan(again[name]), np.isnan(values)), name
+        assert np.allclose(again[name], values, rtol=1e-6, atol=1e-7, equal_nan=True), name
     # the sensor file names the log's mounts at the log's rates
     rates = me.sample_rates(load_sensors(sensors))
     assert rates == {"car_body_front": 100.0, "car_body_centre": 100.0, "car_body_rear": 100.0,

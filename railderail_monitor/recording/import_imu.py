@@ -281,7 +281,7 @@ def csv_text(signals, comment=""):
 
 
 def command(parser):
-    parser.add_argument("log", metavar="LOG.csv", help="the logger's readings (columns: docs/onboard.md, "
+    parser.add_argument("log", metavar="LOG.csv", nargs="?", help="the logger's readings (columns: docs/onboard.md, "
                         "'Your own IMU log', or `railderail import-imu --columns`)")
     parser.add_argument("out", metavar="OUT.mcap", nargs="?", help="the recording to write (atomically)")
     parser.add_argument("--running", choices=RUNNING, default="forward",
@@ -304,6 +304,8 @@ def command(parser):
         if args.columns:
             print(column_forms())
             return 0
+        if not args.log:
+            raise ValueError("LOG.csv: give the logger's CSV to import (its columns: railderail import-imu --columns)")
         if not args.out or not args.out.endswith(".mcap"):
             raise ValueError(f"OUT {args.out!r}: give the recording to write, a file name ending in .mcap")
         check_range("--air-spring-height-m", args.air_spring_height_m, 0.0, 2.0, "m", lo_open=True)
