@@ -10,6 +10,8 @@ COMMANDS = (
     ("recover", "a complete MCAP (summary, footer) of everything readable in a cut-off recording, or of its "
      "sensor topics only",
      "railderail_monitor.recording.recover:command"),
+    ("import-imu", "a logger's CSV of on-board sensor readings as a recording the measured-mode monitor replays, "
+     "with its sensor file", "railderail_monitor.recording.import_imu:command"),
     ("view", "show the live /railderail topics in Rerun (--rrd FILE for a file)",
      "railderail_monitor.views.viewer_node:command"),
     ("monitor-params", "the monitor's parameter file (thresholds) of a wheel, rail, friction and vehicle set",

@@ -99,7 +99,7 @@ def test_bad_arguments_are_refused_with_one_line(argv, message, capsys):
 
 def test_the_estimator_error_is_per_side_with_the_wind_told_and_the_model_off():
     from railderail_monitor.evaluation import estimator_error as ee
-    r = ee.run_kind((ee.KINDS[4], 1.6))             # the steady crosswind, 0.6 s after the start-up
+    r = ee.run_kind((ee.KINDS[4], 1.6, None))       # the steady crosswind, 0.6 s after the start-up
     nominal, told = r["errors"]["nominal"], r["errors"]["told the wind"]
     assert set(nominal["unloading"]) == {"front_left", "front_right", "rear_left", "rear_right"}
     assert set(nominal["lateral_force"]) == {"front", "rear"}
@@ -112,3 +112,14 @@ def test_the_estimator_error_is_per_side_with_the_wind_told_and_the_model_off():
     assert "| steady-wind | told the wind | unloading | front_left |" in ee.markdown(
         dict(settings=dict(seconds=1.6, sensors="the shipped set", seed=1, settle_s=1.0,
                            mismatches=[m for m, _ in ee.MISMATCHES]), runs=[r]))
+
+
+def test_the_estimator_error_with_the_realistic_sensors_differs_by_their_sensing_errors():
+    """--sensors: the realistic set's scale factors and misalignment move the estimate (the same run, seed and
+    noise otherwise)."""
+    from railderail_monitor.evaluation import estimator_error as ee
+    from railderail_sim.sensors.config import REALISTIC_FILE
+    kind = ee.KINDS[0]                             # steady curving, where the quasi-static levels count
+    shipped, realistic = (ee.run_kind((kind, 1.6, f))["errors"]["nominal"]["unloading"] for f in (None, REALISTIC_FILE))
+    moved = [abs(realistic[p]["bias"] - shipped[p]["bias"]) for p in shipped]
+    assert max(moved) > 0.005

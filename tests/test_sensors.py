@@ -290,3 +290,84 @@ def test_the_element_saturates_before_the_anti_alias_filter():
     saturated = signal.sosfilt(sos, np.clip(lateral, -2 * G, 2 * G))
     assert np.allclose(out, np.clip(saturated, -2 * G, 2 * G), atol=1e-9)
     assert np.sum(out >= 2 * G - 1e-9) < np.sum(np.clip(signal.sosfilt(sos, lateral), -2 * G, 2 * G) >= 2 * G - 1e-9)
+
+
+# --- the sensing errors: scale factor and mounting misalignment (issue 42, item 7) ----------------------
+
+def _turning(n, rate, lateral):
+    """A car body at rest on its springs but for a lateral specific force, turning at 0.2 rad/s about z."""
+    a = _synthetic(n, rate, lateral=lateral)
+    a["body_motion"][:, Body.car_body, BodyMotion.angular_velocity + 2] = 0.2
+    return a
+
+
+def test_a_misaligned_mount_reads_its_turned_axes_with_the_stated_spread_and_covariance():
+    """A mount turned by a small angle theta (1-sigma 0.02 rad about each axis) reads g x theta sideways at rest:
+    over 300 seeds its lateral and forward readings spread by g sigma, its vertical by nothing to first order,
+    and the Imu covariance states that spread; its gyro is turned with it (both the same rotation)."""
+    from railderail_sim.ros import sensor_messages as sm
+    sigma = 0.02
+    ideal = replace(INSTRUMENTS["adxl355"], noise_density=0.0, bias=0.0, bias_random_walk=0.0, bits=0)
+    gyro = replace(INSTRUMENTS["adis16470"], noise_density=0.0, bias=0.0, bias_random_walk=0.0, bits=0)
+    sc = replace(Scenario(), output_rate=200.0)
+    readings, rates = [], []
+    for seed in range(300):
+        sensors = _one_mount(ideal, gyro, seed=seed)
+        sensors = replace(sensors, mounts=(replace(sensors.mounts[0], misalignment_rad=sigma),))
+        out = SensorStream(sensors, sc).process(_turning(401, 200.0, 0.0))["car_body_centre"]
+        readings.append(out["acceleration"][-1])
+        rates.append(out["angular_rate"][-1])
+    readings, rates = np.array(readings), np.array(rates)
+    # a rotation keeps the magnitude; the gyro's z (the turning) goes where the accelerometer's z (gravity) went
+    assert np.allclose(np.linalg.norm(readings, axis=1), G, rtol=1e-9)
+    assert np.allclose(rates / 0.2, readings / G, atol=1e-9)
+    # 300 draws: the standard deviation to 3 sigma = 12 %
+    assert np.std(readings[:, :2], axis=0) == pytest.approx([G * sigma] * 2, rel=0.12)
+    assert np.std(readings[:, 2]) < 0.05 * G * sigma
+    covariance = sm.SensorConverter(sensors, 200.0, 0.46).sensed_covariance(
+        sensors.mounts[0], ideal, 0.0, np.array([[0.0, 0.0, G]]), None)[0].reshape(3, 3)
+    assert np.allclose(np.diag(covariance), [(G * sigma) ** 2] * 2 + [0.0])
+
+
+def test_the_scale_factor_error_multiplies_each_axis_with_the_stated_spread_and_covariance():
+    from railderail_sim.sensors.sensor_set import reading_covariance
+    sigma = 0.03
+    inst = replace(INSTRUMENTS["adxl355"], noise_density=0.0, bias=0.0, bias_random_walk=0.0, bits=0,
+                   scale_factor_error=sigma)
+    sc = replace(Scenario(), output_rate=200.0)
+    ratios = np.array([SensorStream(_one_mount(inst, seed=seed), sc).process(
+        _synthetic(401, 200.0, lateral=1.5))["car_body_centre"]["acceleration"][-1] / [1.0, 1.5, G]
+        for seed in range(300)])
+    assert np.allclose(ratios[:, 0], 0.0)                    # nothing forward: 0 times any scale
+    assert np.std(ratios[:, 1:], axis=0) == pytest.approx([sigma] * 2, rel=0.12)
+    assert np.mean(ratios[:, 1:], axis=0) == pytest.approx([1.0] * 2, abs=3 * sigma / math.sqrt(300))
+    # the axes' factors are drawn apart
+    assert abs(np.corrcoef(ratios[:, 1], ratios[:, 2])[0, 1]) < 0.2
+    covariance = reading_covariance(1e-6, sigma, 0.0, [[0.0, 1.5, G]])[0]
+    assert np.allclose(covariance, np.diag([1e-6, 1e-6 + (1.5 * sigma) ** 2, 1e-6 + (G * sigma) ** 2]).ravel())
+
+
+def test_the_sensing_errors_change_no_other_draw_and_the_shipped_set_has_none():
+    """The scale factors and the misalignment are drawn after the constant bias: a set with them reads the
+    same noise and bias (its difference from the set without them is the sensing error alone, here a pure
+    scale on a noise-free-by-design constant lateral signal); the shipped set has none, the realistic file
+    has them."""
+    sc = replace(Scenario(), output_rate=200.0)
+    plain = replace(INSTRUMENTS["adxl355"], bits=0)
+    scaled = replace(plain, scale_factor_error=0.05)
+    arrays = _synthetic(801, 200.0, lateral=1.5)
+    a = SensorStream(_one_mount(plain, seed=3), sc).process(arrays)["car_body_centre"]["acceleration"]
+    b = SensorStream(_one_mount(scaled, seed=3), sc).process(arrays)["car_body_centre"]["acceleration"]
+    difference = b - a
+    # a constant offset per axis: the scale's part of the constant signal, the noise identical
+    assert np.allclose(difference, difference[-1], atol=1e-12)
+    assert np.all(np.abs(difference[-1, 1:]) > 0.0) and difference[-1, 0] == 0.0
+    shipped = config.default_set()
+    assert all(i.scale_factor_error == 0.0 for i in shipped.instruments.values())
+    assert all(m.misalignment_rad == 0.0 for m in shipped.mounts)
+    assert SensorStream(replace(shipped, air_springs=None), sc).sensing == []
+    realistic = config.load(config.REALISTIC_FILE)
+    assert realistic == config.realistic_set()
+    assert config.REALISTIC_FILE.read_text() == config.file_text(realistic)
+    assert all(m.misalignment_rad > 0.0 for m in realistic.mounts)
+    assert realistic.instruments["adxl355"].scale_factor_error > 0.0

@@ -12,6 +12,11 @@
   alerts (MEASURED_LEVELS): from the receipt of the last sensor message stamped at the alert's instant
   (the sample that completes it, or the later one the monitor waited for) to the receipt of the alert;
   measured_sensor_messages_per_s: the sensor messages received per wall second.
+- node_core_ms_per_s / node_sensors_ms_per_s / node_sensor_messages_ms_per_s / node_sensor_serialize_ms_per_s
+  (CPU milliseconds per simulated second, no ROS graph): the simulator node's work for the default run (R =
+  1000 m, 300 km/h, 200 Hz, the shipped sensor set) as the node does it, one publication period at a time: the
+  core's step, the sensors' models (SensorStream.process), their messages (SensorConverter.messages) and the
+  messages' CDR (what rclpy's publish serializes); node_sensor_messages_per_s the sensor messages a second.
 - mcap_write_mb_per_s: CDR megabytes per second that the recorder's writer (McapRecording: zstd
   chunks, flushed every 0.5 s) stores, from the serialized messages of a real run, no ROS in the
   loop; mcap_read_messages_per_s: what `railderail replay` decodes per second.
@@ -232,8 +237,46 @@ def _mcap_figures(seconds=2.0):
                 mcap_read_messages_per_s=round(n / read_dt))
 
 
+def _node_sensor_figures(seconds=2.0):
+    from rclpy.serialization import serialize_message
+
+    from railderail_sim.ros import sensor_messages as sm
+    from railderail_sim.sensors.config import load as load_sensors
+    from railderail_sim.sensors.measure import SensorStream
+    from railderail_sim.vehicle.simulate import Simulation, output_arrays, scenario
+
+    sc = replace(scenario(radius=1000.0, speed_kmh=300.0), output_rate=RATE)
+    sim = Simulation(sc)
+    sim.advance(1.0)                    # compiled, and past the start
+    sensors = load_sensors()
+    stream = SensorStream(sensors, sc, sim.model, sim.speed_table)
+    convert = sm.SensorConverter(sensors, RATE, sc.vehicle.rolling_radius)
+    spent = dict(core=0.0, sensors=0.0, messages=0.0, serialize=0.0)
+    count = 0
+    clock = time.process_time
+    for _ in range(int(round(seconds * RATE))):
+        t0 = clock()
+        a = output_arrays(sim.advance(1.0 / RATE))
+        t1 = clock()
+        samples = stream.process(a)
+        t2 = clock()
+        messages = convert.messages(samples)
+        t3 = clock()
+        for _, _, message in messages:
+            serialize_message(message)
+        t4 = clock()
+        for part, dt in zip(spent, (t1 - t0, t2 - t1, t3 - t2, t4 - t3)):
+            spent[part] += dt
+        count += len(messages)
+    names = dict(core="node_core_ms_per_s", sensors="node_sensors_ms_per_s",
+                 messages="node_sensor_messages_ms_per_s", serialize="node_sensor_serialize_ms_per_s")
+    return {names[part]: round(1e3 * dt / seconds, 1) for part, dt in spent.items()} | dict(
+        node_sensor_messages_per_s=count / seconds)
+
+
 def run():
-    figures = _ros_figures()
+    figures = _node_sensor_figures()
+    figures.update(_ros_figures())
     figures.update(_measured_figures())
     figures.update(_mcap_figures())
     return figures

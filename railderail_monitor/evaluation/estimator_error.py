@@ -2,7 +2,7 @@
 and per scenario kind, with the estimator's model of the car off by what a real car's is, beside
 (docs/onboard-criteria.md; issue 42 item 2).
 
-Each kind is one short run with the shipped sensor set (noise on, seed 1): steady curving on smooth and on
+Each kind is one short run with the shipped sensor set (or a sensor file's: `--sensors`; noise on, seed 1): steady curving on smooth and on
 irregular track, straight irregular track healthy and hunting, and a steady crosswind and the CEN gust on
 straight track (the estimator told the wind, `estimator.GivenWind` from the wind the car meets, and not).
 The error is the estimate less the simulator's wheel forces at the estimate's stamps, after the run's
@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -98,9 +99,9 @@ def run_kind(item):
 
     from ..onboard import estimator as est
 
-    kind, seconds = item
+    kind, seconds, sensors = item
     sc = scenario(kind, seconds)
-    log = SensorLog(replace(load_sensors(), seed=SEED))
+    log = SensorLog(replace(load_sensors(sensors), seed=SEED))
     result = simulate(sc, observe=log.observe)
     a = {**result.arrays(), **log.arrays()}
     vp, area = sc.vehicle, AIR_SPRING_EFFECTIVE_AREA
@@ -122,11 +123,13 @@ def run_kind(item):
     return out
 
 
-def study(seconds=6.0, workers=None, progress=True, kinds=KINDS):
+def study(seconds=6.0, workers=None, progress=True, kinds=KINDS, sensors=None):
+    """`sensors`: a sensor file (None: the shipped set; config/sensors-realistic.yaml its realistic errors)."""
     from railderail_sim.methods.parallel import run_all
-    runs = run_all(run_kind, [(k, seconds) for k in kinds], workers=workers, progress=progress,
+    runs = run_all(run_kind, [(k, seconds, sensors) for k in kinds], workers=workers, progress=progress,
                    desc="estimator-error", unit="run")
-    return dict(settings=dict(seed=SEED, settle_s=SETTLE_S, seconds=seconds, sensors="the shipped set, noise on",
+    named = "the shipped set" if sensors is None else f"the sensor file {Path(sensors).name}"
+    return dict(settings=dict(seed=SEED, settle_s=SETTLE_S, seconds=seconds, sensors=f"{named}, noise on",
                               mismatches=[m for m, _ in MISMATCHES]), runs=runs)
 
 

@@ -217,6 +217,9 @@ def command(parser):
                              "mismatch beside (DIR/estimator-error.md and .json with --out)")
     parser.add_argument("--seconds", type=float, default=6.0,
                         help="--estimator-error: each run's length in s (default %(default)s)")
+    parser.add_argument("--sensors", metavar="FILE.yaml", default=None,
+                        help="--estimator-error: the sensor set (default the shipped one; "
+                        "railderail_sim/config/sensors-realistic.yaml adds scale-factor errors and misalignment)")
 
     def run(args):
         import sys
@@ -234,10 +237,16 @@ def command(parser):
             raise ValueError(f"--cases: unknown case(s) {', '.join(bad)}; the cases are {', '.join(names)}")
         if args.workers is not None:
             check_range("--workers", args.workers, 1, 256)
+        if args.sensors is not None and not args.estimator_error:
+            raise ValueError(f"--sensors {args.sensors}: only with --estimator-error (the sweep uses the shipped set)")
         if args.estimator_error:
+            from railderail_sim.sensors.config import load as load_sensors
+
             from . import estimator_error as ee
             check_range("--seconds", args.seconds, 1.5, 600.0, "s")
-            result = ee.study(args.seconds, workers=args.workers, progress=not args.json)
+            if args.sensors is not None:
+                load_sensors(args.sensors, output_rate=RATE_HZ)      # a bad file refused before the runs
+            result = ee.study(args.seconds, workers=args.workers, progress=not args.json, sensors=args.sensors)
             if args.out:
                 print(f"wrote {ee.write(result, args.out)}", file=sys.stderr)
             print(jsonout.dumps(result, indent=1) if args.json else ee.markdown(result))

@@ -195,10 +195,13 @@ class McapRecording:
     lands while its owner is being built, before anyone holds it to close, still leaves a whole file."""
 
     def __init__(self, path, metadata=None, chunk_size=512 * 1024, flush_period_s=0.5,
-                 compression=CompressionType.ZSTD):
+                 compression=CompressionType.ZSTD, stream=None):
+        # `stream`: a binary file open on `path` to write into instead (atomic.atomic_write's, for a
+        # recording written whole)
         self.path = Path(path)
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        self.stream = open(self.path, "wb")
+        if stream is None:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+        self.stream = open(self.path, "wb") if stream is None else stream
         self.writer = mcap.writer.Writer(self.stream, chunk_size=chunk_size, compression=compression)
         self.writer.start(profile="ros2", library=f"railderail recorder (mcap {mcap.__version__})")
         self._finish = weakref.finalize(self, _finish_file, self.writer, self.stream)

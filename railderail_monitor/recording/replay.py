@@ -512,6 +512,9 @@ def _run_measured(args, recording, callbacks, publisher, err):
                                  messages=len(recording.messages), duration_s=recording.duration_s,
                                  alerts=[a.as_dict() for a in found], recorded_alerts=recorded,
                                  same_as_recorded=same, differences=why), indent=1))
+    elif m.ONBOARD_ALERTS not in recording.topics():
+        print(f"{len(found)} measured alerts found (the recording holds no measured-mode monitor's alerts to compare: "
+              "a logger's, `railderail import-imu`, or sensor topics only)")
     else:
         print(f"{len(found)} measured alerts found; the recording holds {len(recorded)} "
               + ("(the same criteria, places and stamps)" if same else

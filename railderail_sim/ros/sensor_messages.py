@@ -28,7 +28,7 @@ import numpy as np
 from geometry_msgs.msg import TwistWithCovarianceStamped
 from sensor_msgs.msg import FluidPressure, Imu, Range
 
-from railderail_sim.sensors.sensor_set import AIR_SPRING_HEIGHT, AIR_SPRINGS, ODOMETER
+from railderail_sim.sensors.sensor_set import AIR_SPRING_HEIGHT, AIR_SPRINGS, ODOMETER, reading_covariance
 
 from .interface import SENSOR, SENSOR_SUBSCRIBER, SENSORS_NS, seconds, stamp, stamp_ns
 
@@ -48,20 +48,28 @@ def sensor_topics(sensors):
 
 class SensorConverter:
     """Messages of the sensors' samples (`sensors.measure.SensorStream.process`), with covariances from the
-    noise model (`sensors.measure.noise_variance`: the filtered white noise, the bias and the quantisation)."""
+    noise model (`sensors.measure.noise_variance`: the filtered white noise, the bias and the quantisation)
+    and, where the set has them, the scale-factor errors and the mounts' misalignment at each reading
+    (`sensor_set.reading_covariance`; the pressure's scale factor likewise)."""
 
-    def __init__(self, sensors, output_rate, rolling_radius):
-        # here, not at the top: the noise model imports the numba core, which a decoding node (the monitor,
-        # the recorder, the viewer) must not load
-        from railderail_sim.sensors.measure import noise_variance
+    def __init__(self, sensors, output_rate=None, rolling_radius=None):
+        """Without the simulator's `output_rate` (Hz) the noise model is not known (a logger's data,
+        recording.import_imu): every covariance is 0, which sensor_msgs reads as unknown."""
         self.sensors, self.springs, self.odometer = sensors, AIR_SPRINGS, ODOMETER
-        self.imu_covariance = {}
+        if output_rate is None:
+            noise_variance = lambda inst, sampling, rate: 0.0
+        else:
+            # here, not at the top: the noise model imports the numba core, which a decoding node (the
+            # monitor, the recorder, the viewer) must not load
+            from railderail_sim.sensors.measure import noise_variance
+        self.imu_covariance, self.imu_variance = {}, {}
         for mount in sensors.mounts:
             acc = noise_variance(mount.accelerometer, mount.sampling, output_rate)
             gyro = -1.0 if mount.gyro is None else noise_variance(mount.gyro, mount.sampling, output_rate)
             self.imu_covariance[mount.name] = (np.diag([acc] * 3).ravel(),
                                                np.diag([gyro] * 3).ravel() if gyro >= 0 else
                                                np.array([-1.0] + [0.0] * 8))
+            self.imu_variance[mount.name] = (acc, gyro)
         if sensors.air_springs is not None:
             a = sensors.air_springs
             self.pressure_variance = noise_variance(a.pressure, a.sampling, output_rate)
@@ -69,9 +77,19 @@ class SensorConverter:
         if sensors.odometer is not None:
             o = sensors.odometer
             # the count's rounding, uniform over one pulse in the period: (its speed)^2 / 12
-            step = 2.0 * math.pi * rolling_radius / o.pulses_per_revolution * o.sampling.sample_rate_hz
+            step = (0.0 if output_rate is None else
+                    2.0 * math.pi * rolling_radius / o.pulses_per_revolution * o.sampling.sample_rate_hz)
             self.speed_variance = step * step / 12.0
-            self.radius_error = o.radius_error       # 1 sigma, relative: the speed read off by as much
+            # 1 sigma, relative: the speed read off by as much
+            self.radius_error = 0.0 if output_rate is None else o.radius_error
+
+    @staticmethod
+    def sensed_covariance(mount, inst, variance, readings, constant):
+        """(n, 9) covariances of a mount's n readings by one of its instruments: `constant` for each where the
+        instrument has no scale-factor error and the mount no misalignment."""
+        if inst.scale_factor_error == 0.0 and mount.misalignment_rad == 0.0:
+            return np.broadcast_to(constant, (len(readings), 9))
+        return reading_covariance(variance, inst.scale_factor_error, mount.misalignment_rad, readings)
 
     def arrays_messages(self, arrays):
         """`messages` of a run's `sensor_<unit>_<signal>` arrays (`sensors.measure.SensorLog.arrays()`, the
@@ -87,7 +105,11 @@ class SensorConverter:
             s = samples.get(mount.name)
             if s is None:
                 continue
-            acc_cov, gyro_cov = self.imu_covariance[mount.name]
+            (acc_cov, gyro_cov), (acc_var, gyro_var), n = (self.imu_covariance[mount.name],
+                                                            self.imu_variance[mount.name], len(s["time"]))
+            acc_cov = self.sensed_covariance(mount, mount.accelerometer, acc_var, s["acceleration"], acc_cov)
+            gyro_cov = (np.broadcast_to(gyro_cov, (n, 9)) if mount.gyro is None else
+                        self.sensed_covariance(mount, mount.gyro, gyro_var, s["angular_rate"], gyro_cov))
             topic = f"{SENSORS_NS}/{mount.name}/imu"
             for k, t in enumerate(s["time"]):
                 m = stamp(Imu(), t)
@@ -95,11 +117,11 @@ class SensorConverter:
                 m.orientation_covariance[0] = -1.0
                 a = s["acceleration"][k]
                 m.linear_acceleration.x, m.linear_acceleration.y, m.linear_acceleration.z = (float(v) for v in a)
-                m.linear_acceleration_covariance = acc_cov
+                m.linear_acceleration_covariance = acc_cov[k]
                 if "angular_rate" in s:
                     w = s["angular_rate"][k]
                     m.angular_velocity.x, m.angular_velocity.y, m.angular_velocity.z = (float(v) for v in w)
-                m.angular_velocity_covariance = gyro_cov
+                m.angular_velocity_covariance = gyro_cov[k]
                 out.append((t, topic, m))
         springs = samples.get("air_springs")
         if springs is not None:
@@ -109,7 +131,7 @@ class SensorConverter:
                     p = stamp(FluidPressure(), t)
                     p.header.frame_id = name
                     p.fluid_pressure = float(springs["pressure"][k, j])
-                    p.variance = self.pressure_variance
+                    p.variance = self.pressure_variance + (a.pressure.scale_factor_error * p.fluid_pressure) ** 2
                     h = stamp(Range(), t)
                     h.header.frame_id = name
                     h.radiation_type = Range.ULTRASOUND

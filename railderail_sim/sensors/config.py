@@ -1,18 +1,19 @@
 """The sensor set's YAML file (`sensor_set` holds the set itself): read (`load`, `from_dict`, with one-line errors
 naming a bad key or value), the shipped set (`default_set`; railderail_sim/config/sensors.yaml is it written
-out by `file_text`) and the recording's metadata of a set (`metadata`)."""
-from dataclasses import fields, replace
+out by `file_text`), the same with the realistic sensing errors on (`realistic_set`: scale-factor errors and
+mounting misalignment; config/sensors-realistic.yaml) and the recording's metadata of a set (`metadata`)."""
+from dataclasses import replace
 import math
 from pathlib import Path
 
 import yaml
 
-from .instruments import INSTRUMENT_FIELDS, INSTRUMENT_SOURCES, INSTRUMENTS, Instrument, with_changes
-from .sensor_set import AIR_SPRINGS, MOUNTS, AirSpringSensors, Mount, Odometer, Sampling, SensorSet
+from .instruments import INSTRUMENT_FIELDS, INSTRUMENTS, REALISTIC, value_source, with_changes
+from .sensor_set import (AIR_SPRINGS, MOUNTING_MISALIGNMENT, MOUNTS, AirSpringSensors, Mount, Odometer, Sampling,
+                         SensorSet)
 
 SHIPPED = Path(__file__).resolve().parents[1] / "config" / "sensors.yaml"
-
-NOTES = {f.name: f.metadata for f in fields(Instrument) if f.metadata}
+REALISTIC_FILE = SHIPPED.with_name("sensors-realistic.yaml")
 TOP_KEYS = ("seed", "instruments", "mounts", "air_springs", "odometer")
 SAMPLING_KEYS = ("sample_rate_hz", "latency_s", "dropout")
 
@@ -57,7 +58,7 @@ def from_dict(d):
         if name not in MOUNTS:
             raise ValueError(f"mount {name!r} is unknown; the mounts are {', '.join(MOUNTS)}")
         m = m or {}
-        _keys(f"mount {name}", m, ("accelerometer", "gyro", "offset_m") + SAMPLING_KEYS)
+        _keys(f"mount {name}", m, ("accelerometer", "gyro", "offset_m", "misalignment_rad") + SAMPLING_KEYS)
         offset = tuple(float(v) for v in m.get("offset_m", (0.0, 0.0, 0.0)))
         if len(offset) != 3 or not all(abs(v) <= 5.0 for v in offset):
             raise ValueError(f"mount {name} offset_m {list(offset)} must be three numbers within [-5, 5] m")
@@ -66,7 +67,8 @@ def from_dict(d):
                                                                  m.get("accelerometer"), "acceleration"),
                             gyro=None if gyro in (None, "none") else _instrument(instruments, f"mount {name}", gyro,
                                                                                  "angular_rate"),
-                            sampling=_sampling(f"mount {name}", m), offset=offset))
+                            sampling=_sampling(f"mount {name}", m), offset=offset,
+                            misalignment_rad=float(m.get("misalignment_rad", 0.0))))
     springs = d.get("air_springs")
     if springs is not None:
         _keys("air_springs", springs, ("deflection", "pressure", "effective_area_m2", "height_m") + SAMPLING_KEYS)
@@ -99,19 +101,36 @@ def load(path=None, output_rate=None):
     return sensors if output_rate is None else sensors.validated(output_rate)
 
 
+def shipped_accelerometer(mount):
+    """The shipped set's accelerometer at a mount: ADXL355 on the car body, ADXL357 on the bogie frames, IEPE
+    on the axle boxes."""
+    return INSTRUMENTS[{"car": "adxl355", "bog": "adxl357", "axl": "iepe_axle_box"}[mount[:3]]]
+
+
 def default_set():
     """The shipped sensor set, built here (config/sensors.yaml is this written out by `file_text`): every
     mount at 200 Hz, MEMS accelerometers (ADXL355 on the car body, ADXL357 on the bogie frames) and IEPE ones
     on the axle boxes, a MEMS gyro at every mount but those over the wheelsets on the frames (a frame is one
     rigid body: its centre's gyro reads its rates); the air springs at 50 Hz; the odometer at 10 Hz."""
-    accelerometer = {"car": "adxl355", "bog": "adxl357", "axl": "iepe_axle_box"}
-    mounts = tuple(Mount(name=name, accelerometer=INSTRUMENTS[accelerometer[name[:3]]],
+    mounts = tuple(Mount(name=name, accelerometer=shipped_accelerometer(name),
                          gyro=None if name.startswith("bogie_frame_") else INSTRUMENTS["adis16470"],
                          sampling=Sampling(200.0)) for name in MOUNTS)
     return SensorSet(seed=0, mounts=mounts,
                      air_springs=AirSpringSensors(deflection=INSTRUMENTS["air_spring_height"],
                                                   pressure=INSTRUMENTS["air_spring_pressure"], sampling=Sampling(50.0)),
                      odometer=Odometer(sampling=Sampling(10.0)))
+
+
+def realistic_set():
+    """The shipped set with the realistic sensing errors on (config/sensors-realistic.yaml is it written out):
+    every instrument's scale-factor error of instruments.REALISTIC and every mount misaligned by
+    sensor_set.MOUNTING_MISALIGNMENT (1-sigma about each axis), drawn from the same seed."""
+    shipped = default_set()
+    instruments = {name: replace(inst, **{k: v[0] for k, v in REALISTIC.get(name, {}).items()})
+                   for name, inst in shipped.instruments.items()}
+    mounts = tuple(replace(m, accelerometer=instruments[m.accelerometer.name], misalignment_rad=MOUNTING_MISALIGNMENT,
+                           gyro=None if m.gyro is None else instruments[m.gyro.name]) for m in shipped.mounts)
+    return replace(shipped, mounts=mounts, instruments=instruments)
 
 
 def metadata(sensors: SensorSet, source):
@@ -135,8 +154,9 @@ def _sampling_text(s: Sampling):
 def file_text(sensors: SensorSet):
     """The YAML text of a sensor set, every instrument value under a comment with its unit and source."""
     lines = ["# railderail sensor set: `railderail simulate --sensors FILE`, the simulator node's parameter `sensors`.",
-             "# The shipped file is railderail_sim/config/sensors.yaml, written by sensors.config.file_text from",
-             "# sensors.config.default_set(); copy it and change what you need (docs/onboard.md).",
+             "# The shipped files are railderail_sim/config/sensors.yaml and sensors-realistic.yaml (the same with",
+             "# scale-factor errors and mounting misalignment), written by sensors.config.file_text from",
+             "# sensors.config.default_set() and realistic_set(); copy one and change what you need (docs/onboard.md).",
              "# seed: the noise, biases and lost samples; the same seed gives the same signals, bit for bit.",
              f"seed: {sensors.seed}",
              "# instruments: the sensor models (sensors/instruments.py). A changed value is a field here; a new",
@@ -144,16 +164,19 @@ def file_text(sensors: SensorSet):
              "instruments:"]
     for inst in sensors.instruments.values():
         lines.append(f"  {inst.name}:   # {inst.quantity}, {inst.unit}")
-        sources = INSTRUMENT_SOURCES.get(inst.name, {})
         for name in INSTRUMENT_FIELDS:
-            source, sure, note = sources.get(name, (NOTES[name]["source"], NOTES[name]["sure"], NOTES[name]["note"]))
+            source, sure, note = value_source(inst.name, name, getattr(inst, name))
             lines.append(f"    {name}: {_value(getattr(inst, name))}   # {source} ({sure})" + (f": {note}" if note else ""))
     lines += ["# mounts (sensors/config.py MOUNTS): an accelerometer and a gyro (or none), each reading in the body's",
               "# axes, x forward, y left, z up; the sample rate must divide the simulator's output rate.",
+              "# misalignment_rad: 1-sigma of the unit's rotation about each body axis, drawn from the seed (0 if not given)"
+              + ("; here sensor_set.MOUNTING_MISALIGNMENT (A): an unmeasured bracket, half a degree"
+                 if any(m.misalignment_rad == MOUNTING_MISALIGNMENT for m in sensors.mounts) else ""),
               "mounts:"]
     for m in sensors.mounts:
         gyro = "none" if m.gyro is None else m.gyro.name
         offset = "" if m.offset == (0.0, 0.0, 0.0) else f", offset_m: [{', '.join(map(_value, m.offset))}]"
+        offset += "" if m.misalignment_rad == 0.0 else f", misalignment_rad: {_value(m.misalignment_rad)}"
         lines.append(f"  {m.name}: {{accelerometer: {m.accelerometer.name}, gyro: {gyro}, {_sampling_text(m.sampling)}"
                      f"{offset}}}")
     if sensors.air_springs is not None:

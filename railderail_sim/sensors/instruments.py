@@ -3,6 +3,10 @@ sure (parameters.py's style: V verified in the source, S a documented value of a
 the source gives, A our assumption or derivation; the source's own grading of the reference sheet, A/B/C,
 is quoted in SOURCES).
 
+The shipped instruments have no scale-factor error (`scale_factor_error` 0) and the shipped mounts no
+misalignment, so that the shipped set's signals stay what the warning catalogue was scored on; `REALISTIC`
+holds the sourced values of both, which config.realistic_set puts on (config/sensors-realistic.yaml).
+
 An instrument measures one quantity on three axes (accelerometers, gyros) or one (air-spring pressure and
 height). Its model, applied by `measure` to the ideal signal at the simulator's output rate, in this order:
 the constant bias (drawn once per axis from the seed, 1-sigma `bias`) and its random walk
@@ -37,6 +41,15 @@ SOURCES = {
                  "+-125...+-2000 deg/s (C, recalled, not verified); onboard-and-assessment.md, 1.3",
     "pressure": "piezoresistive pressure transducer of the air springs, about 0-1 MPa (C); "
                 "onboard-and-assessment.md, 1.1",
+    "sensitivity": "ADXL356/ADXL357 data sheet Rev. A, Table 1: sensitivity at +-10 g 47 104 / 51 200 / 55 296 "
+                   "LSB/g min/typ/max, +-8 % part to part (B: the table as quoted by ADI's support forum); the "
+                   "ADXL355's +-2 g 235 520 / 256 000 / 276 480 LSB/g, the same +-8 % (C, recalled); sensitivity "
+                   "change with temperature +-0.01 %/degC (the ADXL3xx family, C)",
+    "IEPE calibration": "an IEPE sensor's calibration certificate gives its own sensitivity; the certificate's "
+                        "uncertainty about 2 % (k = 2) is typical of back-to-back calibration (C, recalled)",
+    "ADIS16470 calibration": "ADIS16470 data sheet: factory calibrated sensitivity, bias and axial alignment (B: "
+                             "its first page as several copies show it); its sensitivity tolerance +-0.5 % "
+                             "(C, recalled, not read in the table)",
     "model": "modelling choice or derivation of this project, explained in docs/onboard.md",
 }
 
@@ -57,6 +70,8 @@ class Instrument:
                                         "the anti-alias low-pass's corner over the sample rate")
     anti_alias_order: int = parameter(4, "-", "model", "A", "order of that Butterworth low-pass")
     high_pass_hz: float = parameter(0.0, "Hz", "model", "A", "corner of a first-order AC coupling; 0: DC response")
+    scale_factor_error: float = parameter(0.0, "-", "model", "A", "1-sigma of each axis's relative sensitivity "
+                                          "error, drawn from the seed; 0: the nominal sensitivity")
 
     @property
     def resolution(self):
@@ -78,6 +93,7 @@ class Instrument:
         check_range(f"{where} anti_alias_ratio", self.anti_alias_ratio, 0.0, 0.5, lo_open=True, hi_open=True)
         check_range(f"{where} anti_alias_order", self.anti_alias_order, 1, 8)
         check_range(f"{where} high_pass_hz", self.high_pass_hz, 0.0, 10.0, "Hz")
+        check_range(f"{where} scale_factor_error", self.scale_factor_error, 0.0, 0.5)
         return self
 
     def describe(self):
@@ -162,21 +178,33 @@ _SHIPPED = {
 INSTRUMENTS = {name: inst for name, (inst, _) in _SHIPPED.items()}
 INSTRUMENT_SOURCES = {name: sources for name, (_, sources) in _SHIPPED.items()}
 
+# The realistic sensing errors, off in the shipped instruments: {instrument: {field: (value, source, sure,
+# note)}}. Like the shipped biases (uncompensated over 10 degC), they are what stays without a calibration
+# after fitting. The air springs' sensors keep their nominal sensitivity (their bias is a full-scale accuracy).
+REALISTIC = {
+    "adxl355": {"scale_factor_error": (0.08 / 3.0, "sensitivity", "A",
+                                       "the +-8 % part-to-part sensitivity taken as 3 sigma, not calibrated")},
+    "adxl357": {"scale_factor_error": (0.08 / 3.0, "sensitivity", "A",
+                                       "the +-8 % part-to-part sensitivity taken as 3 sigma, not calibrated")},
+    "iepe_axle_box": {"scale_factor_error": (0.01, "IEPE calibration", "A",
+                                             "the certificate's sensitivity used: its 2 % (k = 2) uncertainty")},
+    "adis16470": {"scale_factor_error": (0.005 / 3.0, "ADIS16470 calibration", "A",
+                                         "the factory calibration's +-0.5 % taken as 3 sigma")},
+}
 
-def describe_instrument(inst: Instrument):
-    """Rows (name, value, unit, source, sure, note) of an instrument, with the sources of the shipped one
-    where its value is the shipped one (a changed value: source 'config')."""
-    shipped = INSTRUMENT_SOURCES.get(inst.name, {})
-    base = INSTRUMENTS.get(inst.name)
-    rows = []
-    for name, value, unit, source, sure, note in inst.describe():
-        field_name = name.split(".", 1)[1]
-        if base is not None and getattr(base, field_name) == value and field_name in shipped:
-            source, sure, note = shipped[field_name]
-        elif base is not None and getattr(base, field_name) != value:
-            source, sure, note = "config", "-", "set in the sensor file"
-        rows.append((name, value, unit, source, sure, note))
-    return rows
+
+def value_source(name, field_name, value):
+    """(source, sure, note) of an instrument's field value: the realistic one's where it is that, the shipped
+    one's where it is the shipped value (the field's own for an instrument of a sensor file), else set in the
+    sensor file."""
+    realistic = REALISTIC.get(name, {}).get(field_name)
+    if realistic is not None and realistic[0] == value:
+        return realistic[1:]
+    base = INSTRUMENTS.get(name)
+    if base is not None and getattr(base, field_name) != value:
+        return "config", "-", "set in the sensor file"
+    meta = next(f.metadata for f in fields(Instrument) if f.name == field_name)
+    return INSTRUMENT_SOURCES.get(name, {}).get(field_name, (meta["source"], meta["sure"], meta["note"]))
 
 
 INSTRUMENT_FIELDS = tuple(f.name for f in fields(Instrument) if f.metadata)

@@ -3,7 +3,8 @@
 The ideal signals come from the output rows: each mount's specific force and angular rate in its body's
 axes (`vehicle.motion.points_motion`), each air spring's deflection and elastic force from the bodies'
 positions (the core's own kinematics, `vehicle.dynamics.kinematics`), the odometer's pulses from the
-distance run. Each instrument's model (instruments.py: its element saturating before its filters) is applied
+distance run. Each instrument's model (instruments.py: its scale factor and the mount's misalignment, its
+element saturating before its filters) is applied
 at the output rate, then the samples are taken at the mount's rate (every k-th row, k = output rate / sample
 rate, counted from the run's first row), clipped and quantised, stamped with the physical instant plus the latency, and some dropped.
 
@@ -23,7 +24,7 @@ from ..vehicle.dynamics import K_COLS
 from ..vehicle.layout import CAR_BODY, N_BODY, N_STATE
 from ..vehicle.motion import points_motion
 from ..vehicle.simulate import output_arrays
-from .sensor_set import ODOMETER, SensorSet, mount_point
+from .sensor_set import ODOMETER, SensorSet, misaligned_axes, mount_point
 from .springs import spring_rise
 
 AXES = 3
@@ -117,6 +118,16 @@ class SensorStream:
         for u in self.units:
             width = u.columns.stop - u.columns.start
             self.constant_bias[u.columns] = u.bias.standard_normal(width) * [i.bias for i in insts[u.columns]]
+        # the sensing errors, drawn after the constant bias from the same generator (so a set without them
+        # gives the signals it gave before they existed): each axis's scale factor, a mount's misalignment
+        self.sensing = []       # (columns, matrix: the readings of the columns' ideal values)
+        for u, m in zip(self.units, sensors.mounts + (None,)):
+            width = u.columns.stop - u.columns.start
+            angles = u.bias.standard_normal(AXES) * (0.0 if m is None else m.misalignment_rad)
+            scale = 1.0 + u.bias.standard_normal(width) * np.array([i.scale_factor_error for i in insts[u.columns]])
+            if np.any(angles) or np.any(scale != 1.0):
+                turn = np.eye(width) if m is None else np.kron(np.eye(width // AXES), misaligned_axes(*angles))
+                self.sensing.append((np.arange(u.columns.start, u.columns.stop), scale[:, None] * turn))
         self.walk = np.zeros(column)
         # the filters, one sosfilt call per distinct design; their states start settled on the first row
         sampling = {c: u.sampling for u in self.units for c in range(u.columns.start, u.columns.stop)}
@@ -172,7 +183,10 @@ class SensorStream:
         out = {}
         if n == 0:
             return out
-        y = self.ideal(a) + self.constant_bias
+        y = self.ideal(a)
+        for cols, sensed in self.sensing:
+            y[:, cols] = y[:, cols] @ sensed.T
+        y = y + self.constant_bias
         if self.units:
             # each unit draws from its own generator; the arithmetic then runs once over all the columns (the
             # same operations on each element as unit by unit: the same signals, fewer calls per chunk)

@@ -9,10 +9,12 @@ above that wheelset's left axle box (where EN 14363 and the on-board instability
 over each wheelset, the frame's yaw adding to its centre's lateral acceleration); axle_box_<wheelset>_<left|right> on
 each axle box (at the primary spring, on the axle's height; it turns with the wheelset's roll and yaw,
 not with its spin). Each mount holds a three-axis accelerometer and, optionally, a three-axis gyro in the
-body's axes.
+body's axes, or in axes turned from them by the mount's misalignment (`Mount.misalignment_rad`).
 """
 from dataclasses import dataclass, field, replace
 import math
+
+import numpy as np
 
 from ..parameters import VehicleParameters
 from ..ranges import check_range
@@ -36,6 +38,10 @@ AIR_SPRING_EFFECTIVE_AREA = math.pi * 0.23 ** 2
 # m: height of the air spring between its plates at its nominal deflection (A380 parameter file's bottom
 # 0.80 m and top 1.00 m above the rail, S): the height sensor reads this less the deflection
 AIR_SPRING_HEIGHT = 0.20
+# rad: 1-sigma of a mount's rotation about each of the body's axes, realistic_set's: a sensor bracket bolted
+# to the car-body floor or the bogie frame with no alignment measured after fitting, half a degree. A (no
+# source read; 1 degree of roll reads 0.17 m/s^2 of gravity as lateral acceleration, issue 42)
+MOUNTING_MISALIGNMENT = 0.5 * math.pi / 180.0
 
 
 def mount_point(name, vp: VehicleParameters):
@@ -54,6 +60,30 @@ def mount_point(name, vp: VehicleParameters):
                 (vp.wheelbase_semi if leading else -vp.wheelbase_semi, vp.primary_semi_spacing, 0.0))
     _, _, wheelset, side = name.split("_")
     return Body[f"wheelset_{wheelset}"], (0.0, vp.primary_semi_spacing * (1.0 if side == "left" else -1.0), 0.0)
+
+
+def misaligned_axes(roll, pitch, yaw):
+    """(3, 3): the rows are a unit's sensing axes in its body's axes, the unit turned by yaw about z, then
+    pitch about y, then roll about x (rad): its readings are this times the body-axes vector."""
+    cr, sr, cp, sp = math.cos(roll), math.sin(roll), math.cos(pitch), math.sin(pitch)
+    cy, sy = math.cos(yaw), math.sin(yaw)
+    turn = ((cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr),
+            (sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr),
+            (-sp, cp * sr, cp * cr))
+    return tuple(tuple(turn[j][i] for j in range(3)) for i in range(3))      # the transpose: body -> unit
+
+
+def reading_covariance(variance, scale_factor_error, misalignment_rad, readings):
+    """(n, 9): the covariance (3 x 3, row by row) about the truth of each of n three-axis readings (n, 3):
+    `variance` on each axis (the noise model's) plus the scale-factor error's (1-sigma times the reading, per
+    axis) and the misalignment's (a small turn theta, 1-sigma about each axis, moves a reading a by theta x a:
+    sigma^2 (|a|^2 I - a a^T)); the reading taken for the truth."""
+    a = np.asarray(readings, dtype=float)
+    eye = np.eye(3)
+    outer = a[:, :, None] * a[:, None, :]
+    cov = (variance * eye + scale_factor_error ** 2 * outer * eye
+           + misalignment_rad ** 2 * (np.sum(a * a, axis=1)[:, None, None] * eye - outer))
+    return cov.reshape(len(a), 9)
 
 
 @dataclass(frozen=True)
@@ -91,6 +121,9 @@ class Mount:
     gyro: Instrument | None
     sampling: Sampling
     offset: tuple = (0.0, 0.0, 0.0)     # m, from the mount's nominal point, in the body's axes
+    # rad, 1-sigma of the unit's rotation about each body axis (roll, pitch, yaw), drawn once from the seed:
+    # its accelerometer and gyro read in the turned axes; 0: aligned with the body
+    misalignment_rad: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -129,6 +162,7 @@ class SensorSet:
             inst.validated()
         for mount in self.mounts:
             mount.sampling.validated(f"mount {mount.name}", output_rate)
+            check_range(f"mount {mount.name} misalignment_rad", mount.misalignment_rad, 0.0, 0.2, "rad")
         if self.air_springs is not None:
             self.air_springs.sampling.validated("air_springs", output_rate)
             check_range("air_springs effective_area_m2", self.air_springs.effective_area_m2, 0.0, 10.0, "m^2",
@@ -140,13 +174,14 @@ class SensorSet:
         return self
 
     def quiet(self):
-        """The same set with every instrument free of noise and bias (an ideal sensor but for its filters,
-        range and resolution) and no samples lost."""
-        calm = {name: replace(inst, noise_density=0.0, bias=0.0, bias_random_walk=0.0)
+        """The same set with every instrument free of noise, bias and scale-factor error, every mount aligned
+        (an ideal sensor but for its filters, range and resolution) and no samples lost."""
+        calm = {name: replace(inst, noise_density=0.0, bias=0.0, bias_random_walk=0.0, scale_factor_error=0.0)
                 for name, inst in self.instruments.items()}
         sampling = lambda s: replace(s, dropout=0.0)
         mounts = tuple(replace(m, accelerometer=calm[m.accelerometer.name], sampling=sampling(m.sampling),
-                               gyro=None if m.gyro is None else calm[m.gyro.name]) for m in self.mounts)
+                               gyro=None if m.gyro is None else calm[m.gyro.name], misalignment_rad=0.0)
+                       for m in self.mounts)
         springs = None if self.air_springs is None else replace(
             self.air_springs, deflection=calm[self.air_springs.deflection.name],
             pressure=calm[self.air_springs.pressure.name], sampling=sampling(self.air_springs.sampling))
