@@ -178,3 +178,29 @@ def test_curve_margins_judged_over_the_curve():
     sc = line.scenario_for(line.curves[0], Scenario())
     assert sv.curve_run(sc, 250.0) == (True, "")
     assert sv.curve_run(sc, 280.0) == (False, "wheel_unloading")
+
+
+def test_shipped_table2_survey_is_the_margins_survey():
+    """The shipped survey of the Table 2 line (config/lines/table2-survey.json, what `demo --closed-loop`
+    supervises): made at every default by the survey that takes a curve's safe speed from its margins, every
+    figure of the curve's row following from its cases."""
+    from railderail_monitor.supervision.demo_loop import SHIPPED_SURVEY
+    from dataclasses import asdict
+    result = json.loads(SHIPPED_SURVEY.read_text())
+    assert result["settings"] == json.loads(json.dumps(asdict(sv.Settings())))
+    (curve,) = result["curves"]
+    cases = curve["cases"]
+    assert len(cases) == len(sv.Settings().frictions) * len(sv.Settings().vehicle_sets)
+    assert all(c["margins_intact_up_to_kmh"] <= c["critical_derailment_speed_kmh"] for c in cases)
+    assert all(c["first_broken"]["speed_kmh"] <= c["critical_derailment_speed_kmh"] for c in cases)
+    intact = min(c["margins_intact_up_to_kmh"] for c in cases)
+    assert curve["margins_intact_up_to_kmh"] == intact
+    assert curve["critical_derailment_speed_kmh"] == min(c["critical_derailment_speed_kmh"] for c in cases)
+    assert curve["safe_speed_kmh"] == pytest.approx(sv.MARGIN.safe_speed(intact * KMH) / KMH)
+    for f, v in curve["safe_speed_by_friction_kmh"].items():
+        low = min(c["margins_intact_up_to_kmh"] for c in cases if c["friction"] == float(f))
+        assert v == pytest.approx(sv.MARGIN.safe_speed(low * KMH) / KMH)
+    # the point of it: a train held to ETCS's emergency brake curve (the target plus dV_ebi) meets the curve
+    # with every margin intact, not at its critical derailment speed
+    assert curve["safe_speed_kmh"] + sv.MARGIN.dv(curve["safe_speed_kmh"] * KMH) / KMH == pytest.approx(intact)
+    assert intact < curve["critical_derailment_speed_kmh"]
