@@ -57,6 +57,10 @@ def test_targets_are_the_most_restrictive_profile(tmp_path):
     assert reasons[2].startswith("curve 0 (R 1200 m): safe speed, margins intact up to 255.0 km/h") and reasons[4].startswith("defect 0 (kink 20 mm)")
     # the JSON form reads back to the same profile
     assert sv.survey_targets(json.loads(json.dumps(_hand_built().as_dict()))) == targets
+    old = _hand_built().as_dict()
+    del old["curves"][0]["margins_intact_up_to_kmh"]          # a survey of the critical-speed rule's time
+    with pytest.raises(ValueError, match="no margins_intact_up_to_kmh .* run the survey again"):
+        sv.survey_targets(old)
     permitted = sv.permitted_profile(_hand_built())
     assert [(a, b, round(v / KMH, 9)) for a, b, v in permitted] == [
         (0.0, 1000.0, 160.0), (1000.0, 2000.0, 300.0), (2000.0, 3000.0, 250.0), (3000.0, 10000.0, 300.0)]

@@ -442,6 +442,9 @@ class SurveyResult:
         missing = [k for k in ("line", "settings", "margin", "curves", "defects", "wind_sites") if k not in data]
         if missing:
             raise ValueError(f"survey result: {', '.join(missing)} missing (not a `railderail survey --json` file?)")
+        if any("margins_intact_up_to_kmh" not in c for c in data["curves"]):
+            raise ValueError("survey result: its curves have no margins_intact_up_to_kmh (a survey made before a "
+                             "curve's safe speed came from its margins, 2026-12-06): run the survey again")
         return cls(**{k: data[k] for k in ("line", "settings", "margin", "curves", "defects", "wind_sites")})
 
     @classmethod
