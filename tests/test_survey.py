@@ -34,9 +34,11 @@ def _hand_built():
                  Curve(5000.0, 250.0, 500.0, 250.0, 7000.0, 0.15)),
                 ((0.0, 1000.0, 160.0),), (Defect(5500.0, "kink", 0.02, 10.0),)).validated()
     curves = [dict(index=0, start_m=2000.0, end_m=3000.0, radius_m=1200.0, permitted_speed_kmh=250.0,
-                   critical_derailment_speed_kmh=255.0, derailed=True, safe_speed_kmh=240.0),
+                   critical_derailment_speed_kmh=262.0, derailed=True, margins_intact_up_to_kmh=255.0,
+                   safe_speed_kmh=240.0),
               dict(index=1, start_m=5000.0, end_m=6000.0, radius_m=7000.0, permitted_speed_kmh=300.0,
-                   critical_derailment_speed_kmh=450.0, derailed=False, safe_speed_kmh=435.0)]
+                   critical_derailment_speed_kmh=450.0, derailed=False, margins_intact_up_to_kmh=450.0,
+                   safe_speed_kmh=435.0)]
     defects = [dict(index=0, position_m=5500.0, end_m=5510.0, kind="kink", size_mm=20.0,
                     margins_intact_up_to_kmh=165.0, safe_speed_kmh=150.0)]
     return sv.SurveyResult(line=dict(name="hand", length_m=10000.0, file=line_as_dict(line)), settings={}, margin={},
@@ -52,9 +54,13 @@ def test_targets_are_the_most_restrictive_profile(tmp_path):
         (5475.0, 5535.0, 150.0), (5535.0, 10000.0, 300.0)]
     reasons = [why for _, _, _, why in targets]
     assert reasons[0].startswith("speed limit") and reasons[1] == "line speed"
-    assert reasons[2].startswith("curve 0 (R 1200 m): safe speed") and reasons[4].startswith("defect 0 (kink 20 mm)")
+    assert reasons[2].startswith("curve 0 (R 1200 m): safe speed, margins intact up to 255.0 km/h") and reasons[4].startswith("defect 0 (kink 20 mm)")
     # the JSON form reads back to the same profile
     assert sv.survey_targets(json.loads(json.dumps(_hand_built().as_dict()))) == targets
+    old = _hand_built().as_dict()
+    del old["curves"][0]["margins_intact_up_to_kmh"]          # a survey of the critical-speed rule's time
+    with pytest.raises(ValueError, match="no margins_intact_up_to_kmh .* run the survey again"):
+        sv.survey_targets(old)
     permitted = sv.permitted_profile(_hand_built())
     assert [(a, b, round(v / KMH, 9)) for a, b, v in permitted] == [
         (0.0, 1000.0, 160.0), (1000.0, 2000.0, 300.0), (2000.0, 3000.0, 250.0), (3000.0, 10000.0, 300.0)]
@@ -83,7 +89,9 @@ def test_survey_json_keys(table2_survey):
         assert key in curve
     assert (curve["start_m"], curve["end_m"], curve["radius_m"], curve["cant_mm"]) == (200.0, 1600.0, 1000.0, 175.0)
     assert result["defects"] == [] and result["wind_sites"] == []
-    assert curve["safe_speed_kmh"] == pytest.approx(curve["critical_derailment_speed_kmh"] - 15.0)
+    # the safe speed is the highest speed with every margin intact, less dV_ebi: below the critical derailment speed
+    assert curve["safe_speed_kmh"] == pytest.approx(curve["margins_intact_up_to_kmh"] - 15.0)
+    assert curve["margins_intact_up_to_kmh"] < curve["critical_derailment_speed_kmh"]
 
 
 def test_survey_gives_the_trial_speed_on_the_same_scenario(table2_survey):
@@ -131,15 +139,72 @@ def test_curve_row_takes_the_lowest_case_and_changes_against_the_reference():
     assert ("curve", 0, "hs19", 0.3) in items and ("curve", 0, "hs19", 0.3, 20.0) in items
     assert len([i for i in items if i[0] == "curve"]) == 4 + 1 + 1 + 1
 
-    def row(vehicle_set, friction, speed, wind=0.0, fault=None):
+    def row(vehicle_set, friction, speed, wind=0.0, fault=None, intact=None):
+        margins = {} if intact is None else dict(margins_intact_up_to_kmh=intact,
+                                                 first_broken=dict(speed_kmh=intact + 1.0, margin="wheel_unloading"))
         return dict(vehicle_set=vehicle_set, friction=friction, wind_speed_m_s=wind, fault=fault, derailed=True,
-                    critical_derailment_speed_kmh=speed, mechanism="wheel_unloading", side="inner", section="curve")
-    rows = [row("hs19", 0.2, 290.0), row("hs19", 0.6, 291.0), row("zhai", 0.2, 284.0), row("zhai", 0.6, 286.0),
-            row("hs19", 0.3, 280.0), row("hs19", 0.3, 260.0, wind=20.0),
+                    critical_derailment_speed_kmh=speed, mechanism="wheel_unloading", side="inner", section="curve",
+                    **margins)
+    rows = [row("hs19", 0.2, 290.0, intact=280.0), row("hs19", 0.6, 291.0, intact=279.0),
+            row("zhai", 0.2, 284.0, intact=276.0), row("zhai", 0.6, 286.0, intact=281.0),
+            row("hs19", 0.3, 280.0, intact=270.0), row("hs19", 0.3, 260.0, wind=20.0),
             row("hs19", 0.3, 281.0, fault="yaw-dampers-failed@both")]
     c = sv._curve_row(line, 0, rows, settings)
     assert c["critical_derailment_speed_kmh"] == 284.0 and c["spread_kmh"] == 7.0
     assert c["lowest_case"] == dict(vehicle_set="zhai", friction=0.2) and len(c["cases"]) == 4
-    assert c["safe_speed_kmh"] == pytest.approx(269.0)
-    assert c["safe_speed_by_friction_kmh"] == pytest.approx({"0.2": 269.0, "0.6": 271.0})
+    # the safe speed from the lowest speed with every margin intact over the cases (not the reference's 270)
+    assert c["margins_intact_up_to_kmh"] == 276.0 and c["margins_spread_kmh"] == 5.0
+    assert c["margins_lowest_case"] == dict(vehicle_set="zhai", friction=0.2)
+    assert c["first_broken"] == dict(speed_kmh=277.0, margin="wheel_unloading")
+    assert c["safe_speed_kmh"] == pytest.approx(261.0)
+    assert c["safe_speed_sensitivity_kmh"]["none"] == 276.0
+    assert c["safe_speed_by_friction_kmh"] == pytest.approx({"0.2": 261.0, "0.6": 264.0})
     assert c["crosswind"][0]["change_kmh"] == -20.0 and c["faults"][0]["change_kmh"] == 1.0
+
+
+def test_highest_intact_bisects_to_the_first_broken_margin():
+    """The bisection that defects and curves share: the highest speed with every margin intact within the
+    tolerance, the lowest speed tried that broke one, and the ends."""
+    def run(v):
+        return (v <= 203.7, "" if v <= 203.7 else "wheel_unloading")
+    m = sv.highest_intact(run, 60.0, 450.0, 1.0)
+    assert 202.7 <= m["margins_intact_up_to_kmh"] <= 203.7
+    assert m["first_broken"]["margin"] == "wheel_unloading"
+    assert 203.7 < m["first_broken"]["speed_kmh"] <= m["margins_intact_up_to_kmh"] + 1.0
+    assert sv.highest_intact(run, 60.0, 200.0, 1.0) == dict(margins_intact_up_to_kmh=200.0, first_broken=None, runs=1)
+    assert sv.highest_intact(lambda v: (False, "derailment"), 60.0, 450.0, 1.0)["margins_intact_up_to_kmh"] == 0.0
+
+
+def test_curve_margins_judged_over_the_curve():
+    """The Table 2 curve (R 1000 m): every margin intact at its permitted-like 250 km/h; at 280 km/h, below its
+    critical derailment speed (about 285 km/h), the car does not derail but a margin is broken in the curve."""
+    line = Line("t2", "test", "C", 1800.0, 350.0, (Curve(200.0, 200.0, 1000.0, 200.0, 1000.0, 0.175),)).validated()
+    sc = line.scenario_for(line.curves[0], Scenario())
+    assert sv.curve_run(sc, 250.0) == (True, "")
+    assert sv.curve_run(sc, 280.0) == (False, "wheel_unloading")
+
+
+def test_shipped_table2_survey_is_the_margins_survey():
+    """The shipped survey of the Table 2 line (config/lines/table2-survey.json, what `demo --closed-loop`
+    supervises): made at every default by the survey that takes a curve's safe speed from its margins, every
+    figure of the curve's row following from its cases."""
+    from railderail_monitor.supervision.demo_loop import SHIPPED_SURVEY
+    from dataclasses import asdict
+    result = json.loads(SHIPPED_SURVEY.read_text())
+    assert result["settings"] == json.loads(json.dumps(asdict(sv.Settings())))
+    (curve,) = result["curves"]
+    cases = curve["cases"]
+    assert len(cases) == len(sv.Settings().frictions) * len(sv.Settings().vehicle_sets)
+    assert all(c["margins_intact_up_to_kmh"] <= c["critical_derailment_speed_kmh"] for c in cases)
+    assert all(c["first_broken"]["speed_kmh"] <= c["critical_derailment_speed_kmh"] for c in cases)
+    intact = min(c["margins_intact_up_to_kmh"] for c in cases)
+    assert curve["margins_intact_up_to_kmh"] == intact
+    assert curve["critical_derailment_speed_kmh"] == min(c["critical_derailment_speed_kmh"] for c in cases)
+    assert curve["safe_speed_kmh"] == pytest.approx(sv.MARGIN.safe_speed(intact * KMH) / KMH)
+    for f, v in curve["safe_speed_by_friction_kmh"].items():
+        low = min(c["margins_intact_up_to_kmh"] for c in cases if c["friction"] == float(f))
+        assert v == pytest.approx(sv.MARGIN.safe_speed(low * KMH) / KMH)
+    # the point of it: a train held to ETCS's emergency brake curve (the target plus dV_ebi) meets the curve
+    # with every margin intact, not at its critical derailment speed
+    assert curve["safe_speed_kmh"] + sv.MARGIN.dv(curve["safe_speed_kmh"] * KMH) / KMH == pytest.approx(intact)
+    assert intact < curve["critical_derailment_speed_kmh"]

@@ -97,7 +97,7 @@ def _human(result):
     lines = [f"line {result.line['name']}: {result.line['length_m'] / 1000:g} km, line speed "
              f"{result.line['line_speed_kmh']:g} km/h; critical derailment speed = the lowest over "
              f"{len(result.settings['frictions'])} frictions x {len(result.settings['vehicle_sets'])} parameter sets",
-             "curve  km          R (m)  cant  permitted  critical (spread, case)            safe   "
+             "curve  km          R (m)  cant  permitted  critical (spread, case)       margins intact   safe   "
              "wind, faults (change)"]
     for c in result.curves:
         changes = ", ".join([f"{w['wind_speed_m_s']:g} m/s {_change(w)}" for w in c["crosswind"]] +
@@ -105,7 +105,8 @@ def _human(result):
         case = c["lowest_case"]
         lines.append(f"{c['index']:5d}  {c['start_m'] / 1000:5.2f}-{c['end_m'] / 1000:5.2f} {c['radius_m']:6.0f} "
                      f"{c['cant_mm']:4.0f}  {c['permitted_speed_kmh']:9.0f}  {_speed(c):>6} ({c['spread_kmh']:4.1f}, "
-                     f"{case['vehicle_set']} mu {case['friction']:g})  {c['safe_speed_kmh']:15.1f}   {changes}")
+                     f"{case['vehicle_set']} mu {case['friction']:g})  {c['margins_intact_up_to_kmh']:14.1f}  "
+                     f"{c['safe_speed_kmh']:5.1f}   {changes}")
     for d in result.defects:
         broken = d["first_broken"]
         lines.append(f"defect {d['index']} at {d['position_m'] / 1000:.3f} km, {d['kind']} {d['size_mm']:g} mm: "

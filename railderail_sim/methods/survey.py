@@ -10,18 +10,23 @@ to supervise the car against its own limits rather than against fixed civil ones
   assumption (every speed above a derailing one derails too), not derailed below it either, and its limit is
   reported as that top (`derailed: false`), a lower bound; the staircase and bisection run only on a curve
   that derails at the top.
-- Its safe speed: the critical derailment speed less ETCS's emergency-brake-intervention margin (`SafetyMargin`,
-  SUBSET-026's dV_ebi): with the ceiling at the safe speed, a train allowed to exceed it by dV_ebi before the
-  emergency brake is commanded is still below the critical derailment speed. The sensitivity to the margin
+- Its safe speed: the highest constant speed at which the car passes the curve with every hazard margin intact
+  (`margins_intact_up_to_kmh`), by bisection from `SurveyRules.margins_low_kmh` up to the case's critical
+  derailment speed, the margins judged over the curve's extent (entry transition to exit transition) by the
+  rules below, lowest over the cases; less ETCS's emergency-brake-intervention margin (`SafetyMargin`,
+  SUBSET-026's dV_ebi). Why not the critical derailment speed less dV_ebi: ETCS's emergency brake curve reaches
+  a target at its speed plus dV_ebi, so a train held to it would meet the curve at its critical derailment
+  speed; a civil limit carries its own margin, a physical limit does not. The sensitivity to the margin
   (none, twice dV_ebi, 10 % of the speed) is in every curve's row.
-- Each known defect: the highest constant speed at which the car passes it with every margin intact, by
-  bisection over `SurveyRules.defect_low_kmh` .. the staircase's top. The margins are the simulator's own,
-  judged here on the run's output rows while the car-body centre is within `defect_window_m` of the defect:
-  no derailment (the core's geometric check) anywhere on the run; Q/P of every wheel, its mean over 1.524 m
-  (49 CFR 213.333's 5 ft), below Nadal's limit at the profile pair's largest contact angle and the run's
-  friction; the unloading dQ/Q0 of every wheel, its mean over 1.524 m, below 0.90; every wheel's lift below
-  half its flange height (the warning evaluation's levels, railderail_monitor/hazards.py, restated here
-  without its filters). The defect's safe speed is that speed less the same margin; lowest over the cases.
+- Each known defect: the highest constant speed at which the car passes it with every margin intact, by the
+  same bisection over `margins_low_kmh` .. the staircase's top. The margins are the simulator's own,
+  judged on the run's output rows while the car-body centre is within `defect_window_m` of the defect (over a
+  curve's extent for a curve): no derailment (the core's geometric check) anywhere on the run; Q/P of every
+  wheel, its mean over 1.524 m (49 CFR 213.333's 5 ft), below Nadal's limit at the profile pair's largest
+  contact angle and the run's friction; the unloading dQ/Q0 of every wheel, its mean over 1.524 m, below 0.90;
+  every wheel's lift below half its flange height (the warning evaluation's levels, which its HazardRules take
+  from `SurveyRules`, here without its 20 Hz force filter). The defect's safe speed is that speed less the same
+  margin; lowest over the cases.
 - Each wind site: the characteristic wind curve of the track there (`cwc.characteristic_wind_speed`): the
   CEN gust's peak at which a running gear unloads to 0.90, against the vehicle speed, on the curve the site
   stands on (the gust at its middle) or on straight track.
@@ -68,8 +73,9 @@ class SurveyRules:
                                        "a longer arc is cut to this: the car settles into its steady curving "
                                        "within a few hundred metres (its body modes are about 1 Hz), and the "
                                        "runs near the critical speed derail in the transition or early in the arc")
-    defect_low_kmh: float = parameter(60.0, "km/h", "a modelling choice", "-",
-                                      "the lowest speed a defect is tried at; below it the defect's safe speed is 0")
+    margins_low_kmh: float = parameter(60.0, "km/h", "a modelling choice", "-",
+                                       "the lowest speed a defect or a curve is tried at for its margins; below "
+                                       "it the safe speed is 0")
     defect_window_m: float = parameter(150.0, "m", "a modelling choice", "-",
                                        "the car-body centre's distance before and after the defect over which "
                                        "its margins are judged (the car is 25 m long; the wheelsets' response "
@@ -155,18 +161,31 @@ def _case_scenario(base: Scenario, vehicle_set, friction, **changes):
 
 def curve_case(line: Line, index, base: Scenario, settings: Settings, vehicle_set, friction, wind_m_s=0.0,
                fault=None):
-    """The trial of one curve in one case (as `railderail trial` on the curve's run): a dict."""
+    """The trial of one curve in one case (as `railderail trial` on the curve's run) and, without wind and
+    fault, the highest speed with every margin intact over the curve (`highest_intact` up to the critical
+    derailment speed): a dict."""
     curve = line.curves[index]
     wind = Wind(speed=wind_m_s, direction_deg=90.0 * curve.direction).validated() if wind_m_s > 0.0 else base.wind
     sc = line.scenario_for(curve, _case_scenario(base, vehicle_set, friction, wind=wind,
                                                  faults=base.faults + ((fault,) if fault else ())),
                            arc_m=min(curve.arc_m, RULES.simulated_arc_m))
+    row = dict(vehicle_set=vehicle_set, friction=friction, wind_speed_m_s=wind_m_s, fault=fault,
+               **_critical_speed(sc, curve, settings))
+    if wind_m_s > 0.0 or fault:
+        return row       # the live inputs move the critical derailment speed (the tables' changes) only
+    margins = highest_intact(functools.partial(curve_run, sc), RULES.margins_low_kmh,
+                             row["critical_derailment_speed_kmh"], settings.tolerance_kmh)
+    return dict(row, margins_intact_up_to_kmh=margins["margins_intact_up_to_kmh"],
+                first_broken=margins["first_broken"], runs=row["runs"] + margins["runs"])
+
+
+def _critical_speed(sc: Scenario, curve, settings: Settings):
+    """A curve's critical derailment speed on its run `sc` by the paper's method (module docstring)."""
     top = constant_run(sc, curve.radius_m, settings.top_kmh)
     if top.derailment is None:
         # the bisection's own assumption (a speed above a derailing one derails too) read the other way: no
         # derailment at the top, none below it; one run instead of the staircase's tens of kilometres
-        return dict(vehicle_set=vehicle_set, friction=friction, wind_speed_m_s=wind_m_s, fault=fault, derailed=False,
-                    critical_derailment_speed_kmh=settings.top_kmh, staircase_speed_kmh=math.nan,
+        return dict(derailed=False, critical_derailment_speed_kmh=settings.top_kmh, staircase_speed_kmh=math.nan,
                     method="no derailment at the top speed", mechanism="", side="", wheelset=-1, section="", runs=1)
     r = progressive_trial(sc, curve.radius_m, settings.staircase, refine=True, tolerance_kmh=settings.tolerance_kmh)
     staircase = r.critical_derailment_speed_kmh
@@ -175,7 +194,7 @@ def curve_case(line: Line, index, base: Scenario, settings: Settings, vehicle_se
         r = replace(r, critical_derailment_speed_kmh=settings.top_kmh)
         bisect_constant_speeds(sc, curve.radius_m, r, settings.tolerance_kmh)
     refined = math.isfinite(r.refined_speed_kmh)
-    return dict(vehicle_set=vehicle_set, friction=friction, wind_speed_m_s=wind_m_s, fault=fault, derailed=True,
+    return dict(derailed=True,
                 critical_derailment_speed_kmh=r.refined_speed_kmh if refined else r.critical_derailment_speed_kmh,
                 staircase_speed_kmh=staircase, method="bisection" if refined else "staircase",
                 mechanism=r.refined_mechanism if refined else r.mechanism,
@@ -184,13 +203,34 @@ def curve_case(line: Line, index, base: Scenario, settings: Settings, vehicle_se
                 section=r.refined_section, runs=r.runs + 1)
 
 
-def defect_run(line: Line, index, base: Scenario, vehicle_set, friction, speed_kmh):
-    """One constant-speed run over a defect: (margins intact, '' or the margin broken: derailment, diverged, or
-    the first of flange_climb, wheel_unloading, wheel_lift that broke)."""
+def margins_run(sc: Scenario, lo, hi):
+    """One run of `sc` judged by `SurveyRules` while the car-body centre is within [lo, hi] m: (margins intact,
+    '' or the margin broken: derailment, diverged, or the first of flange_climb, wheel_unloading, wheel_lift
+    that broke)."""
     from ..assessment.en14363 import sliding
     from ..contact.conicity import max_contact_angle
     from ..contact.nadal import nadal_limit
 
+    sim, arrays, error = run_to_stop(sc)
+    if error or sim.derailment() is not None:
+        return False, "diverged" if error else "derailment"
+    s = arrays["position"]
+    p0 = sc.vehicle.static_wheel_load
+    _, unloading = sliding(s, (p0 - arrays["vertical_force"]) / p0, RULES.margin_window_m, 0.25, lo, hi)
+    _, qp = sliding(s, arrays["derailment_coefficient"], RULES.margin_window_m, 0.25, lo, hi)
+    nadal = float(nadal_limit(max_contact_angle(sim.model.cg)[0], sc.contact.friction_coefficient))
+    lift = arrays["wheel_lift"][(s >= lo) & (s <= hi)]
+    for name, broken in (("flange_climb", np.any(qp >= nadal)),
+                         ("wheel_unloading", np.any(unloading >= RULES.unloading_level)),
+                         ("wheel_lift", np.any(lift >= RULES.lift_share * sim.model.flange_height))):
+        if broken:
+            return False, name
+    return True, ""
+
+
+def defect_run(line: Line, index, base: Scenario, vehicle_set, friction, speed_kmh):
+    """One constant-speed run over a defect, its margins judged while the car-body centre is within
+    `defect_window_m` of it (`margins_run`)."""
     defect = line.defects[index]
     curve = line.curve_at(defect.position_m)
     if curve is None:
@@ -203,45 +243,48 @@ def defect_run(line: Line, index, base: Scenario, vehicle_set, friction, speed_k
     sc = _case_scenario(base, vehicle_set, friction, track=track, irregularity=defect.irregularity(at, track),
                         speed_table=constant_speed(speed_kmh), stop_on_derailment=True, output_rate=200.0,
                         end_position=min(end + RULES.defect_window_m, track.line_length))
-    sim, arrays, error = run_to_stop(sc)
-    if error or sim.derailment() is not None:
-        return False, "diverged" if error else "derailment"
-    s = arrays["position"]
-    lo, hi = at - RULES.defect_window_m, end + RULES.defect_window_m
-    p0 = sc.vehicle.static_wheel_load
-    _, unloading = sliding(s, (p0 - arrays["vertical_force"]) / p0, RULES.margin_window_m, 0.25, lo, hi)
-    _, qp = sliding(s, arrays["derailment_coefficient"], RULES.margin_window_m, 0.25, lo, hi)
-    nadal = float(nadal_limit(max_contact_angle(sim.model.cg)[0], friction))
-    lift = arrays["wheel_lift"][(s >= lo) & (s <= hi)]
-    for name, broken in (("flange_climb", np.any(qp >= nadal)),
-                         ("wheel_unloading", np.any(unloading >= RULES.unloading_level)),
-                         ("wheel_lift", np.any(lift >= RULES.lift_share * sim.model.flange_height))):
-        if broken:
-            return False, name
-    return True, ""
+    return margins_run(sc, at - RULES.defect_window_m, end + RULES.defect_window_m)
 
 
-def defect_case(line: Line, index, base: Scenario, settings: Settings, vehicle_set, friction):
-    """The highest speed (km/h) with every margin intact over one defect in one case, by bisection."""
+def curve_run(sc: Scenario, speed_kmh):
+    """One constant-speed run over a curve's run (`Line.scenario_for`), its margins judged over the curve's
+    extent, from the start of its entry transition to the end of its exit transition (`margins_run`)."""
+    tr = sc.track
+    lo = tr.straight_in
+    hi = lo + tr.transition_in + tr.curve_length + tr.transition_out
+    return margins_run(replace(sc, speed_table=constant_speed(speed_kmh), stop_on_derailment=True,
+                               output_rate=200.0, end_position=hi), lo, hi)
+
+
+def highest_intact(run, lo, hi, tolerance_kmh):
+    """The highest speed (km/h) in [lo, hi] at which `run(speed_kmh)` -> (intact, why) keeps every margin, by
+    bisection (a margin broken at a speed is taken as broken above it too): {margins_intact_up_to_kmh (0 when
+    broken at lo), first_broken (the lowest speed tried that broke a margin, and which), runs}."""
     tried = {}
 
     def passes(v):
-        tried[v] = defect_run(line, index, base, vehicle_set, friction, v)
+        tried[v] = run(v)
         return tried[v][0]
 
-    lo, hi = RULES.defect_low_kmh, settings.top_kmh
     if passes(hi):
         intact = hi
     elif not passes(lo):
         intact = 0.0
     else:
-        while hi - lo > settings.tolerance_kmh:
+        while hi - lo > tolerance_kmh:
             mid = 0.5 * (lo + hi)
             lo, hi = (mid, hi) if passes(mid) else (lo, mid)
         intact = lo
     broken = [(v, why) for v, (ok, why) in sorted(tried.items()) if not ok]
-    return dict(vehicle_set=vehicle_set, friction=friction, margins_intact_up_to_kmh=intact,
+    return dict(margins_intact_up_to_kmh=intact,
                 first_broken=dict(speed_kmh=broken[0][0], margin=broken[0][1]) if broken else None, runs=len(tried))
+
+
+def defect_case(line: Line, index, base: Scenario, settings: Settings, vehicle_set, friction):
+    """The highest speed (km/h) with every margin intact over one defect in one case (`highest_intact`)."""
+    return dict(vehicle_set=vehicle_set, friction=friction,
+                **highest_intact(functools.partial(defect_run, line, index, base, vehicle_set, friction),
+                                 RULES.margins_low_kmh, settings.top_kmh, settings.tolerance_kmh))
 
 
 def wind_site_case(line: Line, index, base: Scenario, settings: Settings, speed_kmh):
@@ -326,9 +369,11 @@ def _curve_row(line: Line, i, rows, settings: Settings):
     plain = [r for r in rows if r["wind_speed_m_s"] == 0.0 and r["fault"] is None]
     base = [r for r in plain if r["vehicle_set"] in settings.vehicle_sets and r["friction"] in settings.frictions]
     low, spread = _lowest(base, "critical_derailment_speed_kmh")
+    weakest, intact_spread = _lowest(base, "margins_intact_up_to_kmh")
     reference = next((r for r in plain if (r["vehicle_set"], r["friction"]) ==
                       (settings.reference_set, settings.reference_friction)), None)   # run if the tables need it
     critical = low["critical_derailment_speed_kmh"]
+    intact = weakest["margins_intact_up_to_kmh"]
 
     def change(r):
         return r["critical_derailment_speed_kmh"] - reference["critical_derailment_speed_kmh"]
@@ -337,13 +382,16 @@ def _curve_row(line: Line, i, rows, settings: Settings):
                  derailed=r["derailed"], change_kmh=change(r)) for r in rows if r["wind_speed_m_s"] > 0.0]
     faults = [dict(fault=r["fault"], critical_derailment_speed_kmh=r["critical_derailment_speed_kmh"],
                    derailed=r["derailed"], change_kmh=change(r)) for r in rows if r["fault"]]
-    sensitivity = margin_sensitivity(critical)
-    by_friction = {f"{f:g}": MARGIN.safe_speed(min(r["critical_derailment_speed_kmh"] for r in base
+    sensitivity = margin_sensitivity(intact)
+    by_friction = {f"{f:g}": MARGIN.safe_speed(min(r["margins_intact_up_to_kmh"] for r in base
                                                    if r["friction"] == f) * KMH) / KMH for f in settings.frictions}
     return dict(index=i, start_m=curve.start_m, end_m=curve.end_m, radius_m=curve.radius_m, cant_mm=curve.cant_m * 1e3,
                 direction=curve.direction, permitted_speed_kmh=line.permitted_speed_kmh(curve),
                 critical_derailment_speed_kmh=critical, derailed=low["derailed"], spread_kmh=spread,
                 lowest_case=dict(vehicle_set=low["vehicle_set"], friction=low["friction"]),
+                margins_intact_up_to_kmh=intact, margins_spread_kmh=intact_spread,
+                margins_lowest_case=dict(vehicle_set=weakest["vehicle_set"], friction=weakest["friction"]),
+                first_broken=weakest["first_broken"],
                 safe_speed_kmh=sensitivity["etcs_dv_ebi"], safe_speed_by_friction_kmh=by_friction,
                 safe_speed_sensitivity_kmh=sensitivity,
                 mechanism=low["mechanism"], side=low["side"], section=low["section"], cases=base,
@@ -394,6 +442,9 @@ class SurveyResult:
         missing = [k for k in ("line", "settings", "margin", "curves", "defects", "wind_sites") if k not in data]
         if missing:
             raise ValueError(f"survey result: {', '.join(missing)} missing (not a `railderail survey --json` file?)")
+        if any("margins_intact_up_to_kmh" not in c for c in data["curves"]):
+            raise ValueError("survey result: its curves have no margins_intact_up_to_kmh (a survey made before a "
+                             "curve's safe speed came from its margins, 2026-12-06): run the survey again")
         return cls(**{k: data[k] for k in ("line", "settings", "margin", "curves", "defects", "wind_sites")})
 
     @classmethod
@@ -468,8 +519,9 @@ def survey_targets(result):
         name = f"curve {c['index']} (R {c['radius_m']:g} m)"
         limits.append((c["start_m"], c["end_m"], c["permitted_speed_kmh"], f"{name}: permitted speed"))
         limits.append((c["start_m"], c["end_m"], c["safe_speed_kmh"],
-                       f"{name}: safe speed, critical derailment speed {c['critical_derailment_speed_kmh']:.1f} km/h"
-                       + ("" if c["derailed"] else " (no derailment up to it)") + " less dV_ebi"))
+                       f"{name}: safe speed, margins intact up to {c['margins_intact_up_to_kmh']:.1f} km/h less "
+                       f"dV_ebi (critical derailment speed {c['critical_derailment_speed_kmh']:.1f} km/h"
+                       + ("" if c["derailed"] else ", no derailment up to it") + ")"))
     for d in result.defects:
         limits.append((max(0.0, d["position_m"] - RULES.defect_guard_m),
                        min(line.length_m, d["end_m"] + RULES.defect_guard_m), d["safe_speed_kmh"],
