@@ -172,31 +172,47 @@ def write_decisions():
     jsonout.write(DECISIONS, data)
 
 
-def off_standard(got, want):
-    """[what differs beyond its bound] between two runs' decisions (`decisions`, as plain JSON)."""
+def differences(got, want):
+    """[(what, this core's value, the reference's, the key of its bound in BOUNDS, or None where they must be
+    equal)] of two runs' decisions (`decisions`, as plain JSON)."""
     out = []
-
-    def compare(name, a, b, bound):
-        if a is None or b is None:
-            if a is not b:
-                out.append(f"{name}: {a} against the reference's {b}")
-        elif not abs(a - b) <= bound:
-            out.append(f"{name}: {a:.6g} against the reference's {b:.6g} (bound {bound:g})")
-
     da, db = got["derailment"], want["derailment"]
-    if (da is None) != (db is None):
-        out.append(f"derailment: {da} against the reference's {db}")
-    elif da is not None:
-        compare("derailment instant", da["time_s"], db["time_s"], BOUNDS["derailment_time_s"][0])
-        compare("derailment place", da["position_m"], db["position_m"], BOUNDS["derailment_position_m"][0])
-        out += [f"derailment {k}: {da[k]} against the reference's {db[k]}" for k in EXACT if da[k] != db[k]]
+    if da is None or db is None:
+        out.append(("derailment", da, db, None))
+    else:
+        out += [("derailment instant", da["time_s"], db["time_s"], "derailment_time_s"),
+                ("derailment place", da["position_m"], db["position_m"], "derailment_position_m")]
+        out += [(f"derailment {k}", da[k], db[k], None) for k in EXACT]
     for key, bound in (("q_over_p", "q_over_p"), ("unloading", "unloading"), ("sum_y_n", "sum_y_n"),
                        ("margin_q_over_p", "q_over_p"), ("lift_share", "lift_share")):
-        for k, (a, b) in enumerate(zip(got[key], want[key], strict=True)):
-            compare(f"{key} {k}", a, b, BOUNDS[bound][0])
+        out += [(f"{key} {k}", a, b, bound) for k, (a, b) in enumerate(zip(got[key], want[key], strict=True))]
     assert got["margin_falls"].keys() == want["margin_falls"].keys()
-    for key, b in want["margin_falls"].items():
-        compare(f"{key} falls at", got["margin_falls"][key], b, BOUNDS["margin_fall_s"][0])
+    out += [(f"{key} falls at", got["margin_falls"][key], b, "margin_fall_s") for key, b in want["margin_falls"].items()]
+    return out
+
+
+def beyond(a, b, bound):
+    """Whether a differs from b beyond BOUNDS[bound] (None: they must be equal; a value against None differs)."""
+    if bound is None or a is None or b is None:
+        return a != b
+    return not abs(a - b) <= BOUNDS[bound][0]
+
+
+def off_standard(got, want):
+    """[what differs beyond its bound, as text] between two runs' decisions."""
+    return [f"{what}: {a} against the reference's {b}" + (f" (bound {BOUNDS[bound][0]:g})" if bound else "")
+            for what, a, b, bound in differences(got, want) if beyond(a, b, bound)]
+
+
+def largest_differences(standard):
+    """{run: {bound: the largest difference of this core's run to the reference, as a share of the bound}}."""
+    out = {}
+    for name, (sc, duration) in decision_runs(standard["critical_bracket_kmh"]).items():
+        shares = {}
+        for _, a, b, bound in differences(decide(sc, duration), standard["runs"][name]):
+            if bound and a is not None and b is not None:
+                shares[bound] = max(shares.get(bound, 0.0), abs(a - b) / BOUNDS[bound][0])
+        out[name] = shares
     return out
 
 
@@ -243,6 +259,9 @@ if __name__ == "__main__":
     if sys.argv[1:] == ["decisions"]:
         write_decisions()
         print(f"wrote {DECISIONS}")
+    elif sys.argv[1:] == ["differences"]:
+        for name, shares in largest_differences(json.loads(DECISIONS.read_text())).items():
+            print(name, {k: f"{v:.3f}" for k, v in shares.items()})
     else:
         data = {f"{name}_{key}": value for name in runs() for key, value in golden_outputs(name).items()}
         np.savez_compressed(GOLDEN, **data)
