@@ -20,7 +20,7 @@ names the commit that wrote it.
 Runs: the default scenario (R = 1000 m, 300 km/h, Hertz, rigid smooth track), two that use every optional
 part (ERRI B176 high irregularity, seed 1, a 25 m/s crosswind and failed front yaw dampers, on elastic and
 on rigid track), and for the decisions also the default scenario to its derailment and the constant-speed
-runs of the critical speed's bracket (`critical_speeds`).
+runs of the critical speed's bracket (`decision_runs`).
 
 The files were written on a CPU with numpy's AVX2 (X86_V3) loops; the model building calls libm one value at
 a time where numpy's AVX-512 loops round differently (`railderail_sim.scalarmath`), so they hold on AVX-512
