@@ -129,20 +129,24 @@ _LN4 = math.log(4.0)
 
 
 @core
-def _nu_interp(c0, c1, c2, nu):
-    """Quadratic Lagrange interpolation of 1/C through nu = 0, 0.25, 0.5."""
-    l0 = 8.0 * (nu - 0.25) * (nu - 0.5)
-    l1 = -16.0 * nu * (nu - 0.5)
-    l2 = 8.0 * nu * (nu - 0.25)
-    return 1.0 / (l0 / c0 + l1 / c1 + l2 / c2)
+def _nu_weights(nu):
+    """The quadratic Lagrange weights through nu = 0, 0.25, 0.5 (`_nu_interp`)."""
+    return 8.0 * (nu - 0.25) * (nu - 0.5), -16.0 * nu * (nu - 0.5), 8.0 * nu * (nu - 0.25)
 
 
 @core
-def _table_at(tab, row, frac, nu):
+def _nu_interp(c0, c1, c2, w):
+    """Quadratic Lagrange interpolation of 1/C through nu = 0, 0.25, 0.5 with the weights w (`_nu_weights`):
+    1 / (w0 / c0 + w1 / c1 + w2 / c2) over a common denominator, one division."""
+    return c0 * c1 * c2 / (w[0] * c1 * c2 + w[1] * c0 * c2 + w[2] * c0 * c1)
+
+
+@core
+def _table_at(tab, row, frac, w):
     c0 = tab[row, 0] + frac * (tab[row + 1, 0] - tab[row, 0])
     c1 = tab[row, 1] + frac * (tab[row + 1, 1] - tab[row, 1])
     c2 = tab[row, 2] + frac * (tab[row + 1, 2] - tab[row, 2])
-    return _nu_interp(c0, c1, c2, nu)
+    return _nu_interp(c0, c1, c2, w)
 
 
 @core
@@ -178,6 +182,7 @@ def kalker_coefficients(a_over_b, nu):
         raise ValueError("kalker_coefficients: a/b must be > 0")
     if not (nu >= 0.0 and nu <= 0.5):
         raise ValueError("kalker_coefficients: nu must be within [0, 0.5]")
+    w = _nu_weights(nu)
     if a_over_b <= 1.0:
         u = a_over_b
     else:
@@ -185,19 +190,19 @@ def kalker_coefficients(a_over_b, nu):
     if u < 0.1:
         # a/b < 0.1: continue the table with the asymptotic shape
         g = a_over_b
-        t11 = _nu_interp(KALKER_C11[0, 0], KALKER_C11[0, 1], KALKER_C11[0, 2], nu)
-        t22 = _nu_interp(KALKER_C22[0, 0], KALKER_C22[0, 1], KALKER_C22[0, 2], nu)
-        t23 = _nu_interp(KALKER_C23[0, 0], KALKER_C23[0, 1], KALKER_C23[0, 2], nu)
-        t33 = _nu_interp(KALKER_C33[0, 0], KALKER_C33[0, 1], KALKER_C33[0, 2], nu)
+        t11 = _nu_interp(KALKER_C11[0, 0], KALKER_C11[0, 1], KALKER_C11[0, 2], w)
+        t22 = _nu_interp(KALKER_C22[0, 0], KALKER_C22[0, 1], KALKER_C22[0, 2], w)
+        t23 = _nu_interp(KALKER_C23[0, 0], KALKER_C23[0, 1], KALKER_C23[0, 2], w)
+        t33 = _nu_interp(KALKER_C33[0, 0], KALKER_C33[0, 1], KALKER_C33[0, 2], w)
         s11, s22, s23, s33 = _asym_small_a(g, nu)
         r11, r22, r23, r33 = _asym_small_a(0.1, nu)
         return t11 * s11 / r11, t22 * s22 / r22, t23 * s23 / r23, t33 * s33 / r33
     if u > 1.9:
         g = 1.0 / a_over_b
-        t11 = _nu_interp(KALKER_C11[18, 0], KALKER_C11[18, 1], KALKER_C11[18, 2], nu)
-        t22 = _nu_interp(KALKER_C22[18, 0], KALKER_C22[18, 1], KALKER_C22[18, 2], nu)
-        t23 = _nu_interp(KALKER_C23[18, 0], KALKER_C23[18, 1], KALKER_C23[18, 2], nu)
-        t33 = _nu_interp(KALKER_C33[18, 0], KALKER_C33[18, 1], KALKER_C33[18, 2], nu)
+        t11 = _nu_interp(KALKER_C11[18, 0], KALKER_C11[18, 1], KALKER_C11[18, 2], w)
+        t22 = _nu_interp(KALKER_C22[18, 0], KALKER_C22[18, 1], KALKER_C22[18, 2], w)
+        t23 = _nu_interp(KALKER_C23[18, 0], KALKER_C23[18, 1], KALKER_C23[18, 2], w)
+        t33 = _nu_interp(KALKER_C33[18, 0], KALKER_C33[18, 1], KALKER_C33[18, 2], w)
         s11, s22, s23 = _asym_small_b(g, nu)
         r11, r22, r23 = _asym_small_b(0.1, nu)
         return t11 * s11 / r11, t22 * s22 / r22, t23 * s23 / r23, t33
@@ -208,8 +213,8 @@ def kalker_coefficients(a_over_b, nu):
     if row < 0:
         row = 0
     frac = v - row
-    return (_table_at(KALKER_C11, row, frac, nu), _table_at(KALKER_C22, row, frac, nu),
-            _table_at(KALKER_C23, row, frac, nu), _table_at(KALKER_C33, row, frac, nu))
+    return (_table_at(KALKER_C11, row, frac, w), _table_at(KALKER_C22, row, frac, w),
+            _table_at(KALKER_C23, row, frac, w), _table_at(KALKER_C33, row, frac, w))
 
 
 @core

@@ -469,10 +469,10 @@ def rhs(x, dx, model, sp, buffers, tracked):
         ix = bodies[b, BodyTable.roll_inertia]
         iy = bodies[b, BodyTable.pitch_inertia]
         iz = bodies[b, BodyTable.yaw_inertia]
-        roll_t = math.atan2(RT[7], RT[8])
-        # translation: dV/dt = F/m + g_T - omega_T x V
-        dx[ov + Dof.lateral] = fy / m - g * math.sin(roll_t) - (wtz * vtx - wtx * vtz)
-        dx[ov + Dof.vertical] = fz / m - g * math.cos(roll_t) - (wtx * vty - wty * vtx)
+        # translation: dV/dt = F/m + g_T - omega_T x V; gravity in track axes from the track rotation's
+        # entries, the track roll's sine (RT[7]) and cosine (RT[8])
+        dx[ov + Dof.lateral] = fy / m - g * RT[7] - (wtz * vtx - wtx * vtz)
+        dx[ov + Dof.vertical] = fz / m - g * RT[8] - (wtx * vty - wty * vtx)
         # rotation: I dw/dt = M - w x (I w) - spin gyroscopic term
         gx = (iz - iy) * wy * wz
         gy = (ix - iz) * wz * wx

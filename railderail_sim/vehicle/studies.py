@@ -14,11 +14,6 @@ import numpy as np
 from .simulate import scenario, simulate
 
 TOLERANCES = ((1e-9, 1e-8), (3e-9, 3e-8), (1e-8, 1e-7), (3e-8, 3e-7), (1e-7, 1e-6))
-# the default tolerances' errors (atol 1e-8, rtol 1e-7; docs/vehicle-model.md), the bounds a change of the
-# integration must stay within per output: raw displacements, forces low-pass filtered (`force_filter`)
-DEFAULT_ERRORS = {"wheelset_lateral": 3.6e-6, "wheel_lift": 2.7e-6, "lateral_force": 0.31e3,
-                  "vertical_force": 1.1e3}
-FILTERED = ("lateral_force", "vertical_force")
 
 
 def force_filter(x, rate):
