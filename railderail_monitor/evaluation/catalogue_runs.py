@@ -23,6 +23,7 @@ from ..warning.quantities import front_attack_angle, running_gear_unloading, sli
 from .hazards import (BEYOND_PERMITTED, Car, HazardRules, beyond_permitted, cant_deficiency, hazards, margin_peaks,
                       windows)
 from .scoring import channel_places, exposure, in_alarm, score
+from .supervision_score import CRITERION as SUPERVISION, supervision_of_run
 from .sweeps import shipped_level, shipped_measured_limits, sensor_variant, thresholds, variant_name, SENSOR_VARIANTS
 
 RATE = next(spec.default for spec in PARAMETERS if spec.name == "publish_rate")   # Hz, as the node publishes
@@ -144,9 +145,11 @@ def sensor_sensitivity_run(sensors, sim, arrays, found, rules, variants=SENSOR_V
             for v in variants}
 
 
-def run_one(item, cache=None):
-    """One catalogue run (entry, seed): its hazards, distance and scores (a module-level function for the
-    process pool and Dask), from the cache when it holds it."""
+def run_one(item, cache=None, surveys=None):
+    """One catalogue run (entry, seed): its hazards, distance and scores, the speed supervision's among them
+    over its survey in `surveys` ({key: survey}, `supervision_score.surveys`; a run's survey follows from its
+    entry, seed and the code, so the cache's key holds it) (a module-level function for the process pool and
+    Dask), from the cache when it holds it."""
     entry, seed = item
     key = hashlib.sha256(jsonout.dumps(dict(run=entry.key(seed), code=source_hash())).encode()).hexdigest()
     path = Path(cache, key[:2], key + ".json") if cache else None
@@ -187,11 +190,17 @@ def run_one(item, cache=None):
     scored = time.process_time()
     result["sensor_variants"] = (sensor_sensitivity_run(sensors, sim, arrays, found, rules, beyond=beyond)
                                  if result["part"] == "test" else None)
+    varied = time.process_time()
+    result["supervision"] = supervision_of_run(entry, seed, sc, sim, arrays, found, rules, beyond, surveys)
+    for w, rows in result["supervision"]["windows"].items():
+        result["windows"][w]["criteria"][SUPERVISION] = rows
     done = time.process_time()
-    # process time of the simulation, the sensors with every criterion scored, and the sensor variants
+    # process time of the simulation, the sensors with every criterion scored, the sensor variants, and the
+    # speed supervision with its closed-loop re-runs
     result["cpu_s"], result["cpu_split_s"] = done - started, dict(simulation=simulated - started,
                                                                   scoring=scored - simulated,
-                                                                  sensor_variants=done - scored)
+                                                                  sensor_variants=varied - scored,
+                                                                  supervision=done - varied)
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
         jsonout.write(path, result)

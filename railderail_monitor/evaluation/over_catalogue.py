@@ -40,6 +40,7 @@ from .hazards import HazardRules
 from .recommendation import BUDGETS, MIN_USEFUL_SHARE, recommend, recommended_limits
 from .sensitivities import sensitivity, sensor_sensitivity
 from .sweeps import CRITERIA, shipped_level
+from . import supervision_score as supervision
 from .tables import first_true_alerts, hazard_of, mechanism_counts, mechanism_of, split, summarize
 
 SPLIT = ("by scenario and track: each entry's runs in one part (its `part`, else alternating train and test "
@@ -52,8 +53,11 @@ def evaluate(entries, cache=None, workers=None, scheduler=None, progress=True, b
     from railderail_sim.methods.parallel import run_all
     items = [run for e in entries for run in e.runs()]
     started = time.perf_counter()
-    runs = run_all(functools.partial(run_one, cache=cache), items, workers=workers, scheduler=scheduler,
-                   progress=progress, desc="warnings", unit="run", cost=[e.expected_cost(seed) for e, seed in items])
+    surveyed = supervision.surveys(entries, cache=cache, workers=workers, scheduler=scheduler, progress=progress)
+    survey_wall = time.perf_counter() - started
+    runs = run_all(functools.partial(run_one, cache=cache, surveys=surveyed), items, workers=workers,
+                   scheduler=scheduler, progress=progress, desc="warnings", unit="run",
+                   cost=[e.expected_cost(seed) for e, seed in items])
     wall = time.perf_counter() - started
     # the part is the catalogue's (a cached run keeps its simulation, not its part)
     runs = [{**r, "part": e.part_of(seed)} for r, (e, seed) in zip(runs, items)]
@@ -76,12 +80,20 @@ def evaluate(entries, cache=None, workers=None, scheduler=None, progress=True, b
         rules=[dict(name=n, value=v, unit=u, meaning=m, source=s, sure=c) for n, v, u, m, s, c in rules.table()],
         sensitivity=sensitivity(test, limits, rules),
         sensor_sensitivity=sensor_sensitivity(test, rules),
+        speed_supervision=dict(prevented_by_family=supervision.prevented_by_family(test),
+                               prevented_by_family_train=supervision.prevented_by_family(train),
+                               interventions_in_ordinary_running=supervision.interventions_in_ordinary_running(test, w),
+                               held_out_goal=supervision.held_out_goal(test, w, rules),
+                               sensitivity=supervision.sensitivity_table(test),
+                               surveys=len(surveyed), survey_settings=supervision.survey_settings_row(),
+                               survey_wall_s=survey_wall),
         runs=[dict(scenario=r["scenario"], family=r["family"], seed=r["seed"], part=r["part"], km=r["km"],
                    hazard=hazard_of(r), mechanism=mechanism_of(r), derailment=r["derailment"],
                    expected_mechanism=r["expected_mechanism"], expect_derailment=r["expect_derailment"],
                    cant_deficiency_mm_max=r["cant_deficiency_mm_max"], diverged=r["diverged"], peaks=r["peaks"],
                    margin_peaks=r["margin_peaks"],
-                   first_true_alert=first_true_alerts(r, limits, rules)) for r in runs],
+                   first_true_alert=first_true_alerts(r, limits, rules),
+                   prevented=r["supervision"]["prevented"]) for r in runs],
         throughput=dict(wall_s=wall, cpu_s=sum(r["cpu_s"] for r in runs), km=sum(r["km"] for r in runs),
                         cpu_split_s={k: sum(r["cpu_split_s"][k] for r in runs) for k in runs[0]["cpu_split_s"]},
                         cores=os.cpu_count() if not scheduler else None))

@@ -9,6 +9,7 @@ import math
 from ..onboard import measured
 from ..warning.limits import critical_name, default_limits
 from .scoring import resolvable_km
+from .supervision_score import CRITERION as SUPERVISION
 from .sweeps import CRITERIA, SIGNALS
 from .tables import split, summarize
 
@@ -41,7 +42,8 @@ def recommend(runs, rules, budgets=BUDGETS, min_share=MIN_USEFUL_SHARE):
     test_km = sum(r["windows"][str(w)]["normal_km"] for r in test)
     train_rows, test_rows = summarize(train, w, rules), summarize(test, w, rules)
     out = []
-    for criterion in CRITERIA:
+    # the speed supervision's levels are ETCS's (supervision.curves), not chosen from a sweep
+    for criterion in (c for c in CRITERIA if c != SUPERVISION):
         mine = [r for r in train_rows if r["criterion"] == criterion]
         held_out = {r["threshold"]: r for r in test_rows if r["criterion"] == criterion}
         above = -math.inf

@@ -11,6 +11,7 @@ from railderail_sim.parameters import VehicleParameters
 
 from ..onboard import measured
 from ..warning.limits import critical_name, default_limits
+from . import supervision_score as supervision
 
 # thresholds of each criterion's sweep (its unit); the shipped levels are added to them
 THRESHOLDS = {
@@ -28,9 +29,11 @@ THRESHOLDS = {
 MEASURED_FACTORS = (0.5, 0.7, 0.85, 1.0, 1.2, 1.5)
 MEASURED_PEAKS = (3.0, 4.0, 5.0, 6.0, 8.0, 10.0)
 COUNTS = ("bids_peak_count", "bids_peak_count_china")
-CRITERIA = tuple(THRESHOLDS) + measured.CRITERIA
-# what each criterion's signals are: the simulator's wheel forces and motions, or the on-board sensors'
-SIGNALS = {criterion: "ground_truth" for criterion in THRESHOLDS} | {c: measured.SIGNALS for c in measured.CRITERIA}
+CRITERIA = tuple(THRESHOLDS) + measured.CRITERIA + (supervision.CRITERION,)
+# what each criterion's signals are: the simulator's wheel forces and motions, the on-board sensors', or the
+# position and speed against the line data (the speed supervision)
+SIGNALS = ({criterion: "ground_truth" for criterion in THRESHOLDS} | {c: measured.SIGNALS for c in measured.CRITERIA}
+           | {supervision.CRITERION: supervision.SIGNALS})
 # the sensor sensitivity: the shipped set (noise 1, bias 1, 200 Hz) and each change of one of them; the sample
 # rate cannot exceed the simulator's output rate (sensors.sensor_set.Sampling), so 500 Hz is out of reach at 200 Hz
 SENSOR_VARIANTS = (dict(noise=1.0, bias=1.0, rate_hz=200.0), dict(noise=0.0, bias=1.0, rate_hz=200.0),
@@ -46,14 +49,19 @@ def shipped_measured_limits():
 
 
 def shipped_level(criterion, limits=None):
-    """A criterion's shipped WARNING level (the ground-truth monitor's parameter file, or the measured one's)."""
+    """A criterion's shipped WARNING level (the ground-truth monitor's parameter file, or the measured one's;
+    the speed supervision's WARNING level's code)."""
+    if criterion == supervision.CRITERION:
+        return min(supervision.LEVELS)
     if SIGNALS[criterion] == measured.SIGNALS:
         return float(getattr(shipped_measured_limits(), criterion))
     return float(getattr(limits or default_limits(), criterion))
 
 
 def thresholds(criterion, limits=None):
-    """The sweep of a criterion with its shipped levels, ascending."""
+    """The sweep of a criterion with its shipped levels, ascending (the speed supervision's: its levels' codes)."""
+    if criterion == supervision.CRITERION:
+        return sorted(supervision.LEVELS)
     if SIGNALS[criterion] == measured.SIGNALS:
         level = shipped_level(criterion)
         sweep = MEASURED_PEAKS if criterion in COUNTS else [f * level for f in MEASURED_FACTORS]

@@ -1,0 +1,304 @@
+"""The speed supervision (railderail_monitor/supervision) scored by the warning evaluation like every criterion
+(docs/warning-evaluation.md, "The speed supervision"), and the derailments it prevents in the closed loop.
+
+Each catalogue run is supervised over its own line: `Line.from_track` of the run's track (its curve; its
+defect in the line data, as the last track-recording run found it), surveyed by `railderail_sim.methods.survey`
+at the evaluation's setting (`survey_settings`: the catalogue's car, the run's friction, no wind or fault
+cases), the survey's most restrictive profile its targets (`supervision.loop.profile_targets`). The
+supervisor sees every output row's front (the leading wheelset) and speed (ground truth: the line data and
+the position are taken as true) and the friction the run has; its levels WARNING and INTERVENTION are the
+criterion's two "thresholds" (`LEVELS`: the level's code), a row in alarm while the level is at or above it,
+scored by `scoring.score` on one channel covering every place (the supervisor watches the train, not a wheel).
+
+`prevented`: a run that derailed is run again in the closed loop (`supervision.loop.Controller` braking it by
+`closed_loop.run_closed_loop`, the braking model dry); true when the re-run does not derail. On the test
+part the re-run is repeated with what the supervisor cannot see (`VARIANTS`, the sensitivity table).
+
+The surveys are made once per distinct line and friction before the runs (`surveys`, in parallel, each
+case cached by the survey itself), so a run finds its survey ready.
+"""
+from __future__ import annotations
+
+from dataclasses import replace
+import functools
+import math
+
+import numpy as np
+
+from railderail_sim import jsonout
+
+from ..supervision.curves import INTERVENTION, WARNING, SupervisionLimits
+from .hazards import PLACES
+from .scoring import score
+
+CRITERION = "speed_supervision"
+SIGNALS = "line_data"          # what it reads: the front's position and speed against the line data
+# the levels scored, each by its code (supervision.curves): a row is in alarm at a level while the
+# supervisor's level is at or above it
+LEVELS = {float(WARNING): "warning", float(INTERVENTION): "intervention"}
+ADHESION = "dry"               # the braking model of the closed-loop re-runs
+# the sensitivity's friction: the survey made this much above the run's friction (within the survey's
+# range), so that the rail is below every friction surveyed
+FRICTION_ABOVE = 0.2
+# the odometer error beyond its interval: the odometer reads this share of the distance short (its modelled
+# interval is 5 m + 5 %, SUBSET-041 §5.3.1.1)
+ODOMETER_SHORT_SHARE = 0.10
+VARIANTS = ("defect missing from the line data", "gust above the measured wind", "friction below the survey's range",
+            "odometer, its modelled error", "odometer error beyond its interval")
+
+
+def survey_settings(friction):
+    """The evaluation's survey setting: the catalogue's car (hs19, the shipped parameter set) at the run's own
+    friction; no crosswind, fault or wind-site cases (the scenario's line has no wind site and the
+    supervisor is given no fault). The survey's default (four frictions x three parameter sets) would cost
+    twelve trials a curve where this costs one (docs/warning-evaluation.md, "The speed supervision")."""
+    from railderail_sim.methods.survey import Settings
+    return Settings(frictions=(friction,), vehicle_sets=("hs19",), reference_set="hs19", reference_friction=friction,
+                    wind_speeds_m_s=(), faults=(), cwc_speeds_kmh=()).validated()
+
+
+def survey_settings_row():
+    """What the evaluation's surveys share, for the report: the car, the frictions, the braking model."""
+    return dict(vehicle_sets=["hs19"], frictions="the run's own (and, for the sensitivity, "
+                f"{FRICTION_ABOVE:g} above it)", wind_and_fault_cases=False, braking_adhesion=ADHESION)
+
+
+def run_line(entry, seed, with_defect=True):
+    """The line a run is supervised over: its own track (no irregularity: the line data knows the geometry)
+    with its defect, if it has one and `with_defect`, as a known defect."""
+    from railderail_sim.line.data import Defect, Line
+    track = replace(entry, irregularity="none", defect=()).scenario(seed).track
+    defects = ()
+    if entry.defect and with_defect:
+        kind, amplitude, length, at, hold = entry.defect
+        defects = (Defect(position_m=at, kind=kind, size_m=amplitude, length_m=length, hold_m=hold,
+                          source="the catalogue entry's defect"),)
+    return Line.from_track(track, entry.name, defects=defects)
+
+
+def survey_key(line, friction):
+    """A survey's key: the line's data and the friction."""
+    from railderail_sim.line.file import line_as_dict
+    return jsonout.dumps(dict(line=line_as_dict(line), friction=friction))
+
+
+def survey_one(key, cache=None):
+    """The survey (its dict) of one key (`survey_key`), its cases cached under cache/survey (a module-level
+    function for the process pool)."""
+    import json
+    from pathlib import Path
+
+    from railderail_sim.line.file import line_from_dict
+    from railderail_sim.methods.survey import survey
+    data = json.loads(key)
+    result = survey(line_from_dict(data["line"]), settings=survey_settings(data["friction"]), workers=1,
+                    progress=False, cache=None if cache is None else str(Path(cache, "survey")))
+    return result.as_dict()
+
+
+def needed(entries):
+    """The survey keys the runs of `entries` need: each run's line at its friction; on the test part, for the
+    sensitivity, also without its defect and at the friction above (`FRICTION_ABOVE`)."""
+    from railderail_sim.parameters import FRICTION_RANGE
+    keys = []
+    for entry in entries:
+        for _, seed in entry.runs():
+            keys.append(survey_key(run_line(entry, seed), entry.friction))
+            if entry.part_of(seed) != "test" or entry.family == "ordinary":
+                continue
+            if entry.defect:
+                keys.append(survey_key(run_line(entry, seed, with_defect=False), entry.friction))
+            above = min(entry.friction + FRICTION_ABOVE, FRICTION_RANGE[1])
+            if above > entry.friction:
+                keys.append(survey_key(run_line(entry, seed), above))
+    return sorted(set(keys))
+
+
+def surveys(entries, cache=None, workers=None, scheduler=None, progress=True):
+    """{survey key: survey dict} of every survey the runs of `entries` need, in parallel."""
+    from railderail_sim.methods.parallel import run_all
+    keys = needed(entries)
+    done = run_all(functools.partial(survey_one, cache=cache), keys, workers=workers, scheduler=scheduler,
+                   progress=progress, desc="surveys", unit="line")
+    return dict(zip(keys, done))
+
+
+def targets(survey):
+    """The supervisor's targets of a survey's dict."""
+    from ..supervision.loop import profile_targets
+    return profile_targets(survey, f"the survey of {survey['line']['name']}")
+
+
+def supervisor(survey, friction):
+    """A fresh supervisor over a survey's targets, the braking model dry, told the run's friction."""
+    from railderail_sim.supervision.braking import BrakingModel
+
+    from ..supervision.supervisor import LiveInputs, Supervisor
+    s = Supervisor(targets(survey), BrakingModel(adhesion=ADHESION), SupervisionLimits())
+    s.inputs(LiveInputs(friction=friction), 0.0)
+    return s
+
+
+def row_levels(sup, arrays, front_offset_m):
+    """(n,) int: the supervisor's level at each output row (ground truth: the front and the speed)."""
+    t, s, v = (np.asarray(arrays[k], dtype=float).tolist() for k in ("time", "position", "speed"))
+    return np.array([sup.step(ti, si + front_offset_m, vi) for ti, si, vi in zip(t, s, v)], dtype=np.int8)
+
+
+def alarms(levels):
+    """{level code: (1, n) bool}: the rows at or above each scored level."""
+    return {code: (levels >= code)[None, :] for code in LEVELS}
+
+
+def scores(levels, arrays, found, window_s, label):
+    """The criterion's rows at the window W (as `catalogue_runs.scores` gives the others'): one per level."""
+    return [dict(threshold=code, **score(mask, [list(PLACES)], arrays, found, window_s, label))
+            for code, mask in alarms(levels).items()]
+
+
+def _short_controller(share):
+    """A loop.Controller on ground truth whose front reads short by `share` of the distance run since its first
+    row, with the odometer's confidence interval (5 m + 5 %) given beside it: an odometer error beyond its
+    interval, which the supervisor cannot know of."""
+    from ..supervision.loop import Controller
+
+    class ShortOdometer(Controller):
+        origin = None
+
+        def samples(self, sim, rows):
+            out = []
+            for k, t, front, v, _, _ in super().samples(sim, rows):
+                self.origin = front if self.origin is None else self.origin
+                run = front - self.origin
+                error = self.supervisor.limits.position_accuracy_m + self.supervisor.limits.position_accuracy_share * run
+                out.append((k, t, self.origin + (1.0 - share) * run, v, error, 0.0))
+            return out
+    return ShortOdometer
+
+
+def closed_loop_derails(sc, survey, friction, odometer=None, short_share=0.0, seed=0):
+    """True when the run `sc` derails with the supervisor over `survey` braking it (the braking model dry);
+    `odometer` (a sensors Odometer) supervises the measured mode, `short_share` an odometer reading short."""
+    from railderail_sim.supervision.braking import BrakingModel
+    from railderail_sim.supervision.closed_loop import run_closed_loop
+
+    from ..supervision.loop import Controller
+    # in the measured mode the friction is not known: the survey's lowest
+    sup = supervisor(survey, None if odometer is not None else friction)
+    controller = (_short_controller(short_share) if short_share else Controller)(sup, odometer, seed=seed)
+    run = run_closed_loop(sc, controller, BrakingModel(adhesion=ADHESION))
+    return run.result.derailment is not None
+
+
+def supervision_of_run(entry, seed, sc, sim, arrays, found, rules, beyond, survey_by_key):
+    """{windows: {W: [the criterion's rows]}, levels: {INTERVENTION: rows in it, ...}, prevented, sensitivity}
+    of one run (`catalogue_runs.run_one`): the supervisor beside it, and, if it derailed, the closed-loop
+    re-run (and on the test part its variants)."""
+    from .hazards import windows
+    from railderail_sim.vehicle.layout import WHEELSETS, BodyTable
+    front = float(sim.model.bodies[WHEELSETS[0], BodyTable.station])
+    survey = survey_by_key[survey_key(run_line(entry, seed), entry.friction)]
+    levels = row_levels(supervisor(survey, entry.friction), arrays, front)
+    out = dict(windows={str(w): scores(levels, arrays, found, w, windows(arrays["time"], found, w, beyond)[1])
+                        for w in rules.windows_s},
+               rows_at={name: int(np.sum(levels >= code)) for code, name in LEVELS.items()},
+               prevented=None, sensitivity=None)
+    if sim.derailment() is None:
+        return out
+    out["prevented"] = not closed_loop_derails(sc, survey, entry.friction)
+    if entry.part_of(seed) == "test":
+        out["sensitivity"] = sensitivity_of_run(entry, seed, sc, survey, survey_by_key, out["prevented"])
+    return out
+
+
+def sensitivity_of_run(entry, seed, sc, survey, survey_by_key, prevented):
+    """{variant: prevented (bool) or None where it does not apply} of a derailed test-part run (`VARIANTS`)."""
+    from railderail_sim.parameters import FRICTION_RANGE
+    from railderail_sim.sensors import config as sensor_config
+    out = dict.fromkeys(VARIANTS)
+    if entry.defect:
+        bare = survey_by_key[survey_key(run_line(entry, seed, with_defect=False), entry.friction)]
+        out[VARIANTS[0]] = not closed_loop_derails(sc, bare, entry.friction)
+    if entry.gust != "none":
+        # the scenario's line has no wind site: the supervisor is given no wind at all (not even the mean), so
+        # the gust's run is supervised as it was (its curve alone)
+        out[VARIANTS[1]] = prevented
+    above = min(entry.friction + FRICTION_ABOVE, FRICTION_RANGE[1])
+    if above > entry.friction:
+        out[VARIANTS[2]] = not closed_loop_derails(sc, survey_by_key[survey_key(run_line(entry, seed), above)], above)
+    shipped = sensor_config.load(None)
+    out[VARIANTS[3]] = not closed_loop_derails(sc, survey, entry.friction, odometer=shipped.odometer,
+                                               seed=shipped.seed)
+    out[VARIANTS[4]] = not closed_loop_derails(sc, survey, entry.friction, short_share=ODOMETER_SHORT_SHARE)
+    return out
+
+
+def prevented_by_family(runs):
+    """Per family: the derailments (without the loop) and those the closed loop prevented, with the share's
+    interval (Clopper-Pearson 95 %)."""
+    from .scoring import share_interval
+    out = {}
+    for r in runs:
+        if r["supervision"]["prevented"] is None:
+            continue
+        row = out.setdefault(r["family"], dict(derailments=0, prevented=0))
+        row["derailments"] += 1
+        row["prevented"] += bool(r["supervision"]["prevented"])
+    for row in out.values():
+        row["prevented_ci95"] = share_interval(row["prevented"], row["derailments"])
+    return out
+
+
+def sensitivity_table(test_runs):
+    """Per variant (`VARIANTS`) over the test part's derailments it applies to: how many, how many the
+    supervisor prevented as shipped, and how many it still prevents."""
+    out = []
+    for variant in VARIANTS:
+        mine = [r for r in test_runs if r["supervision"]["sensitivity"] is not None
+                and r["supervision"]["sensitivity"][variant] is not None]
+        out.append(dict(variant=variant, derailments=len(mine),
+                        prevented_as_shipped=sum(bool(r["supervision"]["prevented"]) for r in mine),
+                        still_prevented=sum(bool(r["supervision"]["sensitivity"][variant]) for r in mine)))
+    return out
+
+
+def interventions_in_ordinary_running(runs, window_s):
+    """The intervention level's false alarms over normal running (episodes, per 1000 km and per hour, with the
+    exposure), and the ordinary family's runs with any intervention."""
+    from .scoring import rate_per_1000_km
+    w = str(window_s)
+    km = sum(r["windows"][w]["normal_km"] for r in runs)
+    hours = sum(r["windows"][w]["normal_h"] for r in runs)
+    rows = [next(x for x in r["supervision"]["windows"][w] if x["threshold"] == float(INTERVENTION)) for r in runs]
+    episodes = sum(x["false_episodes"] for x in rows)
+    rate, ci = rate_per_1000_km(episodes, km)
+    ordinary = [r for r in runs if r["family"] == "ordinary"]
+    return dict(episodes=episodes, per_1000_km=rate, per_1000_km_ci95=ci,
+                per_hour=episodes / hours if hours > 0 else math.nan, normal_km=km, normal_h=hours,
+                ordinary_runs=len(ordinary),
+                ordinary_runs_with_intervention=sum(r["supervision"]["rows_at"]["intervention"] > 0 for r in ordinary))
+
+
+def held_out_goal(test_runs, window_s, rules):
+    """The held-out goal on the test part: every over-speed derailment usefully warned (at WARNING) and
+    prevented, no intervention in ordinary running; {met, and each part with the runs that miss it}."""
+    from .scoring import is_useful
+    from .tables import cures
+    w = str(window_s)
+    missed_warning, missed_prevention, overspeed = [], [], 0
+    for r in test_runs:
+        if r["family"] != "overspeed" or not r["derailed"]:
+            continue
+        overspeed += 1
+        row = next(x for x in r["supervision"]["windows"][w] if x["threshold"] == float(WARNING))
+        name = f"{r['scenario']} seed {r['seed']}"
+        if not any(h["kind"] == "derailment" and is_useful(warning, rules, cure)
+                   for h, warning, cure in zip(r["hazards"], row["warnings"], cures(r, rules))):
+            missed_warning.append(name)
+        if not r["supervision"]["prevented"]:
+            missed_prevention.append(name)
+    ordinary = interventions_in_ordinary_running([r for r in test_runs if r["family"] == "ordinary"], window_s)
+    met = (overspeed > 0 and not missed_warning and not missed_prevention
+           and ordinary["ordinary_runs_with_intervention"] == 0 and ordinary["episodes"] == 0)
+    return dict(met=met, overspeed_derailments=overspeed, not_usefully_warned=missed_warning,
+                not_prevented=missed_prevention, ordinary_interventions=ordinary)
