@@ -131,3 +131,22 @@ def test_a_run_is_supervised_over_its_own_line_with_its_defect_known_or_not():
     assert [(d.kind, d.position_m, d.size_m) for d in line.defects] == [("kink", 700.0, 0.05)]
     assert ss.run_line(entry, 1, with_defect=False).defects == ()
     assert ss.survey_key(line, 0.5) != ss.survey_key(ss.run_line(entry, 1, with_defect=False), 0.5)
+
+
+def test_runs_on_curves_of_one_shape_share_one_survey_placed_on_each_run_s_own_line():
+    from railderail_monitor.evaluation import catalogue
+    near = catalogue.Entry(name="a", family="overspeed", radius_m=1000.0, speed_kmh=300.0, approach_m=3000.0)
+    long = catalogue.Entry(name="b", family="ordinary", radius_m=1000.0, speed_kmh=160.0, line_length_m=30000.0)
+    other = catalogue.Entry(name="c", family="ordinary", radius_m=1000.0, cant_mm=150.0, speed_kmh=160.0)
+    straight = catalogue.Entry(name="d", family="ordinary", radius_m=math.inf, speed_kmh=160.0)
+    lines = [ss.run_line(e, 1) for e in (near, long, other)]
+    assert ss.survey_key(lines[0], 0.3) == ss.survey_key(lines[1], 0.3) != ss.survey_key(lines[2], 0.3)
+    assert ss.survey_key(lines[0], 0.3) != ss.survey_key(lines[0], 0.4)
+    assert ss.survey_key(ss.run_line(straight, 1), 0.3) is None
+    cut = ss.surveyed_line(lines[1]).curves[0]
+    survey = dict(line=dict(name="x", length_m=0.0, file={}), curves=[dict(start_m=cut.start_m, end_m=cut.end_m)])
+    for line in lines[:2]:
+        placed = ss.placed(survey, line)
+        assert (placed["curves"][0]["start_m"], placed["curves"][0]["end_m"]) == (line.curves[0].start_m,
+                                                                                  line.curves[0].end_m)
+        assert placed["line"]["length_m"] == line.length_m

@@ -76,10 +76,48 @@ def run_line(entry, seed, with_defect=True):
     return Line.from_track(track, entry.name, defects=defects)
 
 
-def survey_key(line, friction):
-    """A survey's key: the line's data and the friction."""
+def surveyed_line(line):
+    """The line its survey is made of: a line with a defect as it is; a curve alone cut to the survey's own run
+    of it (Table 2's straights, its arc cut to `simulated_arc_m`, `methods.survey`) and named by its shape, so
+    that every run on a curve of that shape shares one survey (the survey's result depends on nothing else);
+    None for a line with nothing to survey (straight track)."""
+    from railderail_sim.line.data import LineRules, Line
+    from railderail_sim.methods.survey import RULES
+    from railderail_sim.parameters import TrackParameters
+    if line.defects:
+        return line
+    if not line.curves:
+        return None
+    (c,) = line.curves
+    rules = LineRules()
+    track = TrackParameters(straight_in=rules.approach_m, transition_in=c.transition_in_m,
+                            curve_length=min(c.arc_m, RULES.simulated_arc_m), transition_out=c.transition_out_m,
+                            straight_out=rules.exit_m, radius=c.radius_m, cant_height=c.cant_m, direction=c.direction,
+                            rail_spacing=line.rail_spacing)
+    return Line.from_track(track, f"curve R {c.radius_m:g} m, cant {c.cant_m * 1e3:g} mm",
+                           source="a catalogue run's curve, cut to the survey's run of it")
+
+
+def placed(survey, line):
+    """A survey of `surveyed_line(line)` put on the run's own line: its line data and each curve's extent."""
     from railderail_sim.line.file import line_as_dict
-    return jsonout.dumps(dict(line=line_as_dict(line), friction=friction))
+    curves = [dict(row, start_m=c.start_m, end_m=c.end_m) for row, c in zip(survey["curves"], line.curves)]
+    return dict(survey, line=dict(survey["line"], name=line.name, length_m=line.length_m, file=line_as_dict(line)),
+                curves=curves)
+
+
+def survey_key(line, friction):
+    """The key of the survey a line needs at a friction (`surveyed_line`), None where it needs none."""
+    from railderail_sim.line.file import line_as_dict
+    line = surveyed_line(line)
+    return None if line is None else jsonout.dumps(dict(line=line_as_dict(line), friction=friction))
+
+
+def survey_for(line, friction, survey_by_key):
+    """The survey (its dict) a run on `line` at `friction` is supervised over, placed on the line; None for a
+    line with nothing to survey."""
+    key = survey_key(line, friction)
+    return None if key is None else placed(survey_by_key[key], line)
 
 
 def survey_one(key, cache=None):
@@ -111,7 +149,7 @@ def needed(entries):
             above = min(entry.friction + FRICTION_ABOVE, FRICTION_RANGE[1])
             if above > entry.friction:
                 keys.append(survey_key(run_line(entry, seed), above))
-    return sorted(set(keys))
+    return sorted(set(keys) - {None})
 
 
 def surveys(entries, cache=None, workers=None, scheduler=None, progress=True):
@@ -124,9 +162,9 @@ def surveys(entries, cache=None, workers=None, scheduler=None, progress=True):
 
 
 def targets(survey):
-    """The supervisor's targets of a survey's dict."""
+    """The supervisor's targets of a survey's dict (none without a survey)."""
     from ..supervision.loop import profile_targets
-    return profile_targets(survey, f"the survey of {survey['line']['name']}")
+    return [] if survey is None else profile_targets(survey, f"the survey of {survey['line']['name']}")
 
 
 def supervisor(survey, friction):
@@ -197,7 +235,7 @@ def supervision_of_run(entry, seed, sc, sim, arrays, found, rules, beyond, surve
     from .hazards import windows
     from railderail_sim.vehicle.layout import WHEELSETS, BodyTable
     front = float(sim.model.bodies[WHEELSETS[0], BodyTable.station])
-    survey = survey_by_key[survey_key(run_line(entry, seed), entry.friction)]
+    survey = survey_for(run_line(entry, seed), entry.friction, survey_by_key)
     levels = row_levels(supervisor(survey, entry.friction), arrays, front)
     out = dict(windows={str(w): scores(levels, arrays, found, w, windows(arrays["time"], found, w, beyond)[1])
                         for w in rules.windows_s},
@@ -217,7 +255,7 @@ def sensitivity_of_run(entry, seed, sc, survey, survey_by_key, prevented):
     from railderail_sim.sensors import config as sensor_config
     out = dict.fromkeys(VARIANTS)
     if entry.defect:
-        bare = survey_by_key[survey_key(run_line(entry, seed, with_defect=False), entry.friction)]
+        bare = survey_for(run_line(entry, seed, with_defect=False), entry.friction, survey_by_key)
         out[VARIANTS[0]] = not closed_loop_derails(sc, bare, entry.friction)
     if entry.gust != "none":
         # the scenario's line has no wind site: the supervisor is given no wind at all (not even the mean), so
@@ -225,7 +263,7 @@ def sensitivity_of_run(entry, seed, sc, survey, survey_by_key, prevented):
         out[VARIANTS[1]] = prevented
     above = min(entry.friction + FRICTION_ABOVE, FRICTION_RANGE[1])
     if above > entry.friction:
-        out[VARIANTS[2]] = not closed_loop_derails(sc, survey_by_key[survey_key(run_line(entry, seed), above)], above)
+        out[VARIANTS[2]] = not closed_loop_derails(sc, survey_for(run_line(entry, seed), above, survey_by_key), above)
     shipped = sensor_config.load(None)
     out[VARIANTS[3]] = not closed_loop_derails(sc, survey, entry.friction, odometer=shipped.odometer,
                                                seed=shipped.seed)
