@@ -100,7 +100,8 @@ def test_the_criteria_table_is_the_test_part_s_and_counts_per_km_and_hour(small)
         assert row["false_alarms_per_1000_km_ci95"] == pytest.approx(
             [1000.0 * x / km for x in scoring.count_interval(row["false_alarm_episodes"])])
         assert len(row["false_alarms_per_1000_km_boot95"]) == 2
-        assert row["signals"] == ("measured" if row["criterion"] in measured.CRITERIA else "ground_truth")
+        assert row["signals"] == ("measured" if row["criterion"] in measured.CRITERIA else "line_data"
+                                  if row["criterion"] == "speed_supervision" else "ground_truth")
     assert {r["criterion"] for r in result["criteria"] if r["signals"] == "measured"} == set(measured.CRITERIA)
 
 
@@ -390,7 +391,7 @@ def test_dask_and_local_processes_give_the_same_evaluation(small):
     with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
         remote = wc.evaluate(entries, scheduler=cluster.scheduler_address, progress=False, budgets=GENEROUS,
                              min_share=0.0, cache=folder / "dask-cache")
-    assert len(list((folder / "dask-cache").rglob("*.json"))) == 6
+    assert len([p for p in (folder / "dask-cache").rglob("*.json") if "survey" not in p.parts]) == 6
     for r in (remote, result):
         r.pop("throughput")
     assert json.dumps(remote, sort_keys=True, default=str) == json.dumps(result, sort_keys=True, default=str)

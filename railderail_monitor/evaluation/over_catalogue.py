@@ -24,6 +24,10 @@ measured criteria scored at their shipped levels: the sensor sensitivity table.
 A run's result depends only on its catalogue entry, its seed and the code: it is cached on disk under
 the hash of those (both packages' sources and the monitor's shipped parameter file included), so an
 interrupted evaluation resumes and loses no finished run. Runs go in parallel processes or on Dask.
+
+The speed supervision (`supervision_score`) is one more criterion: each run's line is surveyed first (once
+per curve shape and friction, cached), the supervisor scored beside the run, and a run that derailed run
+again with the supervisor braking it (`prevented`).
 """
 from __future__ import annotations
 
@@ -85,8 +89,7 @@ def evaluate(entries, cache=None, workers=None, scheduler=None, progress=True, b
                                interventions_in_ordinary_running=supervision.interventions_in_ordinary_running(test, w),
                                held_out_goal=supervision.held_out_goal(test, w, rules),
                                sensitivity=supervision.sensitivity_table(test),
-                               surveys=len(surveyed), survey_settings=supervision.survey_settings_row(),
-                               survey_wall_s=survey_wall),
+                               surveys=len(surveyed), survey_settings=supervision.survey_settings_row()),
         runs=[dict(scenario=r["scenario"], family=r["family"], seed=r["seed"], part=r["part"], km=r["km"],
                    hazard=hazard_of(r), mechanism=mechanism_of(r), derailment=r["derailment"],
                    expected_mechanism=r["expected_mechanism"], expect_derailment=r["expect_derailment"],
@@ -94,7 +97,8 @@ def evaluate(entries, cache=None, workers=None, scheduler=None, progress=True, b
                    margin_peaks=r["margin_peaks"],
                    first_true_alert=first_true_alerts(r, limits, rules),
                    prevented=r["supervision"]["prevented"]) for r in runs],
-        throughput=dict(wall_s=wall, cpu_s=sum(r["cpu_s"] for r in runs), km=sum(r["km"] for r in runs),
+        throughput=dict(wall_s=wall, survey_wall_s=survey_wall, cpu_s=sum(r["cpu_s"] for r in runs),
+                        km=sum(r["km"] for r in runs),
                         cpu_split_s={k: sum(r["cpu_split_s"][k] for r in runs) for k in runs[0]["cpu_split_s"]},
                         cores=os.cpu_count() if not scheduler else None))
 
