@@ -14,8 +14,9 @@ scored by `scoring.score` on one channel covering every place (the supervisor wa
 `closed_loop.run_closed_loop`, the braking model dry); true when the re-run does not derail. On the test
 part the re-run is repeated with what the supervisor cannot see (`VARIANTS`, the sensitivity table).
 
-The surveys are made once per distinct line and friction before the runs (`surveys`, in parallel, each
-case cached by the survey itself), so a run finds its survey ready.
+The surveys are made once per curve shape (or line with a defect) and friction before the runs (`surveys`:
+every case of every survey in one parallel pass, each cached by the survey itself), so a run finds its
+survey ready.
 """
 from __future__ import annotations
 
@@ -120,18 +121,16 @@ def survey_for(line, friction, survey_by_key):
     return None if key is None else placed(survey_by_key[key], line)
 
 
-def survey_one(key, cache=None):
-    """The survey (its dict) of one key (`survey_key`), its cases cached under cache/survey (a module-level
-    function for the process pool)."""
+def survey_case(job, folder):
+    """One case of one survey: job (survey key, the survey's case), cached by the survey under `folder` (a
+    module-level function for the process pool and Dask)."""
     import json
-    from pathlib import Path
 
-    from railderail_sim.line.file import line_from_dict
-    from railderail_sim.methods.survey import survey
+    from railderail_sim.methods.survey import run_case
+    from railderail_sim.vehicle.simulate import Scenario
+    key, item = job
     data = json.loads(key)
-    result = survey(line_from_dict(data["line"]), settings=survey_settings(data["friction"]), workers=1,
-                    progress=False, cache=None if cache is None else str(Path(cache, "survey")))
-    return result.as_dict()
+    return run_case(item, data["line"], Scenario(), survey_settings(data["friction"]), cache=folder)
 
 
 def needed(entries):
@@ -153,12 +152,27 @@ def needed(entries):
 
 
 def surveys(entries, cache=None, workers=None, scheduler=None, progress=True):
-    """{survey key: survey dict} of every survey the runs of `entries` need, in parallel."""
+    """{survey key: survey dict} of every survey the runs of `entries` need: every case of every survey in one
+    parallel pass (processes or Dask, none nested), cached under CACHE/survey (a scratch folder without a
+    cache), then each survey put together from its cached cases."""
+    import json
+    from pathlib import Path
+    import tempfile
+
+    from railderail_sim.line.file import line_from_dict
     from railderail_sim.methods.parallel import run_all
+    from railderail_sim.methods.survey import COST, cases, survey
     keys = needed(entries)
-    done = run_all(functools.partial(survey_one, cache=cache), keys, workers=workers, scheduler=scheduler,
-                   progress=progress, desc="surveys", unit="line")
-    return dict(zip(keys, done))
+    lines = {key: line_from_dict(json.loads(key)["line"]) for key in keys}
+    settings = {key: survey_settings(json.loads(key)["friction"]) for key in keys}
+    jobs = [(key, item) for key in keys for item in cases(lines[key], settings[key])]
+    with tempfile.TemporaryDirectory() as scratch:
+        folder = str(Path(cache or scratch, "survey"))
+        if jobs:
+            run_all(functools.partial(survey_case, folder=folder), jobs, workers=workers, scheduler=scheduler,
+                    progress=progress, desc="surveys", unit="case", cost=[COST[item[0]] for _, item in jobs])
+        return {key: survey(lines[key], settings=settings[key], workers=1, progress=False, cache=folder).as_dict()
+                for key in keys}
 
 
 def targets(survey):
