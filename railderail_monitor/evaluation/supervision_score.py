@@ -38,8 +38,8 @@ SIGNALS = "line_data"          # what it reads: the front's position and speed a
 # supervisor's level is at or above it
 LEVELS = {float(WARNING): "warning", float(INTERVENTION): "intervention"}
 ADHESION = "dry"               # the braking model of the closed-loop re-runs
-# the sensitivity's friction: the survey made this much above the run's friction (within the survey's
-# range), so that the rail is below every friction surveyed
+# the sensitivity's friction: the survey made this much above the run's friction, at most the top of the
+# survey's default range (methods.survey.DEFAULT_FRICTIONS), so that the rail is below every friction surveyed
 FRICTION_ABOVE = 0.2
 # the odometer error beyond its interval: the odometer reads this share of the distance short (its modelled
 # interval is 5 m + 5 %, SUBSET-041 §5.3.1.1)
@@ -133,10 +133,15 @@ def survey_case(job, folder):
     return run_case(item, data["line"], Scenario(), survey_settings(data["friction"]), cache=folder)
 
 
+def friction_above(friction):
+    """The friction of the sensitivity's survey (`FRICTION_ABOVE`)."""
+    from railderail_sim.methods.survey import DEFAULT_FRICTIONS
+    return min(friction + FRICTION_ABOVE, max(DEFAULT_FRICTIONS))
+
+
 def needed(entries):
     """The survey keys the runs of `entries` need: each run's line at its friction; on the test part, for the
     sensitivity, also without its defect and at the friction above (`FRICTION_ABOVE`)."""
-    from railderail_sim.parameters import FRICTION_RANGE
     keys = []
     for entry in entries:
         for _, seed in entry.runs():
@@ -145,7 +150,7 @@ def needed(entries):
                 continue
             if entry.defect:
                 keys.append(survey_key(run_line(entry, seed, with_defect=False), entry.friction))
-            above = min(entry.friction + FRICTION_ABOVE, FRICTION_RANGE[1])
+            above = friction_above(entry.friction)
             if above > entry.friction:
                 keys.append(survey_key(run_line(entry, seed), above))
     return sorted(set(keys) - {None})
@@ -265,7 +270,6 @@ def supervision_of_run(entry, seed, sc, sim, arrays, found, rules, beyond, surve
 
 def sensitivity_of_run(entry, seed, sc, survey, survey_by_key, prevented):
     """{variant: prevented (bool) or None where it does not apply} of a derailed test-part run (`VARIANTS`)."""
-    from railderail_sim.parameters import FRICTION_RANGE
     from railderail_sim.sensors import config as sensor_config
     out = dict.fromkeys(VARIANTS)
     if entry.defect:
@@ -275,7 +279,7 @@ def sensitivity_of_run(entry, seed, sc, survey, survey_by_key, prevented):
         # the scenario's line has no wind site: the supervisor is given no wind at all (not even the mean), so
         # the gust's run is supervised as it was (its curve alone)
         out[VARIANTS[1]] = prevented
-    above = min(entry.friction + FRICTION_ABOVE, FRICTION_RANGE[1])
+    above = friction_above(entry.friction)
     if above > entry.friction:
         out[VARIANTS[2]] = not closed_loop_derails(sc, survey_for(run_line(entry, seed), above, survey_by_key), above)
     shipped = sensor_config.load(None)
