@@ -227,7 +227,8 @@ def _short_controller(share):
             for k, t, front, v, _, _ in super().samples(sim, rows):
                 self.origin = front if self.origin is None else self.origin
                 run = front - self.origin
-                error = self.supervisor.limits.position_accuracy_m + self.supervisor.limits.position_accuracy_share * run
+                limits = self.supervisor.limits
+                error = limits.position_accuracy_m + limits.position_accuracy_share * run
                 out.append((k, t, self.origin + (1.0 - share) * run, v, error, 0.0))
             return out
     return ShortOdometer
@@ -338,8 +339,8 @@ def interventions_in_ordinary_running(runs, window_s):
 def held_out_goal(test_runs, window_s, rules):
     """The held-out goal on the test part: every over-speed derailment usefully warned (at WARNING) and
     prevented, no intervention in ordinary running; {met, and each part with the runs that miss it}."""
+    from .hazards import hazard_cure
     from .scoring import is_useful
-    from .tables import cures
     w = str(window_s)
     missed_warning, missed_prevention, overspeed = [], [], 0
     for r in test_runs:
@@ -348,8 +349,9 @@ def held_out_goal(test_runs, window_s, rules):
         overspeed += 1
         row = next(x for x in r["supervision"]["windows"][w] if x["threshold"] == float(WARNING))
         name = f"{r['scenario']} seed {r['seed']}"
+        cures = [hazard_cure(rules, h, r["line"])["speed_kmh"] for h in r["hazards"]]
         if not any(h["kind"] == "derailment" and is_useful(warning, rules, cure)
-                   for h, warning, cure in zip(r["hazards"], row["warnings"], cures(r, rules))):
+                   for h, warning, cure in zip(r["hazards"], row["warnings"], cures)):
             missed_warning.append(name)
         if not r["supervision"]["prevented"]:
             missed_prevention.append(name)
