@@ -57,7 +57,8 @@ def evaluate(entries, cache=None, workers=None, scheduler=None, progress=True, b
     from railderail_sim.methods.parallel import run_all
     items = [run for e in entries for run in e.runs()]
     started = time.perf_counter()
-    surveyed = supervision.surveys(entries, cache=cache, workers=workers, scheduler=scheduler, progress=progress)
+    surveyed, survey_cpu = supervision.surveys(entries, cache=cache, workers=workers, scheduler=scheduler,
+                                               progress=progress)
     survey_wall = time.perf_counter() - started
     runs = run_all(functools.partial(run_one, cache=cache, surveys=surveyed), items, workers=workers,
                    scheduler=scheduler, progress=progress, desc="warnings", unit="run",
@@ -97,7 +98,8 @@ def evaluate(entries, cache=None, workers=None, scheduler=None, progress=True, b
                    margin_peaks=r["margin_peaks"],
                    first_true_alert=first_true_alerts(r, limits, rules),
                    prevented=r["supervision"]["prevented"]) for r in runs],
-        throughput=dict(wall_s=wall, survey_wall_s=survey_wall, cpu_s=sum(r["cpu_s"] for r in runs),
+        throughput=dict(wall_s=wall, survey_wall_s=survey_wall, survey_cpu_s=survey_cpu,
+                        cpu_s=sum(r["cpu_s"] for r in runs),
                         km=sum(r["km"] for r in runs),
                         cpu_split_s={k: sum(r["cpu_split_s"][k] for r in runs) for k in runs[0]["cpu_split_s"]},
                         cores=os.cpu_count() if not scheduler else None))

@@ -123,14 +123,17 @@ def survey_for(line, friction, survey_by_key):
 
 def survey_case(job, folder):
     """One case of one survey: job (survey key, the survey's case), cached by the survey under `folder` (a
-    module-level function for the process pool and Dask)."""
+    module-level function for the process pool and Dask); its process time (s; about 0 from the cache)."""
     import json
+    import time
 
     from railderail_sim.methods.survey import run_case
     from railderail_sim.vehicle.simulate import Scenario
     key, item = job
     data = json.loads(key)
-    return run_case(item, data["line"], Scenario(), survey_settings(data["friction"]), cache=folder)
+    started = time.process_time()
+    run_case(item, data["line"], Scenario(), survey_settings(data["friction"]), cache=folder)
+    return time.process_time() - started
 
 
 def friction_above(friction):
@@ -157,7 +160,7 @@ def needed(entries):
 
 
 def surveys(entries, cache=None, workers=None, scheduler=None, progress=True):
-    """{survey key: survey dict} of every survey the runs of `entries` need: every case of every survey in one
+    """({survey key: survey dict}, the cases' process time s) of every survey the runs of `entries` need: every case of every survey in one
     parallel pass (processes or Dask, none nested), cached under CACHE/survey (a scratch folder without a
     cache), then each survey put together from its cached cases."""
     import json
@@ -173,11 +176,11 @@ def surveys(entries, cache=None, workers=None, scheduler=None, progress=True):
     jobs = [(key, item) for key in keys for item in cases(lines[key], settings[key])]
     with tempfile.TemporaryDirectory() as scratch:
         folder = str(Path(cache or scratch, "survey"))
-        if jobs:
-            run_all(functools.partial(survey_case, folder=folder), jobs, workers=workers, scheduler=scheduler,
-                    progress=progress, desc="surveys", unit="case", cost=[COST[item[0]] for _, item in jobs])
+        cpu = sum(run_all(functools.partial(survey_case, folder=folder), jobs, workers=workers, scheduler=scheduler,
+                          progress=progress, desc="surveys", unit="case", cost=[COST[item[0]] for _, item in jobs])
+                  if jobs else [])
         return {key: survey(lines[key], settings=settings[key], workers=1, progress=False, cache=folder).as_dict()
-                for key in keys}
+                for key in keys}, cpu
 
 
 def targets(survey):
