@@ -160,9 +160,9 @@ def needed(entries):
 
 
 def surveys(entries, cache=None, workers=None, scheduler=None, progress=True):
-    """({survey key: survey dict}, the cases' process time s) of every survey the runs of `entries` need: every case of every survey in one
-    parallel pass (processes or Dask, none nested), cached under CACHE/survey (a scratch folder without a
-    cache), then each survey put together from its cached cases."""
+    """({survey key: survey dict}, the cases' process time s) of every survey the runs of `entries` need: every
+    case of every survey in one parallel pass (processes or Dask, none nested), cached under CACHE/survey (a
+    scratch folder without a cache), then each survey put together from its cached cases."""
     import json
     from pathlib import Path
     import tempfile
@@ -252,7 +252,7 @@ def closed_loop_derails(sc, survey, friction, odometer=None, short_share=0.0, se
 
 
 def supervision_of_run(entry, seed, sc, sim, arrays, found, rules, beyond, survey_by_key):
-    """{windows: {W: [the criterion's rows]}, levels: {INTERVENTION: rows in it, ...}, prevented, sensitivity}
+    """{windows: {W: [the criterion's rows]}, rows_at: {level name: rows at or above it}, prevented, sensitivity}
     of one run (`catalogue_runs.run_one`): the supervisor beside it, and, if it derailed, the closed-loop
     re-run (and on the test part its variants)."""
     from .hazards import windows
