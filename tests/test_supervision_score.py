@@ -150,3 +150,16 @@ def test_runs_on_curves_of_one_shape_share_one_survey_placed_on_each_run_s_own_l
         assert (placed["curves"][0]["start_m"], placed["curves"][0]["end_m"]) == (line.curves[0].start_m,
                                                                                   line.curves[0].end_m)
         assert placed["line"]["length_m"] == line.length_m
+
+
+def test_a_defect_the_car_cannot_pass_even_slowly_is_supervised_at_the_lowest_speed_the_loop_can_brake_to():
+    from railderail_monitor.evaluation import catalogue
+    from railderail_sim.parameters import SPEED_RANGE_KMH
+    entry = catalogue.Entry(name="kink", family="defect", radius_m=800.0, speed_kmh=160.0,
+                            defect=("kink", 0.05, 10.0, 700.0, 0.0))
+    line = ss.run_line(entry, 1)
+    survey = dict(line=dict(name="x", length_m=0.0, file={}), curves=[dict(safe_speed_kmh=242.5)],
+                  defects=[dict(safe_speed_kmh=0.0), dict(safe_speed_kmh=72.3)])
+    placed = ss.placed(survey, line)
+    assert [d["safe_speed_kmh"] for d in placed["defects"]] == [SPEED_RANGE_KMH[0], 72.3]
+    assert placed["curves"][0]["safe_speed_kmh"] == 242.5
