@@ -144,7 +144,8 @@ def test_runs_on_curves_of_one_shape_share_one_survey_placed_on_each_run_s_own_l
     assert ss.survey_key(lines[0], 0.3) != ss.survey_key(lines[0], 0.4)
     assert ss.survey_key(ss.run_line(straight, 1), 0.3) is None
     cut = ss.surveyed_line(lines[1]).curves[0]
-    survey = dict(line=dict(name="x", length_m=0.0, file={}), curves=[dict(start_m=cut.start_m, end_m=cut.end_m)])
+    survey = dict(line=dict(name="x", length_m=0.0, file={}), defects=[],
+                  curves=[dict(start_m=cut.start_m, end_m=cut.end_m, safe_speed_kmh=200.0)])
     for line in lines[:2]:
         placed = ss.placed(survey, line)
         assert (placed["curves"][0]["start_m"], placed["curves"][0]["end_m"]) == (line.curves[0].start_m,
