@@ -2,5 +2,5 @@
 paper's radii (`over_radii`, `railderail warnings`) or a scenario catalogue (`catalogue`, the scenario file;
 `hazards`, the ground truth by hazard and the braking model; `scoring`, attribution, exposure and intervals;
 `over_catalogue`, the evaluation, with `sweeps`, `catalogue_runs`, `tables`,
-`recommendation` and `sensitivities`; `report`, their markdown), and the on-board instability rules'
+`recommendation`, `sensitivities` and `supervision_score`; `report`, their markdown), and the on-board instability rules'
 speed sweep (`onboard_study`)."""
