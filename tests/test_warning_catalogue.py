@@ -9,7 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from railderail_monitor.evaluation import catalogue, over_catalogue as wc, scoring
+from railderail_monitor.evaluation import (catalogue, catalogue_runs, over_catalogue as wc, recommendation, scoring,
+                                          sweeps, tables)
 from railderail_monitor.evaluation.hazards import HazardRules
 from railderail_monitor.onboard import measured
 
@@ -43,7 +44,7 @@ def small(tmp_path_factory):
 def _raw(small):
     """Every run's full result, from the cache."""
     folder, entries, _ = small
-    return [wc.run_one(item, cache=folder / "cache") for e in entries for item in e.runs()]
+    return [catalogue_runs.run_one(item, cache=folder / "cache") for e in entries for item in e.runs()]
 
 
 def test_each_run_shows_the_hazard_its_scenario_should(small):
@@ -99,14 +100,15 @@ def test_the_criteria_table_is_the_test_part_s_and_counts_per_km_and_hour(small)
         assert row["false_alarms_per_1000_km_ci95"] == pytest.approx(
             [1000.0 * x / km for x in scoring.count_interval(row["false_alarm_episodes"])])
         assert len(row["false_alarms_per_1000_km_boot95"]) == 2
-        assert row["signals"] == ("measured" if row["criterion"] in measured.CRITERIA else "ground_truth")
+        assert row["signals"] == ("measured" if row["criterion"] in measured.CRITERIA else "line_data"
+                                  if row["criterion"] == "speed_supervision" else "ground_truth")
     assert {r["criterion"] for r in result["criteria"] if r["signals"] == "measured"} == set(measured.CRITERIA)
 
 
 def test_a_second_evaluation_reads_every_run_from_the_cache(small, monkeypatch):
     """In this process (whatever the pool's start method): no run is simulated again."""
     folder, entries, result = small
-    assert len(list((folder / "cache").rglob("*.json"))) == 6
+    assert len([p for p in (folder / "cache").rglob("*.json") if "survey" not in p.parts]) == 6
 
     def no_simulation(*args, **kwargs):
         raise AssertionError("a cached run was simulated again")
@@ -124,7 +126,7 @@ def test_a_measured_alarm_holds_from_the_first_row_at_or_after_its_sample_s_stam
     stamps = np.array([0.002, 0.012, 0.022, 0.032])      # 100 Hz samples, 2 ms late
     alarm = np.array([False, True, True, False])
     # the sample stamped 0.012 s alarms the rows from 0.015 s, the one at 0.032 s re-arms from 0.035 s
-    assert wc.rows_in_alarm(stamps, alarm, rows).tolist() == [False] * 3 + [True] * 4 + [False] * 3
+    assert catalogue_runs.rows_in_alarm(stamps, alarm, rows).tolist() == [False] * 3 + [True] * 4 + [False] * 3
 
 
 def _hunting_front_bogie(seconds=30.0, rate=200.0, speed=80.0, start_s=8.0):
@@ -158,13 +160,13 @@ def test_a_hunting_front_frame_warns_a_hazard_of_its_bogie_only_and_from_its_sta
     from railderail_sim.parameters import VehicleParameters
     from railderail_sim.sensors.measure import START_UP_S, after
     arrays, signals, sensors = _hunting_front_bogie()
-    results = measured.evaluate(after(signals, START_UP_S), VehicleParameters(), wc.shipped_measured_limits(),
+    results = measured.evaluate(after(signals, START_UP_S), VehicleParameters(), sweeps.shipped_measured_limits(),
                                 measured.sample_rates(sensors))
-    alarms = wc.measured_alarms(results, arrays["time"], lambda c: [wc.shipped_level(c)])
-    peak = alarms["bogie_peak"][wc.shipped_level("bogie_peak")]
+    alarms = catalogue_runs.measured_alarms(results, arrays["time"], lambda c: [sweeps.shipped_level(c)])
+    peak = alarms["bogie_peak"][sweeps.shipped_level("bogie_peak")]
     assert peak.shape == (2, len(arrays["time"])) and peak[0].any() and not peak[1].any()
     first = np.flatnonzero(peak[0])[0]
-    m, limits = results["bogie_peak"], wc.shipped_measured_limits()
+    m, limits = results["bogie_peak"], sweeps.shipped_measured_limits()
     raised = m.time[m.channel_intervals(None, limits.rearm_fraction, limits.rearm_m)[0][0][0]]   # its alert
     assert arrays["time"][first - 1] < raised <= arrays["time"][first]       # the first row at or after the stamp
     assert not any(a.any() for c in ("car_body_lateral", "car_body_roll_rate")
@@ -173,7 +175,7 @@ def test_a_hunting_front_frame_warns_a_hazard_of_its_bogie_only_and_from_its_sta
     def hazard(bogie):
         return dict(kind="derailment", margin="wheel_unloading", time_s=20.0, end_s=20.0, speed_m_s=80.0,
                     position_m=1600.0, places=[(bogie, 1)])
-    front, rear = (wc.scores(alarms, arrays, [hazard(b)], 20.0) for b in (0, 1))
+    front, rear = (catalogue_runs.scores(alarms, arrays, [hazard(b)], 20.0) for b in (0, 1))
     # UIC 515-5's count within 500 ms (more than 6 peaks) cannot see a 4 Hz hunting: half-waves 125 ms apart
     assert not any(a.any() for a in alarms["bids_peak_count"].values())
     for rule in ("bogie_rms", "bogie_peak", "bids_peak_count_china"):
@@ -199,8 +201,8 @@ def test_the_measured_scores_follow_the_sensors_noise():
     found = [dict(kind="derailment", margin="wheel_unloading", time_s=29.0, end_s=29.0, speed_m_s=80.0,
                   position_m=2320.0, places=[(0, 1)])]
     shipped, noisy = (dict(noise=x, bias=1.0, rate_hz=200.0) for x in (1.0, 3000.0))
-    rows = wc.sensor_sensitivity_run(sensors, sim, arrays, found, rules, (shipped, noisy))
-    (calm,), (loud,) = (rows[wc.variant_name(v)]["car_body_lateral"] for v in (shipped, noisy))
+    rows = catalogue_runs.sensor_sensitivity_run(sensors, sim, arrays, found, rules, (shipped, noisy))
+    (calm,), (loud,) = (rows[sweeps.variant_name(v)]["car_body_lateral"] for v in (shipped, noisy))
     assert calm["false_episodes"] == 0 and calm["warnings"] == [None]
     assert loud["false_episodes"] >= 1 and loud["false_time_s"] > 0.0
 
@@ -221,22 +223,22 @@ def test_the_measured_criteria_s_scores_move_with_the_sensors(small):
     bias some score differs."""
     _, _, result = small
     sens = result["sensor_sensitivity"]
-    assert {s["variant"] for s in sens} == {wc.variant_name(v) for v in wc.SENSOR_VARIANTS}
-    base = {s["criterion"]: s for s in sens if s["variant"] == wc.variant_name(wc.SENSOR_VARIANTS[0])}
+    assert {s["variant"] for s in sens} == {sweeps.variant_name(v) for v in sweeps.SENSOR_VARIANTS}
+    base = {s["criterion"]: s for s in sens if s["variant"] == sweeps.variant_name(sweeps.SENSOR_VARIANTS[0])}
     table = {r["criterion"]: r for r in result["criteria"]
              if r["threshold"] == result["shipped_levels"][r["criterion"]] and r["signals"] == "measured"}
     assert set(base) == set(table) == set(measured.CRITERIA)
     keys = ("derailments", "warned", "usefully_warned", "lead_s_median", "false_alarm_episodes", "time_in_alarm_share")
     for c in base:
         assert [base[c][k] for k in keys] == pytest.approx([table[c][k] for k in keys], nan_ok=True)
-    for v in wc.SENSOR_VARIANTS[1:]:
-        assert all(s["derailments"] == 2 for s in sens if s["variant"] == wc.variant_name(v))
+    for v in sweeps.SENSOR_VARIANTS[1:]:
+        assert all(s["derailments"] == 2 for s in sens if s["variant"] == sweeps.variant_name(v))
 
     def scores(variant):
-        return [s[k] for s in sens if s["variant"] == wc.variant_name(variant) for k in keys]
+        return [s[k] for s in sens if s["variant"] == sweeps.variant_name(variant) for k in keys]
     # the roll-balance estimate reads the air springs' pressures: their bias moves its scores
     biased = dict(noise=1.0, bias=3.0, rate_hz=200.0)
-    assert scores(biased) != pytest.approx(scores(wc.SENSOR_VARIANTS[0]), nan_ok=True)
+    assert scores(biased) != pytest.approx(scores(sweeps.SENSOR_VARIANTS[0]), nan_ok=True)
 
 
 @pytest.mark.parametrize("text, message", [
@@ -335,7 +337,7 @@ def _synthetic_run(name, part, km, warned_at, false_at):
                   position_m=5000.0, places=[[0, 1]])
     criteria = {c: [dict(threshold=thr, warnings=[(12.0, 50.0) if thr <= warned_at(c) else None],
                          false_episodes=false_at(c, thr), false_time_s=0.0, false_km=0.0, window_false_episodes=0)
-                    for thr in wc.thresholds(c)] for c in wc.CRITERIA}
+                    for thr in sweeps.thresholds(c)] for c in sweeps.CRITERIA}
     return dict(scenario=name, family="overspeed", part=part, line=line, hazards=[hazard],
                 windows={str(rules.window_s): dict(normal_km=km, normal_h=km / 180.0, beyond_km=0.0,
                                                    criteria=criteria)})
@@ -361,15 +363,15 @@ def test_a_recommendation_keeps_its_real_budgets_on_runs_it_was_not_chosen_on(tm
     runs = [_synthetic_run(f"{part}-{k}", part, 140.0, warned, false_at(part)) for part in ("train", "test")
             for k in range(10)]
     rules = HazardRules()
-    rows = {(r["criterion"], r["level"]): r for r in wc.recommend(runs, rules)}
+    rows = {(r["criterion"], r["level"]): r for r in recommendation.recommend(runs, rules)}
     assert rows["derailment_coefficient_mean", "warning"]["threshold"] == 0.8
     assert rows["wheel_unloading", "warning"]["threshold"] is None
     assert "on the test part reach" in rows["wheel_unloading", "warning"]["reason"]
-    limits, disabled = wc.recommended_limits(dict(recommended=list(rows.values())))
+    limits, disabled = recommendation.recommended_limits(dict(recommended=list(rows.values())))
     (tmp_path / "recommended.yaml").write_text(parameter_file(limits, limits_of_car()[1], "a test"))
     limits = read_limits(tmp_path / "recommended.yaml")
     test = [r for r in runs if r["part"] == "test"]
-    rescored = wc.summarize(test, rules.window_s, rules)
+    rescored = tables.summarize(test, rules.window_s, rules)
     enabled = 0
     for row in (r for r in rows.values() if r["signals"] == "ground_truth"):
         level = getattr(limits, row["criterion"] if row["level"] == "warning" else critical_name(row["criterion"]))
@@ -377,8 +379,8 @@ def test_a_recommendation_keeps_its_real_budgets_on_runs_it_was_not_chosen_on(tm
             continue
         enabled += 1
         again = next(r for r in rescored if r["criterion"] == row["criterion"] and r["threshold"] == level)
-        assert again["false_alarms_per_1000_km_ci95"][1] <= wc.BUDGETS[row["level"]], row
-        assert again["usefully_warned"] >= wc.MIN_USEFUL_SHARE * again["derailments"], row
+        assert again["false_alarms_per_1000_km_ci95"][1] <= recommendation.BUDGETS[row["level"]], row
+        assert again["usefully_warned"] >= recommendation.MIN_USEFUL_SHARE * again["derailments"], row
     assert enabled >= 1
 
 
@@ -389,7 +391,7 @@ def test_dask_and_local_processes_give_the_same_evaluation(small):
     with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
         remote = wc.evaluate(entries, scheduler=cluster.scheduler_address, progress=False, budgets=GENEROUS,
                              min_share=0.0, cache=folder / "dask-cache")
-    assert len(list((folder / "dask-cache").rglob("*.json"))) == 6
+    assert len([p for p in (folder / "dask-cache").rglob("*.json") if "survey" not in p.parts]) == 6
     for r in (remote, result):
         r.pop("throughput")
     assert json.dumps(remote, sort_keys=True, default=str) == json.dumps(result, sort_keys=True, default=str)
@@ -408,7 +410,7 @@ def test_the_recommended_file_keeps_its_budgets_when_read_back_and_scored_again(
     limits = read_limits(tmp_path / "monitor-recommended.yaml")
     rules = HazardRules()
     test = [r for r in _raw(small) if r["part"] == "test"]
-    rescored = wc.summarize(test, rules.window_s, rules)
+    rescored = tables.summarize(test, rules.window_s, rules)
     enabled = 0
     assert {r["criterion"] for r in result["recommended"] if r["signals"] == "measured"} == set(measured.CRITERIA)
     for row in (r for r in result["recommended"] if r["signals"] == "ground_truth"):
@@ -422,14 +424,14 @@ def test_the_recommended_file_keeps_its_budgets_when_read_back_and_scored_again(
         assert again["false_alarms_per_1000_km_ci95"][1] <= GENEROUS[row["level"]]
         assert again["usefully_warned"] >= result["min_useful_share"] * again["derailments"]
     assert enabled > 0
-    for criterion in wc.THRESHOLDS:
+    for criterion in sweeps.THRESHOLDS:
         warn, crit = getattr(limits, criterion), getattr(limits, critical_name(criterion))
         assert not (math.isfinite(warn) and math.isfinite(crit)) or warn < crit
 
 
 def test_no_level_is_recommended_where_the_exposure_cannot_resolve_its_budget(small):
     _, _, result = small
-    rows = wc.recommend(_raw(small), HazardRules(), {"warning": 10.0, "critical": 3.0})
+    rows = recommendation.recommend(_raw(small), HazardRules(), {"warning": 10.0, "critical": 3.0})
     assert all(r["threshold"] is None and "cannot resolve" in r["reason"] for r in rows)
 
 

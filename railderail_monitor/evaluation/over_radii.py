@@ -38,7 +38,8 @@ from railderail_sim.vehicle.simulate import RADIUS_RANGE
 from ..warning.limits import CRITERIA, SEVERITY_NAMES, default_limits
 from ..warning.monitor import alerts_of_run
 from ..warning.alerts import lead_times
-from .over_catalogue import BUDGETS, RATE
+from .catalogue_runs import RATE
+from .recommendation import BUDGETS
 
 PAPER_RADII = (800.0, 1000.0, 1200.0, 1400.0, 1600.0, 1800.0)
 CASES = ("trial", "critical", "near", "balance", "operating")

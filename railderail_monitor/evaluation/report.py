@@ -181,6 +181,33 @@ def sensor_sensitivity(result):
     return lines
 
 
+def speed_supervision(result):
+    """Lines: the speed supervision's derailments prevented per family, its interventions in ordinary running,
+    the held-out goal and what it cannot see (docs/warning-evaluation.md, section 8a)."""
+    sup = result["speed_supervision"]
+    goal, ordinary = sup["held_out_goal"], sup["interventions_in_ordinary_running"]
+    lines = ["### The speed supervision: derailments prevented", "",
+             "Test part: each run that derailed without the supervisor run again with it in the closed loop (the "
+             "emergency brake on its intervention, dry rail). Its WARNING and INTERVENTION levels are scored in the "
+             "tables as `speed_supervision` 2 and 3.", "",
+             "| family | prevented / derailments (95 %) |", "|---|---|"]
+    for family, row in sup["prevented_by_family"].items():
+        lines.append(f"| {family} | {_share(row['prevented'], row['derailments'], row['prevented_ci95'])} |")
+    lines += ["", f"Interventions in ordinary running: {ordinary['episodes']} episodes over {ordinary['normal_km']:.0f} km "
+              f"({_number(ordinary['per_1000_km'])} per 1000 km, {_number(ordinary['per_hour'])} per hour); "
+              f"{ordinary['ordinary_runs_with_intervention']} of {ordinary['ordinary_runs']} ordinary runs.", "",
+              "Held-out goal (every over-speed derailment usefully warned and prevented, no intervention in ordinary "
+              f"running): {'met' if goal['met'] else 'not met'} over {goal['overspeed_derailments']} over-speed "
+              "derailments" + (f"; not usefully warned: {', '.join(goal['not_usefully_warned'])}"
+                               if goal["not_usefully_warned"] else "")
+              + (f"; not prevented: {', '.join(goal['not_prevented'])}" if goal["not_prevented"] else "") + ".", "",
+              "| what the supervisor cannot see | derailments | prevented as shipped | still prevented |",
+              "|---|---|---|---|"]
+    lines += [f"| {r['variant']} | {r['derailments']} | {r['prevented_as_shipped']} | {r['still_prevented']} |"
+              for r in sup["sensitivity"]]
+    return lines
+
+
 def markdown(result):
     """The whole evaluation as Markdown."""
     budgets = result["budgets_per_1000_km"]
@@ -213,7 +240,7 @@ def markdown(result):
         cells = {(s["window_s"], s["safe_speed_reduction"]): s for s in sens if s["criterion"] == criterion}
         lines.append(f"| {criterion} | " + " | ".join(f"{cells[k]['usefully_warned']}/{cells[k]['derailments']}"
                                                     for k in keys) + " |")
-    lines += ["", *sensor_sensitivity(result)]
+    lines += ["", *sensor_sensitivity(result), "", *speed_supervision(result)]
     lines += ["", "### The labelling rule and the braking model", "", "| name | value | unit | meaning | source | sure |",
               "|---|---|---|---|---|---|"]
     lines += [f"| {r['name']} | {r['value']} | {r['unit']} | {r['meaning']} | {r['source']} | {r['sure']} |"

@@ -50,7 +50,7 @@ def survey_targets(path):
     except (OSError, ValueError, KeyError, TypeError) as error:
         raise ValueError(f"survey {path}: not a survey's JSON with 'curves' ({error})") from None
     if "line" in data:
-        return _profile_targets(path, data)
+        return profile_targets(data, f"survey {path}")
     targets = []
     for i, c in enumerate(curves):
         try:
@@ -66,12 +66,15 @@ def _by_friction(curve):
     return tuple((float(f), float(v) * KMH) for f, v in (curve.get("safe_speed_by_friction_kmh") or {}).items())
 
 
-def _profile_targets(path, data):
+def profile_targets(data, where):
+    """The targets of a whole survey's dict (`railderail survey --json`, with its line): its most restrictive
+    profile, a curve's safe-speed piece carrying the curve's per-friction limits; `where` names the survey in
+    an error."""
     from railderail_sim.methods.survey import survey_targets as profile
     try:
         pieces = profile(data)
     except (KeyError, TypeError, ValueError) as error:
-        raise ValueError(f"survey {path}: {error}") from None
+        raise ValueError(f"{where}: {error}") from None
     targets = []
     for a, b, v, why in pieces:
         curve = next((c for c in data["curves"] if c["start_m"] <= a and b <= c["end_m"]
