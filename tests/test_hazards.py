@@ -13,7 +13,8 @@ import pytest
 from railderail_monitor.evaluation import scoring
 from railderail_monitor.evaluation.hazards import (BEYOND_PERMITTED, Car, HazardRules, beyond_permitted,
                                                    braking_time, hazard_cure, hazards, lead_needed,
-                                                   track_shift_force, useful_lead, windows)
+                                                   track_shift_force, useful_lead, window_of, windows,
+                                                   with_cure_leads)
 from railderail_monitor.warning.alarms import alarm_intervals, alert_indices
 
 P0 = 56064.15
@@ -165,6 +166,29 @@ def test_only_an_alarm_standing_at_the_hazard_warns_it():
     # two standing: from 3 s and from 1 s before; the lead is the earlier start's
     two = scoring.score(_alarms(4000, (1, 2400, 3000), (3, 2800, 3000)), places, a, found, 5.0, label)
     assert two["warnings"] == [(pytest.approx(3.0), 50.0)] and two["window_false_episodes"] == 0
+
+
+def test_a_hazard_s_window_is_at_least_the_lead_its_cure_needs():
+    """A hazard whose cure needs a longer lead than W (a stop before a defect from 180 km/h on wet rail: 1 + 2 s,
+    then 0.8 m/s^2 down to 170 km/h and 0.9 below) has a window that long: an alarm standing since 10 s before it is credited with 10 s at W = 5 s,
+    the running before it is in the window, not normal; without the cure's lead the same alarm counts from W."""
+    a = quiet_run()
+    event = dict(time_s=15.0, speed_kmh=180.0, car_body_position_m=750.0, wheelset=0, wheel_side="right",
+                 mechanism="flange_climbing")
+    line = dict(radius_m=800.0, cant_m=0.15, rail_spacing_m=1.5, class_speed_kmh=math.inf, gust_m_s=0.0,
+                defect=True, hunting=False, faults=[], critical_speed_kmh=math.nan)
+    plain = hazards(a, event, CAR, RULES)
+    (cured,) = with_cure_leads(plain, line, RULES)
+    assert cured["cure_lead_s"] == pytest.approx(3.0 + 10 / 3.6 / 0.8 + 170 / 3.6 / 0.9)
+    assert window_of(cured, 5.0) == cured["cure_lead_s"] and window_of(plain[0], 5.0) == 5.0
+    assert window_of(cured, 80.0) == 80.0
+    places = scoring.channel_places("wheel_lift", 8)
+    standing = _alarms(4000, (1, 1000, 3000))              # from 10 s before the derailment
+    label = windows(a["time"], [cured], 5.0)[1]
+    assert not np.any(label[:3000] == scoring.NORMAL)      # 58.9 s reach back past the run's start
+    assert scoring.score(standing, places, a, [cured], 5.0, label)["warnings"] == [(pytest.approx(10.0), 50.0)]
+    label = windows(a["time"], plain, 5.0)[1]
+    assert scoring.score(standing, places, a, plain, 5.0, label)["warnings"] == [(pytest.approx(5.0), 50.0)]
 
 
 def test_false_alarms_are_counted_over_normal_running_only():

@@ -21,7 +21,7 @@ from ..warning.climb_distance import climb_distance_ratio
 from ..warning.limits import TIMED, debounce, default_limits, model_basis
 from ..warning.quantities import front_attack_angle, running_gear_unloading, sliding_mean, unloading_ratio
 from .hazards import (BEYOND_PERMITTED, Car, HazardRules, beyond_permitted, cant_deficiency, hazards, margin_peaks,
-                      windows)
+                      windows, with_cure_leads)
 from .scoring import channel_places, exposure, in_alarm, score
 from .supervision_score import CRITERION as SUPERVISION, supervision_of_run
 from .sweeps import shipped_level, shipped_measured_limits, sensor_variant, thresholds, variant_name, SENSOR_VARIANTS
@@ -168,8 +168,8 @@ def run_one(item, cache=None, surveys=None):
     basis = model_basis(sim.model)
     car = Car(basis["flange_height"], basis["max_contact_angle"], basis["static_wheel_load"], entry.friction)
     event = sim.derailment()
-    found = hazards(arrays, event, car, rules)
     line = entry.line()
+    found = with_cure_leads(hazards(arrays, event, car, rules), line, rules)
     beyond = beyond_permitted(arrays, line, rules)
     deficiency = cant_deficiency(arrays, sc.track.rail_spacing)
     s, t = arrays["position"], arrays["time"]

@@ -414,15 +414,36 @@ def hazards(arrays, derailment, car, rules):
     return sorted(out, key=lambda h: (h["time_s"], h["kind"], h["margin"]))
 
 
+def with_cure_leads(found, line, rules):
+    """The hazards with `cure_lead_s`: the lead a warning at the hazard's speed needs to brake to its cure
+    (`hazard_cure`), the larger of dry and wet rail. A hazard's window is at least this long (`window_of`):
+    an alarm standing since then is a warning of use, however far ahead (a speed supervision's warning comes
+    as far ahead as the braking to the cure takes), and the fixed window W alone would cap every lead below
+    what a cure by braking from high speed needs (40 s to stop from 160 km/h on dry rail)."""
+    out = []
+    for h in found:
+        cure = hazard_cure(rules, h, line)["speed_kmh"]
+        lead = max(lead_needed(rules, h["speed_m_s"], cure, adhesion) for adhesion in ("dry", "wet"))
+        out.append(dict(h, cure_lead_s=float(lead)))
+    return out
+
+
+def window_of(hazard, window_s):
+    """The window (s) before a hazard at the window W = window_s: W, or the lead its cure needs where that is
+    longer (`with_cure_leads`)."""
+    return max(window_s, hazard.get("cure_lead_s", 0.0))
+
+
 def windows(times, found, window_s, beyond=None):
     """Per place, the samples inside a hazard window of W = window_s (n,) bool, and each sample's label
-    (n,): derailment within W before a derailment, near miss from W before a margin falls until it
-    recovers, beyond permitted where `beyond` (n,) bool holds outside these, normal elsewhere."""
+    (n,): derailment within the hazard's window (`window_of`: W, or the lead its cure needs where longer)
+    before a derailment, near miss from that window before a margin falls until it recovers, beyond
+    permitted where `beyond` (n,) bool holds outside these, normal elsewhere."""
     t = np.asarray(times, dtype=float)
     label = np.full(len(t), NORMAL, dtype=np.int8)
     place = {p: np.zeros(len(t), dtype=bool) for p in PLACES}
     for h in found:
-        inside = (t >= h["time_s"] - window_s) & (t <= h["end_s"])
+        inside = (t >= h["time_s"] - window_of(h, window_s)) & (t <= h["end_s"])
         kind = DERAILMENT if h["kind"] == "derailment" else NEAR_MISS
         label[inside] = np.maximum(label[inside], kind)
         for p in h["places"]:

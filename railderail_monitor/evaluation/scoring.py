@@ -11,7 +11,8 @@ until it re-arms (`warning.alarms.alarm_intervals`): what an operator sees. Then
 - **Credit: only an alarm standing at the hazard.** A hazard is warned when a matching channel is in alarm
   at the hazard's last sample before its time (the derailment, or the margin's fall). Its lead runs from the
   start of that channel's alarm episode (the earliest of the matching channels standing), capped at the
-  window W: an episode raised earlier counts from the window's start. An alarm that ended before the hazard
+  hazard's window (W, or the lead its cure needs where longer, `hazards.window_of`): an episode raised
+  earlier counts from the window's start. An alarm that ended before the hazard
   is not a warning of it, and the hazard is unwarned unless a later one stands. It is *usefully* warned when
   the lead covers the lead needed to brake to the hazard's cure (`hazards.hazard_cure`, `hazards.lead_needed`,
   at the speed of the credited start).
@@ -39,7 +40,7 @@ import numpy as np
 
 from ..warning.limits import BOGIE_PLACES, SIDES
 from ..warning.alarms import alarm_intervals
-from .hazards import BEYOND_PERMITTED, BOGIE_OF_WHEELSET, NORMAL, PLACES, lead_needed, useful_lead
+from .hazards import BEYOND_PERMITTED, BOGIE_OF_WHEELSET, NORMAL, PLACES, lead_needed, useful_lead, window_of
 from ..onboard import measured
 
 EPISODE_M = 1000.0         # m: one false-alarm episode at most per km of a run's track (the grid of the count)
@@ -97,7 +98,7 @@ def score(alarms, places, arrays, found, window_s, label):
     for h in found:
         matching = [c for c, ps in enumerate(places) if any(tuple(p) in ps for p in h["places"])]
         k = int(np.searchsorted(t, h["time_s"], "left")) - 1       # the hazard's last sample before its time
-        opening = int(np.searchsorted(t, h["time_s"] - window_s, "left"))
+        opening = int(np.searchsorted(t, h["time_s"] - window_of(h, window_s), "left"))
         starts = []
         for c in matching:
             if k >= 0 and alarms[c, k]:
