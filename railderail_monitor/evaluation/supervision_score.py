@@ -274,7 +274,8 @@ def supervision_of_run(entry, seed, sc, sim, arrays, found, rules, beyond, surve
     if sim.derailment() is None:
         return out
     out["prevented"] = not closed_loop_derails(sc, survey, entry.friction)
-    if entry.part_of(seed) == "test":
+    # the variants take information away from the supervisor: asked only of what it prevents as shipped
+    if entry.part_of(seed) == "test" and out["prevented"]:
         out["sensitivity"] = sensitivity_of_run(entry, seed, sc, survey, survey_by_key, out["prevented"])
     return out
 
@@ -317,8 +318,9 @@ def prevented_by_family(runs):
 
 
 def sensitivity_table(test_runs):
-    """Per variant (`VARIANTS`) over the test part's derailments it applies to: how many, how many the
-    supervisor prevented as shipped, and how many it still prevents."""
+    """Per variant (`VARIANTS`) over the test part's derailments it applies to among those the supervisor
+    prevented as shipped (a variant is not re-run where the shipped supervisor did not prevent): how many,
+    how many the supervisor prevented as shipped, and how many it still prevents."""
     out = []
     for variant in VARIANTS:
         mine = [r for r in test_runs if r["supervision"]["sensitivity"] is not None
