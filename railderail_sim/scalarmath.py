@@ -46,6 +46,8 @@ def exp(x):
 
 
 def power(x, p):
-    """x ** p for a scalar exponent p."""
-    p = float(p)
-    return _elementwise(lambda v: math.pow(v, p), x)
+    """x ** p, the exponent p a scalar or an array that broadcasts with x."""
+    a, b = np.broadcast_arrays(np.asarray(x, dtype=np.float64), np.asarray(p, dtype=np.float64))
+    out = np.fromiter(map(math.pow, a.ravel().tolist(), b.ravel().tolist()), dtype=np.float64,
+                      count=a.size).reshape(a.shape)
+    return float(out) if out.ndim == 0 else out

@@ -19,8 +19,9 @@ names the commit that wrote it.
 
 Runs: the default scenario (R = 1000 m, 300 km/h, Hertz, rigid smooth track), two that use every optional
 part (ERRI B176 high irregularity, seed 1, a 25 m/s crosswind and failed front yaw dampers, on elastic and
-on rigid track), and for the decisions also the default scenario to its derailment and the constant-speed
-runs of the critical speed's bracket (`decision_runs`).
+on rigid track), and for the decisions also the default scenario to its derailment, the constant-speed
+runs of the critical speed's bracket (`decision_runs`), a run braking from 200 to 30 km/h
+(`braking_run`) and one at 50 km/h over the line's first 600 m.
 
 The files were written on a CPU with numpy's AVX2 (X86_V3) loops; the model building calls libm one value at
 a time where numpy's AVX-512 loops round differently (`railderail_sim.scalarmath`), so they hold on AVX-512
@@ -129,11 +130,24 @@ def decision_runs(bracket):
     for the reference's bracket (safe, derails) of the critical speed in km/h."""
     out = {name: value for name, value in runs().items() if name != "default"}
     out["default_to_derailment"] = (runs()["default"][0], None)
+    out["braking"] = (braking_run(), None)
+    # the low speeds alone, where the spin's inertia is raised (the braking run's extremes are its fast part's)
+    out["low_speed"] = (replace(scenario(radius=1000.0, speed_kmh=50.0), end_position=600.0), None)
     safe, derails = bracket
     # a run that holds below and one that derails above mean a critical speed within the bound of the bracket's
     for name, v in (("critical_holds", derails - CRITICAL_BOUND_KMH), ("critical_derails", safe + CRITICAL_BOUND_KMH)):
         out[name] = (scenario(radius=CRITICAL_RADIUS_M, speed_kmh=v), None)
     return out
+
+
+def braking_run():
+    """A run braking to a stop as the closed loop's emergency brake does (`supervision.braking`): 200 km/h, the
+    brake commanded at 300 m (in the transition), down to 30 km/h (the lowest speed a run takes), where the
+    run ends; R = 1000 m. The low speeds are where the spin's inertia is raised (vehicle/dynamics.py)."""
+    from railderail_sim.supervision.braking import BrakingModel
+    v0, v1 = 200.0 / 3.6, 30.0 / 3.6
+    table = np.vstack([[[0.0, v0]], BrakingModel().speed_table(300.0, v0, v1)])
+    return replace(scenario(radius=1000.0, speed_kmh=200.0), speed_table=table, end_position=float(table[-1, 0]))
 
 
 def decide(sc, duration):
@@ -241,7 +255,7 @@ def test_the_core_gives_the_golden_outputs_bit_for_bit(golden, outputs, name):
 
 
 @pytest.mark.parametrize("name", ["features_elastic", "features_rigid", "default_to_derailment",
-                                  "critical_holds", "critical_derails"])
+                                  "critical_holds", "critical_derails", "braking", "low_speed"])
 def test_the_core_decides_as_at_the_reference_tolerances(standard, name):
     sc, duration = decision_runs(standard["critical_bracket_kmh"])[name]
     got = decide(sc, duration)

@@ -6,7 +6,10 @@ for the default scenario (R = 1000 m, constant 300 km/h on the Table 2 line, whi
 so the run ends there) and for the whole line at 250 km/h, with Hertz and with discrete contact, at the
 default tolerances and at the looser atol 1e-7 / rtol 1e-6 of the tolerance study; and the whole line at
 250 km/h on rigid track with an ERRI B176 high-level irregularity (seed 1, `track.irregularity`); and the default
-scenario with the shipped sensor set on (`real_time_factor_hertz_sensors`, railderail_sim/sensors).
+scenario with the shipped sensor set on (`real_time_factor_hertz_sensors`, railderail_sim/sensors); and
+the low-speed end of a run braking to a stop, `real_time_factor_hertz_50kmh`: 50 km/h over the line's first
+600 m (straight, transition and 200 m of the curve; 43 s simulated), where the wheelsets' spin would set the
+step (vehicle/dynamics.py, "Low speeds").
 
 speedup_vs_c4e3c65: the wall time of commit c4e3c65's default scenario over this code's, both timed in
 this bench run (the old commit checked out with `git worktree add` to a temporary folder and run there in
@@ -105,6 +108,7 @@ def run():
     out["default_scenario_simulated_s"] = sim.t
     out["steps_per_simulated_s"] = sim.steps[0] / sim.t
     out["real_time_factor_hertz_250kmh_whole_line"] = _rtf(scenario(radius=1000.0, speed_kmh=250.0))[0]
+    out["real_time_factor_hertz_50kmh"] = _rtf(replace(scenario(radius=1000.0, speed_kmh=50.0), end_position=600.0))[0]
     irregular = replace(scenario(radius=1000.0, speed_kmh=250.0),
                         irregularity=resolve("erri-high", 1, TrackParameters().line_length))
     out["real_time_factor_rigid_irregular"] = _rtf(irregular)[0]

@@ -31,6 +31,8 @@ from typing import Callable
 
 import numpy as np
 
+from .. import scalarmath
+
 COMPONENTS = ("vertical", "cross_level", "alignment", "gauge")
 MPH_KMH = 1.609344               # km/h per mph (exact)
 
@@ -166,7 +168,8 @@ def tbt3352_psd_f(component, f):
     f = np.asarray(f, dtype=float)
     piece = np.searchsorted(breaks, f, side="right")
     with np.errstate(divide="ignore", invalid="ignore"):
-        s = np.asarray(amplitudes)[piece] / f ** np.asarray(exponents)[piece]
+        # libm's pow, not numpy's: its AVX-512 loops round fractional powers differently (scalarmath)
+        s = np.asarray(amplitudes)[piece] / scalarmath.power(f, np.asarray(exponents)[piece])
     lo, hi = TBT3352["frequencies"].value
     return np.where((f >= lo) & (f <= hi), s, np.nan)
 

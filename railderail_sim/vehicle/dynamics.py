@@ -15,6 +15,13 @@ Formulation (details and assumptions in docs/vehicle-model.md):
 - Suspension forces come from the ground-frame positions and velocities of the attachment points (each
   body placed with its own station's track frame), so curving offsets between bodies (versines, relative
   yaw), large body roll and cant changes along the car are exact.
+- Low speeds: the spin's own mode is real, its rate proportional to the longitudinal creep stiffness over
+  I_spin v (the creepages are normalised by v), so below about 100 km/h it, not the wheelsets' bounce, would
+  set the explicit step (0.98 ms at 50 km/h against 1.8-2.4 ms; docs/performance.md). Below SPIN_HELD_SPEED
+  the spin's equation takes its inertia as I_spin SPIN_HELD_SPEED / v, which holds that mode at its rate of
+  SPIN_HELD_SPEED; the traction torque takes the same inertia, so the spin's steady rolling and the creep
+  forces it leaves are unchanged, only its relaxation (under a millisecond) is slower. The gyroscopic
+  term keeps the true angular momentum. Above SPIN_HELD_SPEED nothing changes.
 - Wheel-rail forces from `contact.wheelset` at each wheelset's pose relative to the rails (including the
   optional lateral alignment defect).
 """
@@ -370,6 +377,12 @@ def wheel_on_rail(x, o, height, rails_, support, side, sw, dfl, rate, track_moti
               qx + a * wy + c * wz, wy - a * qx + pr * wz, wz - c * qx - pr * wy, spin, v)
     return pose, motion, a, c, pr, ry, rz
 
+# m/s: below it the spin's inertia in its own equation is raised as 1/v (module docstring, "Low speeds"); the
+# speed at which the spin's own mode sets a Dormand-Prince limit of 1.96 ms on the straight, about the 2 ms
+# step cap (docs/performance.md: lambda v = 1.69e5 km/h/s), and the root locus's lowest speed, so its scans
+# are untouched. Source: own measurement (A); the choice of speed a modelling one.
+SPIN_HELD_SPEED = 100.0 / 3.6
+
 
 @core
 def rhs(x, dx, model, sp, buffers, tracked):
@@ -386,8 +399,10 @@ def rhs(x, dx, model, sp, buffers, tracked):
     g = vp[VehicleConstants.gravity]
     r0 = vp[VehicleConstants.rolling_radius]
     spin_i = vp[VehicleConstants.spin_inertia]
+    # the spin's own inertia, raised as 1/v below SPIN_HELD_SPEED (module docstring, "Low speeds")
+    spin_m = spin_i * SPIN_HELD_SPEED / v if v < SPIN_HELD_SPEED else spin_i
     # the motors/brakes supply the torque that keeps the wheels turning with the prescribed acceleration
-    traction = spin_i * v * dvds / r0
+    traction = spin_m * v * dvds / r0
     s = x[State.s]
     for b in range(N_BODY):
         o = State.positions + N_DOF * b
@@ -486,7 +501,7 @@ def rhs(x, dx, model, sp, buffers, tracked):
             gx += hs * (wy * ax_z - wz * ax_y)
             gz += hs * (wx * ax_y - wy * ax_x)
             # spin: the contact forces' moment about the axle (the axle boxes do not turn with the wheels)
-            dx[ov + Dof.pitch] = ((cmx * ax_x + cmy * ax_y + cmz * ax_z) + traction) / spin_i
+            dx[ov + Dof.pitch] = ((cmx * ax_x + cmy * ax_y + cmz * ax_z) + traction) / spin_m
         else:
             dx[ov + Dof.pitch] = (my - gy) / iy
         dx[ov + Dof.roll] = (mx - gx) / ix
