@@ -22,9 +22,10 @@ leading wheelset (-1 for the car body), wheel_side the running gear's side, and 
 (parameter `vehicle_set`); changed while running, they start a new MeasuredMonitor. Run it beside a
 ground-truth monitor under another name: `--ros-args -r __node:=railderail_onboard_monitor -p signals:=measured`.
 """
+from dataclasses import fields
+from importlib.resources import files
 import math
 import sys
-from dataclasses import fields
 
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
@@ -37,7 +38,7 @@ from railderail_sim.vehicle.layout import RUNNING_GEARS
 
 from .supervision.on_line import SIGNALS as SUPERVISION_SIGNALS
 from .warning.alerts import AlertRecord, amount_text, label
-from .warning.limits import SEVERITY_NAMES, SIGNALS as MODES, SIGNALS_MEANING, Limits, default_limits
+from .warning.limits import NODE, SEVERITY_NAMES, SIGNALS as MODES, SIGNALS_MEANING, Limits, default_limits
 from .warning.monitor import Monitor
 
 
@@ -88,6 +89,19 @@ SUPERVISION_SETUP = [
                     (1.0, 1000.0), read_only=True)]
 # the live inputs' parameters (may change while running) -> LiveInputs' fields
 LIVE_PARAMETERS = {"supervision_wind_speed": "wind_speed_m_s", "supervision_friction": "friction"}
+# the speed supervision's parameter file, beside the thresholds' (config/monitor.yaml, made from a model)
+SUPERVISION_FILE = files("railderail_monitor") / "config" / "supervision.yaml"
+SUPERVISION_REGENERATE = "python -m railderail_monitor.node --supervision-params > railderail_monitor/config/supervision.yaml"
+
+
+def supervision_parameter_file():
+    """The text of the speed supervision's parameter file: SUPERVISION_SETUP at its defaults."""
+    return m.parameter_file(NODE, SUPERVISION_SETUP, [
+        f"Parameters of the railderail monitor node ({NODE}): its speed supervision (docs/supervision.md).",
+        "Give it beside the thresholds' file: railderail-monitor --ros-args --params-file monitor.yaml "
+        "--params-file THIS_FILE.yaml",
+        f"Made by `{SUPERVISION_REGENERATE.split(' >')[0]}`. NaN (.nan): no live input of that kind. Units SI; "
+        "'-' = dimensionless."])
 
 
 def parameter_table(defaults):
@@ -365,6 +379,9 @@ class MonitorNode(Node):
 
 
 def main(argv=None) -> int:
+    if (sys.argv[1:] if argv is None else argv) == ["--supervision-params"]:
+        sys.stdout.write(supervision_parameter_file())
+        return 0
     return m.run_node("railderail-monitor", MonitorNode, argv, executor_class=m.events_executor)
 
 
