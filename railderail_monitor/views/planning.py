@@ -38,10 +38,9 @@ COLOURS = dict(grid=(90, 90, 90), permitted=(170, 170, 170), targets=(255, 127, 
 SERIES = (("speed", (31, 119, 180)), ("limit", (170, 170, 170)), ("target", (255, 127, 14)))
 
 
-def planning_view(name="supervision"):
+def planning_view(plot, name="supervision"):
     """The tab: the planning area above the supervision's speed, margin, time to the last braking point and
-    level over time."""
-    from .rerun_views import plot
+    level over time, each drawn by `plot(origin, title)` (the views' time series view)."""
     area = rrb.Spatial2DView(origin="/planning", name="planning area: speed (km/h, up) along the line (the front, km)")
     return rrb.Vertical(
         area,

@@ -173,8 +173,8 @@ class RunViewer:
     def blueprint(self):
         """The run's views; with sensor messages seen, in a tab "run" beside the tab "sensors"."""
         run = self.run_view()
-        tabs = ([self.sensors_view()] if self.sensors.messages else []) + ([planning_view()] if self.planning.seen
-                                                                          else [])
+        tabs = (([self.sensors_view()] if self.sensors.messages else [])
+                + ([planning_view(plot)] if self.planning.seen else []))
         layout = rrb.Tabs(run, *tabs, active_tab=0) if tabs else run
         return rrb.Blueprint(
             layout,
