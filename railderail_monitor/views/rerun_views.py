@@ -171,7 +171,8 @@ class RunViewer:
 
     # --- sinks ------------------------------------------------------------------------------
     def blueprint(self):
-        """The run's views; with sensor messages seen, in a tab "run" beside the tab "sensors"."""
+        """The run's views; with sensor messages seen, in a tab "run" beside the tab "sensors", and with the speed
+        supervision's status the tab "supervision"."""
         run = self.run_view()
         tabs = (([self.sensors_view()] if self.sensors.messages else [])
                 + ([planning_view(plot)] if self.planning.seen else []))
