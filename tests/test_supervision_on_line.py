@@ -121,17 +121,23 @@ def test_the_odometer_mode_reads_no_ground_truth_after_the_balise(run, tmp_path)
                                       * (front[-1] - front[0]))
 
 
-def test_the_status_gives_the_margin_and_the_time_to_the_last_braking_point(run):
+@pytest.mark.parametrize("signals", ["ground_truth", "odometer"])
+def test_the_status_at_an_alert_gives_its_margin_and_time_to_the_last_braking_point(signals, run):
     sc, rows, odometer = run
-    supervision = OnLineSupervision(_survey(sc), "survey")
-    steps = _on_line(rows, odometer, supervision)
-    status = m.SupervisionStatus.split(np.array([s.status for s in steps]))
-    # at each alert the status's margin and time are the alert's
+    supervision = OnLineSupervision(_survey(sc), "survey", signals=signals, odometer=SHIPPED.odometer)
+    status = m.SupervisionStatus.split(np.array([s.status for s in _on_line(rows, odometer, supervision)]))
     for a in supervision.supervisor.alerts:
         k = int(np.flatnonzero(status["time_s"] == a.time_s)[0])
         assert status["margin_kmh"][k] == pytest.approx(a.margin_kmh)
         assert status["time_to_intervention_s"][k] == pytest.approx(a.time_to_intervention_s)
-        assert status["level"][k] >= ["none", "indication", "warning", "intervention"].index(a.level)
+        assert status["level"][k] == ["none", "indication", "warning", "intervention"].index(a.level)
+
+
+def test_the_status_gives_the_target_and_the_time_to_its_last_braking_point(run):
+    sc, rows, odometer = run
+    supervision = OnLineSupervision(_survey(sc), "survey")
+    steps = _on_line(rows, odometer, supervision)
+    status = m.SupervisionStatus.split(np.array([s.status for s in steps]))
     target = scenario_targets(sc.track, CRITICAL_KMH * KMH, LIMITS)[0]
     before = status["front_m"] < target.start_m
     assert np.all(status["target_start_m"][before] == target.start_m)
@@ -258,3 +264,11 @@ def test_the_node_s_odometer_mode_subscribes_to_the_odometer(tmp_path, node_of, 
     node = node_of(f"supervision:={path}", "supervision_signals:=odometer")
     assert f"{m.SENSORS_NS}/{ODOMETER}" in _subscribed(node)
     assert node.supervision.signals == "odometer"
+
+
+def test_the_hunting_target_s_speed_is_the_warning_evaluation_s_nonlinear_critical_speed():
+    from railderail_monitor.evaluation.hazards import HazardRules
+    from railderail_monitor.node import SUPERVISION_SETUP
+
+    (spec,) = [s for s in SUPERVISION_SETUP if s.name == "supervision_nonlinear_critical_speed_kmh"]
+    assert spec.default == HazardRules().nonlinear_critical_speed_kmh
