@@ -66,12 +66,13 @@ def profile_strip(pieces, end_m):
 
 def braking_curves(braking, limits, start, end, speed_kmh, top_kmh, points=80):
     """The EBI and the permitted speed curves to a target (start m, end m, speed km/h) as the area's points
-    [(x, y)], from its speed up to top_kmh: where, at each speed, the emergency brake intervenes and where the
+    [(x, y)] on the line, from its speed up to top_kmh: where, at each speed, the emergency brake intervenes and where the
     driver should have braked (curves.TargetCurves, as the supervisor has them)."""
     curves = TargetCurves(Target(start, end, speed_kmh * KMH, "").validated(), braking, limits)
     speeds = np.linspace(speed_kmh, top_kmh, points)
-    return ([_point(curves.ebi(v * KMH), v) for v in speeds],
-            [_point(curves.locations(v * KMH)[1], v) for v in speeds])
+    # drawn on the line only (from its start, 0 m): a curve at high speed begins kilometres before a target
+    return ([_point(x, v) for x, v in ((curves.ebi(v * KMH), v) for v in speeds) if x >= 0.0],
+            [_point(x, v) for x, v in ((curves.locations(v * KMH)[1], v) for v in speeds) if x >= 0.0])
 
 
 class PlanningArea:
