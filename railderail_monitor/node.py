@@ -24,6 +24,7 @@ ground-truth monitor under another name: `--ros-args -r __node:=railderail_onboa
 """
 from dataclasses import fields
 from importlib.resources import files
+import json
 import math
 import sys
 
@@ -189,8 +190,6 @@ class MonitorNode(Node):
         setup = m.declare_parameters(self, SUPERVISION_SETUP, apply=self.on_live_inputs)
         if not setup["supervision"]:
             return None
-        import json
-
         from railderail_sim.sensors.config import load as load_sensors
 
         from .supervision.on_line import OnLineSupervision
@@ -343,9 +342,7 @@ class MonitorNode(Node):
         for step in steps:
             if step.brake is not None and self.brake_publisher is not None:
                 sv = self.supervision
-                t, position, speed = step.status[[m.SupervisionStatus.time_s, m.SupervisionStatus.front_m,
-                                                  m.SupervisionStatus.speed_kmh]]
-                position, speed = position - sv.front_offset, speed / 3.6
+                t, position, speed = step.time_s, step.position_m, step.speed_m_s
                 command = m.stamp(m.BrakeCommand(), t)
                 command.header.frame_id = "track"
                 command.sample, command.speed, command.release_speed = sv.sample, speed, step.brake

@@ -79,8 +79,12 @@ def _stretch(curves, x):
 
 @dataclass(frozen=True)
 class Step:
-    """What one supervised sample gives: the alerts (AlertRecords), the release speed of a brake to command
-    (m/s) or None, and the SupervisionStatus row."""
+    """What one supervised sample gives: its time (s), the car body's position (m) and the speed (m/s) as
+    supervised (the odometer's estimates in that mode), the alerts (AlertRecords), the release speed of a brake
+    to command (m/s) or None, and the SupervisionStatus row."""
+    time_s: float
+    position_m: float
+    speed_m_s: float
     alerts: list
     brake: float | None
     status: object
@@ -168,7 +172,7 @@ class OnLineSupervision:
                    for a in sup.alerts[before:]]
         brake = sup.release_speed if level == INTERVENTION and not self.commanded else None
         self.commanded = sup.release_speed is not None
-        return Step(records, brake, self.status(t, front, position_error, v, speed_error, level))
+        return Step(t, position, v, records, brake, self.status(t, front, position_error, v, speed_error, level))
 
     def status(self, t, front, position_error, v, speed_error, level):
         """The SupervisionStatus row at one sample (the front estimated, its error, the speed, its error, the
