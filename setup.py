@@ -34,7 +34,8 @@ setup(
         # data are the same files: the monitor reads its defaults from its copy)
         (f"share/{PACKAGE}/config", ["railderail_sim/config/simulator.yaml", "railderail_sim/config/sensors.yaml",
                                      "railderail_sim/config/sensors-realistic.yaml",
-                                     "railderail_monitor/config/monitor.yaml"]),
+                                     "railderail_monitor/config/monitor.yaml",
+                                     "railderail_monitor/config/supervision.yaml"]),
         (f"share/{PACKAGE}/launch", ["launch/demo.launch.py"]),
         (f"lib/{PACKAGE}", ["ros2_run/simulator", "ros2_run/monitor", "ros2_run/recorder"]),
     ],

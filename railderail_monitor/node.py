@@ -22,9 +22,11 @@ leading wheelset (-1 for the car body), wheel_side the running gear's side, and 
 (parameter `vehicle_set`); changed while running, they start a new MeasuredMonitor. Run it beside a
 ground-truth monitor under another name: `--ros-args -r __node:=railderail_onboard_monitor -p signals:=measured`.
 """
+from dataclasses import fields
+from importlib.resources import files
+import json
 import math
 import sys
-from dataclasses import fields
 
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
@@ -35,8 +37,9 @@ from railderail_sim.ros import sensor_messages as sm
 from railderail_sim.supervision.braking import ADHESIONS
 from railderail_sim.vehicle.layout import RUNNING_GEARS
 
+from .supervision.on_line import SIGNALS as SUPERVISION_SIGNALS
 from .warning.alerts import AlertRecord, amount_text, label
-from .warning.limits import SEVERITY_NAMES, SIGNALS as MODES, SIGNALS_MEANING, Limits, default_limits
+from .warning.limits import NODE, SEVERITY_NAMES, SIGNALS as MODES, SIGNALS_MEANING, Limits, default_limits
 from .warning.monitor import Monitor
 
 
@@ -61,15 +64,45 @@ MEASURED_SETUP = [
 
 
 SUPERVISION_SETUP = [
-    m.ParameterSpec("supervision", "", "ground truth: supervise the speed against a survey's safe speeds (the path "
-                    "of `railderail survey LINE.yaml --json`'s output, docs/supervision.md); empty: no speed "
-                    "supervision", read_only=True),
+    m.ParameterSpec("supervision", "", "supervise the speed against a survey's safe speeds (the path of `railderail "
+                    "survey LINE.yaml --json`'s output, docs/supervision.md); empty: no speed supervision",
+                    read_only=True),
+    m.ParameterSpec("supervision_signals", SUPERVISION_SIGNALS[0], "what the speed supervision takes the position "
+                    "and speed from: ground_truth, the wheelset states; odometer, the sensor set's odometer "
+                    "(/railderail/sensors/odometer, with its modelled error) from a balise at its first sample, its "
+                    "confidence interval's max safe front supervised", choices=SUPERVISION_SIGNALS, read_only=True),
     m.ParameterSpec("supervision_brake", True, "at the supervision's intervention, command the emergency brake on "
                     "/railderail/brake_command (the simulator obeys it): the loop closed", read_only=True),
     m.ParameterSpec("supervision_adhesion", "dry", "the braking model's emergency decelerations the supervision "
                     "plans with: dry rail, or wet (degraded adhesion)", choices=ADHESIONS, read_only=True),
     m.ParameterSpec("supervision_vehicle_set", "hs19", "the car whose leading wheelset is the train's front",
-                    choices=VEHICLE_SETS, read_only=True)]
+                    choices=VEHICLE_SETS, read_only=True),
+    m.ParameterSpec("supervision_wind_speed", math.nan, "live input: the measured wind (an anemometer's reading) "
+                    "against the characteristic wind curve of the survey's wind sites; NaN: none measured",
+                    "m/s", (0.0, 60.0), nan_disables=True),
+    m.ParameterSpec("supervision_friction", math.nan, "live input: the wheel-rail friction estimate that picks a "
+                    "curve's safe speed among the survey's per-friction ones; NaN: none (the lowest)", "-",
+                    (0.0, 1.0), lo_open=True, nan_disables=True),
+    m.ParameterSpec("supervision_nonlinear_critical_speed_kmh", 234.375, "live input hunting: once the measured "
+                    "monitor's bogie-instability rules alert (on /railderail/onboard_alerts), a target under this "
+                    "speed from there to the end of the line; the car's nonlinear critical speed, of the shipped "
+                    "limit-cycle scan (docs/report/report.json, hs19, 10 mm kink: A, own simulation)", "km/h",
+                    (1.0, 1000.0), read_only=True)]
+# the live inputs' parameters (may change while running) -> LiveInputs' fields
+LIVE_PARAMETERS = {"supervision_wind_speed": "wind_speed_m_s", "supervision_friction": "friction"}
+# the speed supervision's parameter file, beside the thresholds' (config/monitor.yaml, made from a model)
+SUPERVISION_FILE = files("railderail_monitor") / "config" / "supervision.yaml"
+SUPERVISION_REGENERATE = "python -m railderail_monitor.node --supervision-params > railderail_monitor/config/supervision.yaml"
+
+
+def supervision_parameter_file():
+    """The text of the speed supervision's parameter file: SUPERVISION_SETUP at its defaults."""
+    return m.parameter_file(NODE, SUPERVISION_SETUP, [
+        f"Parameters of the railderail monitor node ({NODE}): its speed supervision (docs/supervision.md).",
+        "Give it beside the thresholds' file: railderail-monitor --ros-args --params-file monitor.yaml "
+        "--params-file THIS_FILE.yaml",
+        f"Made by `{SUPERVISION_REGENERATE.split(' >')[0]}`. NaN (.nan): no live input of that kind. Units SI; "
+        "'-' = dimensionless."])
 
 
 def parameter_table(defaults):
@@ -143,7 +176,7 @@ class MonitorNode(Node):
                                                  apply=self.on_limits)
         self.monitor = Monitor(Limits(**self.limit_values))
         self.publisher = self.create_publisher(m.Alert, m.ALERTS, m.ALERT_QOS)
-        self.supervision = self._supervision(m.declare_parameters(self, SUPERVISION_SETUP))
+        self.supervision = self._supervision()
         self.create_subscription(m.WheelsetStates, m.STATES, self.on_states, m.SENSOR_SUBSCRIBER)
         self.create_subscription(m.ContactForces, m.FORCES, self.on_forces, m.SENSOR_SUBSCRIBER)
         self.create_subscription(m.VehicleStatus, m.STATUS, self.on_status, m.SENSOR_SUBSCRIBER)
@@ -151,19 +184,62 @@ class MonitorNode(Node):
         self.alerts = 0
         self.get_logger().info(f"railderail monitor: {self.monitoring()}")
 
-    def _supervision(self, setup):
-        """The speed supervision of the `supervision` parameters, or None."""
+    def _supervision(self):
+        """The speed supervision of the `supervision` parameters, or None: its brake command's and its views'
+        publishers, the odometer's and the measured monitor's subscriptions."""
+        setup = m.declare_parameters(self, SUPERVISION_SETUP, apply=self.on_live_inputs)
         if not setup["supervision"]:
             return None
+        from railderail_sim.sensors.config import load as load_sensors
+
         from .supervision.on_line import OnLineSupervision
-        supervision = OnLineSupervision(setup["supervision"], setup["supervision_vehicle_set"],
-                                        setup["supervision_adhesion"])
+        path = setup["supervision"]
+        try:
+            with open(path) as f:
+                survey = json.load(f)
+        except (OSError, ValueError) as error:
+            raise ValueError(f"supervision {path}: not a survey's JSON ({error})") from None
+        odometer = load_sensors(None).odometer if setup["supervision_signals"] == "odometer" else None
+        supervision = OnLineSupervision(survey, path, setup["supervision_vehicle_set"], setup["supervision_adhesion"],
+                                        setup["supervision_signals"], odometer,
+                                        setup["supervision_nonlinear_critical_speed_kmh"])
         self.brake_publisher = (self.create_publisher(m.BrakeCommand, m.BRAKE, m.BRAKE_QOS)
                                 if setup["supervision_brake"] else None)
+        self.setup_publisher = self.create_publisher(m.TOPICS[m.SUPERVISION][1], m.SUPERVISION, m.LATCHED)
+        self.status_publisher = self.create_publisher(m.TOPICS[m.SUPERVISION_STATUS][1], m.SUPERVISION_STATUS,
+                                                      m.SENSOR)
+        self.supervision = supervision
+        self.on_live_inputs({k: setup[k] for k in LIVE_PARAMETERS})
+        if odometer is not None:
+            topic = f"{m.SENSORS_NS}/{sm.ODOMETER}"
+            self.create_subscription(sm.sensor_topics(load_sensors(None))[topic][1], topic, self.on_odometer,
+                                     SENSOR_BACKLOG)
+        self.create_subscription(m.Alert, m.ONBOARD_ALERTS, self.on_onboard_alert, m.ALERT_QOS)
         targets = supervision.supervisor.base
-        self.get_logger().info(f"speed supervision: {len(targets)} targets of {setup['supervision']}"
-                               + ("" if self.brake_publisher else " (alerts only: no brake commands)"))
+        self.get_logger().info(f"speed supervision ({setup['supervision_signals']}): {len(targets)} targets of "
+                               f"{path}" + ("" if self.brake_publisher else " (alerts only: no brake commands)"))
         return supervision
+
+    def on_live_inputs(self, changed):
+        """The live inputs' parameters set (at start, or `ros2 param set` while running): the targets they move
+        rebuilt, and published again."""
+        given = {LIVE_PARAMETERS[k]: (None if math.isnan(v) else v) for k, v in changed.items() if k in LIVE_PARAMETERS}
+        if not given or getattr(self, "supervision", None) is None:
+            return
+        self.supervision.inputs(**given)
+        self._publish_setup(", ".join(f"{k} {v:g}" for k, v in changed.items() if k in LIVE_PARAMETERS))
+
+    def _publish_setup(self, why):
+        self.setup_publisher.publish(m.supervision_setup_message(self.supervision.setup()))
+        self.get_logger().info(f"speed supervision: live inputs {why}: {len(self.supervision.supervisor.curves)} "
+                               "targets")
+
+    def on_onboard_alert(self, msg):
+        if self.supervision.on_onboard_alert(msg.criterion):
+            self._publish_setup(f"hunting ({msg.criterion} at {msg.header.frame_id})")
+
+    def on_odometer(self, msg):
+        self._supervised(self.supervision.on_odometer(m.seconds(msg.header.stamp), msg.twist.twist.linear.x))
 
     def _measured(self):
         """The measured mode: the sensor topics only, MeasuredMonitor, /railderail/onboard_alerts."""
@@ -256,21 +332,26 @@ class MonitorNode(Node):
         self._count("states", msg.sample)
         t = m.seconds(msg.header.stamp)
         if self.supervision is not None:
-            self._supervise(t, msg)
+            self._supervised(self.supervision.on_states(t, msg.sample, msg.track_position, msg.speed))
         self._publish(self.monitor.on_states(t, msg.sample, msg.track_position, msg.speed, msg.attack_angle,
                                              msg.wheel_lift))
 
-    def _supervise(self, t, msg):
-        alerts, brake = self.supervision.on_states(t, msg.sample, msg.track_position, msg.speed)
-        if brake is not None and self.brake_publisher is not None:      # the brake before anything else
-            command = m.stamp(m.BrakeCommand(), t)
-            command.header.frame_id = msg.header.frame_id
-            command.sample, command.speed, command.release_speed = msg.sample, msg.speed, brake
-            command.track_position, command.reason = msg.track_position, self.supervision.reason()
-            self.brake_publisher.publish(command)
-            self.get_logger().warning(f"t = {t:.3f} s, s = {msg.track_position:.1f} m: emergency brake commanded "
-                                      f"at {msg.speed * 3.6:.1f} km/h, down to {brake * 3.6:.1f} km/h")
-        self._publish(alerts)
+    def _supervised(self, steps):
+        """Publish what the supervision's steps gave: the brake before anything else, then the alerts and the
+        status."""
+        for step in steps:
+            if step.brake is not None and self.brake_publisher is not None:
+                sv = self.supervision
+                t, position, speed = step.time_s, step.position_m, step.speed_m_s
+                command = m.stamp(m.BrakeCommand(), t)
+                command.header.frame_id = "track"
+                command.sample, command.speed, command.release_speed = sv.sample, speed, step.brake
+                command.track_position, command.reason = position, sv.reason()
+                self.brake_publisher.publish(command)
+                self.get_logger().warning(f"t = {t:.3f} s, s = {position:.1f} m: emergency brake commanded "
+                                          f"at {speed * 3.6:.1f} km/h, down to {step.brake * 3.6:.1f} km/h")
+            self._publish(step.alerts)
+            self.status_publisher.publish(m.supervision_status_message(step.status))
 
     def on_forces(self, msg):
         self._count("forces", msg.sample)
@@ -295,6 +376,9 @@ class MonitorNode(Node):
 
 
 def main(argv=None) -> int:
+    if (sys.argv[1:] if argv is None else argv) == ["--supervision-params"]:
+        sys.stdout.write(supervision_parameter_file())
+        return 0
     return m.run_node("railderail-monitor", MonitorNode, argv, executor_class=m.events_executor)
 
 

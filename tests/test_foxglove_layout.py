@@ -24,6 +24,8 @@ LAYOUT = json.loads((ROOT / "foxglove" / "railderail-layout.json").read_text())
 NUMERIC = {"bool", "byte", "char", "int8", "uint8", "int16", "uint16", "int32", "uint32", "int64", "uint64",
            "float32", "float64"}
 STEP = re.compile(r"^(\w+)(?:\[(\d+)\])?$")
+# the records carried in an unbounded array: (topic, field) -> its length
+RECORDS = {(m.SUPERVISION_STATUS, "data"): m.SupervisionStatus.size()}
 TOPICS = {**m.TOPICS, **sm.sensor_topics(default_set()), m.CLOCK: m.CLOCK_TOPIC,
           m.ONBOARD_ESTIMATES: m.ONBOARD_ESTIMATES_TOPIC}
 
@@ -50,8 +52,9 @@ def leaf_type(path):
         assert fields is not None and field in fields, f"{path}: no field {field}"
         field_type = fields[field]
         if index is not None:
-            assert field_type.is_array and field_type.array_size, f"{path}: {field} is not a fixed-size array"
-            assert int(index) < field_type.array_size, f"{path}: {field} has {field_type.array_size} elements"
+            size = field_type.array_size or RECORDS.get((topic, field)) if field_type.is_array else None
+            assert size, f"{path}: {field} is not a fixed-size array"
+            assert int(index) < size, f"{path}: {field} has {size} elements"
         else:
             assert not field_type.is_array or i == len(steps) - 1, f"{path}: {field} needs an index"
         fields = None if field_type.is_primitive_type() else definition(field_type.pkg_name, field_type.type)
@@ -90,7 +93,8 @@ def test_every_path_exists_in_the_message_definitions():
     # 4 wheelsets, 3 x 8 wheels, speed and acceleration, 2 timelines, 3 whole topics; the sensors' tab: the
     # mounts' lateral and vertical acceleration, the car body's 3 roll rates, the estimator's 4 sides' unloading
     # and Q/P, and per bogie its 2 sides' loads beside its 4 wheels' P
-    assert checked == 35 + 2 * len(MOUNTS) + 3 + 2 * 4 + 2 * (2 + 4)
+    # the supervision's tab: 7 series, the planning area's x axis (checked below) and the whole setup topic
+    assert checked == 35 + 2 * len(MOUNTS) + 3 + 2 * 4 + 2 * (2 + 4) + 7 + 1
 
 
 def thresholds(panel):
@@ -126,7 +130,7 @@ def test_the_same_wheel_has_the_same_colour_in_every_plot():
 
 def test_the_sensors_tab_plots_every_mount_with_the_rules_levels_of_the_rerun_views():
     tabs = LAYOUT["configById"][LAYOUT["layout"]]["tabs"]
-    assert [tab["title"] for tab in tabs] == ["run", "sensors"]
+    assert [tab["title"] for tab in tabs] == ["run", "sensors", "supervision"]
     levels = sensor_levels(VehicleParameters())
     for group, _ in SENSOR_GROUPS:
         for plot, field in (("lateral", "linear_acceleration.y"), ("vertical", "linear_acceleration.z")):
@@ -156,3 +160,21 @@ def test_the_sensors_tab_is_the_one_railderail_monitor_foxglove_writes():
     from railderail_monitor.views.foxglove import with_sensors_tab
 
     assert with_sensors_tab(LAYOUT) == LAYOUT, "python -m railderail_monitor.views.foxglove writes the tab anew"
+
+
+def test_the_supervision_tab_plots_the_status_against_the_front_s_position():
+    from railderail_monitor.views.foxglove import with_supervision_tab
+
+    assert with_supervision_tab(LAYOUT) == LAYOUT, "python -m railderail_monitor.views.foxglove writes the tab anew"
+    config = LAYOUT["configById"]
+    planning = config["Plot!supervision_planning"]
+    assert planning["xAxisVal"] == "custom"
+    x = planning["xAxisPath"]["value"]
+    assert leaf_type(x).type == "float64" and x == f"{m.SUPERVISION_STATUS}.data[{int(m.SupervisionStatus.front_m)}]"
+    fields = {int(m.SupervisionStatus[f]): f for f in m.SupervisionStatus.names()}
+    shown = {p: [fields[int(re.search(r"\[(\d+)\]$", s["value"]).group(1))] for s in config[p]["paths"]]
+             for p in ("Plot!supervision_planning", "Plot!supervision_margin", "Plot!supervision_level")}
+    assert shown == {"Plot!supervision_planning": ["speed_kmh", "target_speed_kmh", "limit_kmh"],
+                     "Plot!supervision_margin": ["margin_kmh", "time_to_intervention_s"],
+                     "Plot!supervision_level": ["level", "braking"]}
+    assert config["RawMessages!supervision"]["topicPath"] == m.SUPERVISION

@@ -1,6 +1,7 @@
-"""The nodes' parameter files (railderail_sim/config/simulator.yaml, railderail_monitor/config/monitor.yaml):
-every declared parameter at its default with a comment, the same as the nodes' tables; each node started
-with its file, changed, uses the file's values."""
+"""The nodes' parameter files (railderail_sim/config/simulator.yaml, railderail_monitor/config/monitor.yaml and,
+beside it, the speed supervision's railderail_monitor/config/supervision.yaml): every declared parameter at its
+default with a comment, the same as the nodes' tables; each node started with its files, changed, uses the
+files' values."""
 import sys
 
 import pytest
@@ -9,7 +10,8 @@ from rclpy.parameter import parameter_value_to_python
 
 from railderail_monitor.warning.limits import default_limits
 from railderail_monitor.warning.limits import SHIPPED as MONITOR_FILE
-from railderail_monitor.node import SUPERVISION_SETUP, parameter_table
+from railderail_monitor.node import (SUPERVISION_FILE, SUPERVISION_REGENERATE, SUPERVISION_SETUP, parameter_table,
+                                     supervision_parameter_file)
 from railderail_sim.cli import main
 from railderail_sim.cli.nodes import REGENERATE, SHIPPED as SIMULATOR_FILE
 from railderail_sim.ros.node import PARAMETERS
@@ -17,6 +19,10 @@ from test_parameters import Client
 
 TABLES = {"railderail_simulator": (SIMULATOR_FILE, PARAMETERS),
           "railderail_monitor": (MONITOR_FILE, parameter_table(default_limits()))}
+# a file of a node's parameters: (node, file, the part of its table the file holds)
+FILES = {"simulator": ("railderail_simulator", *TABLES["railderail_simulator"]),
+         "monitor": ("railderail_monitor", *TABLES["railderail_monitor"]),
+         "monitor supervision": ("railderail_monitor", SUPERVISION_FILE, SUPERVISION_SETUP)}
 
 
 def test_shipped_simulator_file_is_the_node_s_table(capsys):
@@ -25,13 +31,18 @@ def test_shipped_simulator_file_is_the_node_s_table(capsys):
         f"railderail_sim/config/simulator.yaml is not the node's parameter table: regenerate it with `{REGENERATE}`"
 
 
+def test_shipped_supervision_file_is_the_node_s_table():
+    assert SUPERVISION_FILE.read_text() == supervision_parameter_file(), \
+        f"railderail_monitor/config/supervision.yaml is not the node's table: regenerate it with `{SUPERVISION_REGENERATE}`"
+
+
 def same_value(a, b):
     return type(a) is type(b) and (a == b or a != a and b != b)       # NaN equals NaN here
 
 
-@pytest.mark.parametrize("node", TABLES)
-def test_file_holds_every_declared_parameter_with_its_default_and_a_comment(node):
-    path, specs = TABLES[node]
+@pytest.mark.parametrize("which", FILES)
+def test_file_holds_every_declared_parameter_with_its_default_and_a_comment(which):
+    node, path, specs = FILES[which]
     text = path.read_text()
     values = yaml.safe_load(text)[node]["ros__parameters"]
     assert list(values) == [spec.name for spec in specs]
@@ -57,8 +68,10 @@ def test_node_started_with_its_file_uses_it(node, module, name, changed, log, up
     path, specs = TABLES[node]
     data = yaml.safe_load(path.read_text())
     expected = dict(data[node]["ros__parameters"], **{name: changed})
-    if node == "railderail_monitor":     # the speed supervision's, off by default, are not in the thresholds' file
-        expected.update({spec.name: spec.default for spec in SUPERVISION_SETUP})
+    # the monitor's speed supervision has a file of its own beside the thresholds'
+    more = [SUPERVISION_FILE] if node == "railderail_monitor" else []
+    for beside in more:
+        expected.update(yaml.safe_load(beside.read_text())[node]["ros__parameters"])
     if how == "edited file":
         text = path.read_text()
         line = f"    {name}: {data[node]['ros__parameters'][name]!r}\n"
@@ -68,6 +81,7 @@ def test_node_started_with_its_file_uses_it(node, module, name, changed, log, up
         args = ["--params-file", str(edited)]
     else:
         args = ["--params-file", str(path), "-p", f"{name}:={changed!r}"]
+    args += [a for beside in more for a in ("--params-file", str(beside))]
     child = spawn([sys.executable, "-m", module, "--ros-args", *args])
     if not any(up in line for line in read_until(child, log, timeout=30)):
         read_until(child, up, timeout=180)          # the simulator: a cold numba compile included

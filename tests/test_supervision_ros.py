@@ -1,6 +1,8 @@
 """The speed supervision's loop closed through ROS: the monitor node supervising the speed against a survey
 commands the emergency brake on /railderail/brake_command, the simulator node brakes on it and the run that
-derails without the supervisor (the batch core, the same scenario) ends at the end of the line."""
+derails without the supervisor (the batch core, the same scenario) ends at the end of the line; in the odometer
+mode (the simulator's odometer messages only, with their error) it brakes where the batch path's odometer
+mode does, earlier than on ground truth."""
 import json
 import sys
 
@@ -35,18 +37,23 @@ def _survey(path):
 class BrakeListener(Listener):
     def __init__(self):
         super().__init__()
-        self.brakes = []
+        self.brakes, self.statuses, self.setups = [], [], []
         self.node.create_subscription(m.BrakeCommand, m.BRAKE, self.brakes.append, m.BRAKE_QOS)
+        self.node.create_subscription(m.TOPICS[m.SUPERVISION_STATUS][1], m.SUPERVISION_STATUS,
+                                      lambda msg: self.statuses.append(m.supervision_status_dict(msg)),
+                                      m.SENSOR_SUBSCRIBER)
+        self.node.create_subscription(m.TOPICS[m.SUPERVISION][1], m.SUPERVISION, self.setups.append, m.LATCHED)
 
 
-def _run(spawn, read_until, survey, brake=True):
+def _run(spawn, read_until, survey, brake=True, signals="ground_truth"):
     listener = BrakeListener()
     try:
         monitor = spawn([PY, "-m", "railderail_monitor.node", "--ros-args", "-p", f"supervision:={survey}",
-                         "-p", f"supervision_brake:={str(brake).lower()}"])
+                         "-p", f"supervision_brake:={str(brake).lower()}", "-p", f"supervision_signals:={signals}"])
         read_until(monitor, "monitoring", timeout=60)
+        sensors = {"sensors": "shipped"} if signals == "odometer" else {}
         simulator = spawn([PY, "-m", "railderail_sim.ros.node", "--ros-args"]
-                          + [a for k, v in RUN.items() for a in ("-p", f"{k}:={v}")])
+                          + [a for k, v in {**RUN, **sensors}.items() for a in ("-p", f"{k}:={v}")])
         assert simulator.wait(timeout=400) == 0, simulator.stderr.read()
         assert listener.spin_until(lambda: listener.final is not None, 30)
         listener.spin_for(1.0)
@@ -73,3 +80,27 @@ def test_the_supervisor_brakes_the_simulator_and_prevents_the_derailment(spawn, 
     assert "EMERGENCY BRAKE" in log
     # the braked run reached the curve at its target speed: the final status's speed is the release speed
     assert closed.final.speed == pytest.approx(target.speed_limit_m_s, abs=0.05)
+
+
+@pytest.mark.timeout(900)
+def test_the_odometer_mode_brakes_where_the_batch_path_s_does_and_prevents_the_derailment(spawn, read_until,
+                                                                                          tmp_path):
+    import argparse
+
+    from railderail_monitor.supervision.loop import simulate_supervised
+
+    target = _survey(tmp_path / "survey.json")
+    args = argparse.Namespace(adhesion="dry", supervision=str(tmp_path / "survey.json"), critical_speed_kmh=None,
+                              odometer=True, sensor_seed=None, closed_loop=True)
+    batch, _ = simulate_supervised(args, _scenario())
+    (batch_brake,) = batch["brake_commands"]
+    closed, _ = _run(spawn, read_until, tmp_path / "survey.json", signals="odometer")
+    assert closed.derailment is None and closed.final.state == m.msgs.VehicleStatus.STATE_FINISHED
+    (brake,) = closed.brakes
+    # decided on the same odometer sample as the batch path (the batch's time is its row's, up to 5 ms before)
+    assert m.seconds(brake.header.stamp) == pytest.approx(batch_brake["time_s"], abs=0.006)
+    assert brake.release_speed == pytest.approx(target.speed_limit_m_s)
+    # a status per odometer sample (10 Hz) up to the end of the line, and what it supervised, latched
+    assert len(closed.statuses) == pytest.approx(closed.final.header.stamp.sec * 10, abs=12)
+    assert closed.statuses[-1]["position_error_m"] > 5.0
+    assert json.loads(closed.setups[-1].data)["signals"] == "odometer"

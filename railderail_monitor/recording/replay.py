@@ -360,7 +360,8 @@ class Publisher:
 
 # --- Rerun --------------------------------------------------------------------------------------
 
-VIEWED = (STATES, FORCES, STATUS, ALERTS, m.ONBOARD_ALERTS, DERAILMENT, FINAL_STATUS)
+VIEWED = (STATES, FORCES, STATUS, ALERTS, m.ONBOARD_ALERTS, DERAILMENT, FINAL_STATUS, m.BRAKE, m.SUPERVISION,
+          m.SUPERVISION_STATUS)
 
 
 def viewed(topic):
@@ -371,7 +372,8 @@ def viewed(topic):
 def feed_viewer(viewer):
     """An on_message callback that shows the recorded topics (the sensors' included) in a viewer.RunViewer."""
     handlers = dict(zip(VIEWED, (viewer.on_states, viewer.on_forces, viewer.on_status, viewer.on_alert,
-                                 viewer.on_onboard_alert, viewer.on_derailment, viewer.on_final_status)))
+                                 viewer.on_onboard_alert, viewer.on_derailment, viewer.on_final_status,
+                                 viewer.on_brake, viewer.on_supervision, viewer.on_supervision_status)))
 
     def on_message(topic, type_name, log_time, data, decoded):
         if decoded is None:

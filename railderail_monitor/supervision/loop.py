@@ -46,8 +46,17 @@ def survey_targets(path):
     try:
         with open(path) as f:
             data = json.load(f)
+    except (OSError, ValueError) as error:
+        raise ValueError(f"survey {path}: not a survey's JSON with 'curves' ({error})") from None
+    return targets_of_survey(data, path)
+
+
+def targets_of_survey(data, path):
+    """The targets of a survey's JSON content `data` (read from `path`, which the errors and reasons name), as
+    `survey_targets` gives them."""
+    try:
         curves = data["curves"]
-    except (OSError, ValueError, KeyError, TypeError) as error:
+    except (KeyError, TypeError) as error:
         raise ValueError(f"survey {path}: not a survey's JSON with 'curves' ({error})") from None
     if "line" in data:
         return profile_targets(data, f"survey {path}")

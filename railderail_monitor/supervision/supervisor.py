@@ -127,6 +127,11 @@ class Supervisor:
                                   f"hunting: nonlinear critical speed {vn / KMH:.0f} km/h"))
         return [TargetCurves(t.validated(), self.braking, self.limits) for t in targets]
 
+    @property
+    def curves(self):
+        """The braking curves (curves.TargetCurves) of the targets now, the live inputs' included."""
+        return self._curves
+
     def inputs(self, live, front_m):
         """New live inputs (LiveInputs), seen with the front at front_m (m): the targets they move are rebuilt."""
         if live == self.live:

@@ -1,8 +1,13 @@
-"""The `sensors` tab of the Foxglove layout (foxglove/railderail-layout.json), made from the sensor set's
+"""The `sensors` and `supervision` tabs of the Foxglove layout (foxglove/railderail-layout.json). The sensors tab is made from the sensor set's
 mounts (sensors.sensor_set.MOUNTS) and the Rerun views' groups, colours and on-board levels (rerun_views.py), so that
 the two views show the same, and the measured-mode monitor's estimates (/railderail/onboard_estimates) beside
-the ground truth's wheel loads; `python -m railderail_monitor.views.foxglove` writes it into the layout file (the
-`run` tab, hand-made, is kept). tests/test_foxglove_layout.py checks that the file holds what this gives.
+the ground truth's wheel loads. The supervision tab is the speed supervision's (the monitor's
+/railderail/supervision_status, interface.SupervisionStatus, and /railderail/supervision): a driver's planning
+area (the speed, the target speed and the limit in force against the front's position along the line), the
+margin and the time to the last braking point, the level and the brake, what it supervises; Foxglove draws only
+what messages carry, so the survey's critical derailment speeds and the braking curves are the Rerun tab's
+alone. `python -m railderail_monitor.views.foxglove` writes both into the layout file (the `run` tab,
+hand-made, is kept). tests/test_foxglove_layout.py checks that the file holds what this gives.
 """
 from __future__ import annotations
 
@@ -11,12 +16,14 @@ import sys
 from pathlib import Path
 
 from railderail_sim.parameters import VehicleParameters
-from railderail_sim.ros.interface import FORCES, ONBOARD_ESTIMATES, SENSORS_NS
+from railderail_sim.ros.interface import FORCES, ONBOARD_ESTIMATES, SENSORS_NS, SUPERVISION, SUPERVISION_STATUS
+from railderail_sim.ros.interface import SupervisionStatus
 from railderail_sim.sensors.sensor_set import MOUNTS
 from railderail_sim.vehicle.layout import RUNNING_GEARS
 
 from ..onboard.estimator import BOGIES
 from ..onboard.measured import GEAR_SIDES, measured_limits
+from .planning import COLOURS as PLANNING_COLOURS
 from .rerun_views import MOUNT_COLORS, RED, SENSOR_GROUPS, sensor_group, sensor_levels
 
 LAYOUT = Path(__file__).resolve().parents[2] / "foxglove" / "railderail-layout.json"
@@ -109,6 +116,13 @@ def sensors_layout():
     return dict(first=measured, second=estimated, direction="row", splitPercentage=75.0)
 
 
+def _with_tab(tabs, new):
+    """The tabs with `new` in the place of the one of its title, or after them."""
+    if any(tab["title"] == new["title"] for tab in tabs):
+        return [new if tab["title"] == new["title"] else tab for tab in tabs]
+    return tabs + [new]
+
+
 def with_sensors_tab(layout):
     """The layout (a parsed file) with its sensors tab made anew, its run tab kept."""
     config = dict(layout["configById"])
@@ -119,15 +133,70 @@ def with_sensors_tab(layout):
     wheel_colours = {int(p["value"].rsplit("[", 1)[1][:-1]): p["color"] for p in config["Plot!wheel_unloading"]["paths"]
                      if p["value"].startswith(f"{FORCES}.vertical_force[")}
     config.update(estimator_panels(style, wheel_colours))
-    config[TABS] = dict(config[TABS], tabs=[tab for tab in tabs if tab["title"] != "sensors"]
-                        + [dict(title="sensors", layout=sensors_layout())])
+    config[TABS] = dict(config[TABS], tabs=_with_tab(tabs, dict(title="sensors", layout=sensors_layout())))
+    return dict(layout, configById=config)
+
+
+def _status(field):
+    """The message path of a SupervisionStatus field."""
+    return f"{SUPERVISION_STATUS}.data[{int(SupervisionStatus[field])}]"
+
+
+# the planning area's and the time plots' series: (panel, field, label, colour)
+SUPERVISION_SERIES = (
+    ("planning", "speed_kmh", "speed", PLANNING_COLOURS["train"]),
+    ("planning", "target_speed_kmh", "target speed (the next to brake for)", PLANNING_COLOURS["targets"]),
+    ("planning", "limit_kmh", "limit in force", PLANNING_COLOURS["permitted"]),
+    ("margin", "margin_kmh", "margin to the target (km/h)", PLANNING_COLOURS["targets"]),
+    ("margin", "time_to_intervention_s", "time to the last braking point (s)", PLANNING_COLOURS["ebi"]),
+    ("level", "level", "level", PLANNING_COLOURS["critical"]),
+    ("level", "braking", "emergency brake commanded", GREY))
+SUPERVISION_TITLES = {
+    "planning": "planning area: speed, target speed and the limit in force (km/h) along the line (the front, m)",
+    "margin": "margin to the target (km/h) and time to its last braking point (s)",
+    "level": "supervision level (1 indication, 2 warning, 3 intervention) and the emergency brake (1: commanded)"}
+
+
+def supervision_panels(style):
+    """{panel id: config} of the supervision tab; `style` the run tab's plot settings."""
+    panels = {}
+    for panel, title in SUPERVISION_TITLES.items():
+        paths = [_series(_status(field), label, _hex(colour)) for p, field, label, colour in SUPERVISION_SERIES
+                 if p == panel]
+        panels[f"Plot!supervision_{panel}"] = {"foxglove.panelTitle": title, "paths": paths, **style}
+    # speed against the front's position: a driver's planning area
+    panels["Plot!supervision_planning"].update(xAxisVal="custom", xAxisPath=dict(value=_status("front_m"),
+                                                                                  enabled=True))
+    panels["RawMessages!supervision"] = {
+        "foxglove.panelTitle": "what the supervision supervises (its targets, the survey's curves, live inputs)",
+        "topicPath": SUPERVISION, "diffEnabled": False, "diffMethod": "custom", "diffTopicPath": "",
+        "showFullMessageForDiff": False}
+    return panels
+
+
+def supervision_layout():
+    return dict(first="Plot!supervision_planning",
+                second=dict(first=dict(first="Plot!supervision_margin", second="Plot!supervision_level",
+                                       direction="column", splitPercentage=50.0),
+                            second="RawMessages!supervision", direction="row", splitPercentage=70.0),
+                direction="column", splitPercentage=55.0)
+
+
+def with_supervision_tab(layout):
+    """The layout (a parsed file) with its supervision tab made anew, the others kept."""
+    config = dict(layout["configById"])
+    style = {k: v for k, v in config["Plot!speed"].items() if k not in ("foxglove.panelTitle", "paths")}
+    config = {k: v for k, v in config.items() if "!supervision" not in k}
+    config.update(supervision_panels(style))
+    config[TABS] = dict(config[TABS], tabs=_with_tab(config[TABS]["tabs"], dict(title="supervision",
+                                                                               layout=supervision_layout())))
     return dict(layout, configById=config)
 
 
 def main(argv=None):
     layout = json.loads(LAYOUT.read_text())
-    LAYOUT.write_text(json.dumps(with_sensors_tab(layout), indent=2, ensure_ascii=False) + "\n")
-    print(f"{LAYOUT}: sensors tab written ({len(MOUNTS)} mounts)")
+    LAYOUT.write_text(json.dumps(with_supervision_tab(with_sensors_tab(layout)), indent=2, ensure_ascii=False) + "\n")
+    print(f"{LAYOUT}: sensors tab ({len(MOUNTS)} mounts) and supervision tab written")
     return 0
 
 

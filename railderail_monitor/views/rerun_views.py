@@ -53,6 +53,7 @@ from ..onboard import criteria as onboard, estimator
 from ..warning.alerts import level_text
 from ..warning.limits import Limits, default_limits, SEVERITY_CRITICAL
 from ..warning.quantities import unloading_ratio
+from .planning import PlanningArea, planning_view
 
 WHEELSETS = [f"ws{w}" for w in range(4)]
 SIDES = ("left", "right")                  # wheel k is wheelset k // 2, side k % 2
@@ -166,15 +167,16 @@ class RunViewer:
         self.pending = 0
         self.closed = False
         self.scene = self._new_scene()
+        self.planning = PlanningArea(self.rec, self._append, self.scene_period)
 
     # --- sinks ------------------------------------------------------------------------------
     def blueprint(self):
-        """The run's views; with sensor messages seen, in a tab "run" beside the tab "sensors"."""
+        """The run's views; with sensor messages seen, in a tab "run" beside the tab "sensors", and with the speed
+        supervision's status the tab "supervision"."""
         run = self.run_view()
-        if not self.sensors.messages:
-            layout = run
-        else:
-            layout = rrb.Tabs(run, self.sensors_view(), active_tab=0)
+        tabs = (([self.sensors_view()] if self.sensors.messages else [])
+                + ([planning_view(plot)] if self.planning.seen else []))
+        layout = rrb.Tabs(run, *tabs, active_tab=0) if tabs else run
         return rrb.Blueprint(
             layout,
             # the time cursor follows the data: at the latest sample live, at the end (the derailment) of a file
@@ -368,6 +370,16 @@ class RunViewer:
         self.rec.log("/alerts", rr.TextLog(
             f"s = {msg.track_position:.1f} m: EMERGENCY BRAKE commanded at {msg.speed * 3.6:.1f} km/h, held down to "
             f"{msg.release_speed * 3.6:.1f} km/h ({msg.reason})", level="ERROR"))
+
+    def on_supervision(self, msg):
+        """What the speed supervision supervises (/railderail/supervision): the planning area's lines."""
+        self.planning.on_setup(msg)
+
+    def on_supervision_status(self, msg):
+        """The speed supervision at a sample (/railderail/supervision_status); the first adds its tab."""
+        if self.planning.on_status(msg) and self.sink:
+            self.rec.send_blueprint(self.blueprint(), make_active=True, make_default=True)
+        self._tick()
 
     def on_derailment(self, event):
         d = m.derailment_dict(event)

@@ -24,7 +24,8 @@ class ViewerNode(Node):
         self.viewer = viewer
         handlers = {m.STATES: viewer.on_states, m.FORCES: viewer.on_forces, m.STATUS: viewer.on_status,
                     m.ALERTS: viewer.on_alert, m.DERAILMENT: viewer.on_derailment,
-                    m.FINAL_STATUS: viewer.on_final_status, m.BRAKE: viewer.on_brake}
+                    m.FINAL_STATUS: viewer.on_final_status, m.BRAKE: viewer.on_brake,
+                    m.SUPERVISION: viewer.on_supervision, m.SUPERVISION_STATUS: viewer.on_supervision_status}
         for topic, (_, cls, _, qos) in m.TOPICS.items():
             self.create_subscription(cls, topic, handlers[topic], qos)
         self.create_subscription(m.Alert, m.ONBOARD_ALERTS, viewer.on_onboard_alert, m.ALERT_QOS)

@@ -18,6 +18,10 @@ railderail_sim never imports railderail_monitor. Topics (all under /railderail/ 
 | /railderail/onboard_estimates    | railderail_msgs/OnboardEstimate  | sensor data (its estimator's)          |
 | /railderail/brake_command        | railderail_msgs/BrakeCommand     | reliable, volatile, depth 10 (the      |
 |                                  |                                  | speed supervision's intervention)      |
+| /railderail/supervision          | std_msgs/String (JSON)           | reliable, transient local, depth 1     |
+|                                  |                                  | (what the speed supervision supervises)|
+| /railderail/supervision_status   | std_msgs/Float64MultiArray       | sensor data (SupervisionStatus, each   |
+|                                  |                                  | sample the supervision steps)          |
 | /clock                           | rosgraph_msgs/Clock              | clock QoS (best effort, depth 1); only |
 |                                  |                                  | when not running at real time          |
 
@@ -45,13 +49,16 @@ from rclpy.parameter import Parameter
 from rclpy.signals import SignalHandlerOptions
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from rosgraph_msgs.msg import Clock
+from std_msgs.msg import Float64MultiArray, MultiArrayDimension, String
 
 import railderail_msgs.msg as msgs
 from railderail_msgs.msg import (Alert, BrakeCommand, ContactForces, DerailmentEvent, OnboardEstimate, VehicleStatus,
                                  WheelsetStates)
 
+from railderail_sim.record import Record
 from railderail_sim.vehicle.layout import BOGIES, WHEELSETS, Body, Dof
 
+from .. import jsonout
 from ..ranges import check_range
 
 NS = "/railderail"
@@ -68,6 +75,11 @@ ONBOARD_ALERTS = f"{NS}/onboard_alerts"
 ONBOARD_ESTIMATES = f"{NS}/onboard_estimates"
 # the speed supervision's emergency brake command (the monitor's), which the simulator obeys
 BRAKE = f"{NS}/brake_command"
+# what the speed supervision supervises (its targets, the survey's curves, its braking model and live inputs;
+# supervision_setup_message), latched, sent again whenever a live input moves the targets: a recording holds it
+SUPERVISION = f"{NS}/supervision"
+# the speed supervision at each sample it steps (SupervisionStatus), for the driver's planning area of the views
+SUPERVISION_STATUS = f"{NS}/supervision_status"
 CLOCK = "/clock"
 
 SENSOR = qos_profile_sensor_data
@@ -93,8 +105,11 @@ TOPICS = {
     DERAILMENT: ("railderail_msgs/msg/DerailmentEvent", DerailmentEvent, LATCHED, LATCHED),
     ALERTS: ("railderail_msgs/msg/Alert", Alert, ALERT_QOS, ALERT_QOS),
     BRAKE: ("railderail_msgs/msg/BrakeCommand", BrakeCommand, BRAKE_QOS, BRAKE_QOS),
+    SUPERVISION: ("std_msgs/msg/String", String, LATCHED, LATCHED),
+    SUPERVISION_STATUS: ("std_msgs/msg/Float64MultiArray", Float64MultiArray, SENSOR, SENSOR_SUBSCRIBER),
 }
-MONITOR_TOPICS = (ALERTS, BRAKE)        # of TOPICS, those the monitor publishes (the simulator the others)
+# of TOPICS, those the monitor publishes (the simulator the others)
+MONITOR_TOPICS = (ALERTS, BRAKE, SUPERVISION, SUPERVISION_STATUS)
 CLOCK_TOPIC = ("rosgraph_msgs/msg/Clock", Clock, CLOCK_QOS, CLOCK_QOS)
 ONBOARD_ALERTS_TOPIC = ("railderail_msgs/msg/Alert", Alert, ALERT_QOS, ALERT_QOS)
 ONBOARD_ESTIMATES_TOPIC = ("railderail_msgs/msg/OnboardEstimate", OnboardEstimate, SENSOR, SENSOR_SUBSCRIBER)
@@ -227,6 +242,45 @@ def derailment_message(event, car_body_position, frame_id="track"):
 
 
 # --- messages -> dicts ------------------------------------------------------------------------
+
+class SupervisionStatus(Record):
+    """The speed supervision at one sample, as a driver's planning area shows it (a display's record: its speeds
+    in km/h, as the driver reads them). The target is the one the train must brake for now: the one whose last
+    braking point at this speed comes first (0 s inside it), or, when the train needs to brake for none, the
+    next one ahead below the limit in force."""
+    time_s = "s", "the sample's time"
+    front_m = "m", "the train's front (its leading wheelset) along the line as supervised (the odometer's estimate)"
+    position_error_m = "m", "half the odometer's confidence interval of the front (0 on ground truth)"
+    speed_kmh = "km/h", "the speed supervised"
+    level = "-", "0 none, 1 indication, 2 warning, 3 intervention (the emergency brake command)"
+    limit_kmh = "km/h", "the lowest target speed in force at the front (NaN: none)"
+    target_start_m = "m", "the target's start (NaN: no target ahead)"
+    target_end_m = "m", "the target's end"
+    target_speed_kmh = "km/h", "the target's speed limit"
+    margin_kmh = "km/h", "the target's speed limit less the speed (negative: over it)"
+    time_to_intervention_s = "s", "to the target's last braking point (EBI) at this speed; 0 inside it; inf: none"
+    braking = "-", "1 while the emergency brake is commanded, else 0"
+
+
+def supervision_status_message(row):
+    """A SupervisionStatus row (float64 array) as its Float64MultiArray, the dimension labelled with the fields."""
+    message = Float64MultiArray()
+    message.layout.dim = [MultiArrayDimension(label=",".join(SupervisionStatus.names()), size=len(row), stride=len(row))]
+    message.data = [float(x) for x in row]
+    return message
+
+
+def supervision_status_dict(message):
+    """{field: value} of a SupervisionStatus message."""
+    return {name: float(v) for name, v in zip(SupervisionStatus.names(), message.data)}
+
+
+def supervision_setup_message(setup):
+    """The speed supervision's setup (a JSON-able dict) as its std_msgs/String."""
+    message = String()
+    message.data = jsonout.dumps(setup)
+    return message
+
 
 def alert_dict(message):
     """An Alert message (rclpy's, or mcap_ros2's from a recording) as the plain dict of the
