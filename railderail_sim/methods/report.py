@@ -208,9 +208,9 @@ def _patch_phases(run, out):
 SUSPENSION_SETS = ("hs19", "a380", "zhai")     # the whole public sets the sensitivity puts beside the report's
 
 
-def _sensitivity(radius, stair, workers, vehicle_set):
-    """Critical derailment speed (staircase) at one radius of `vehicle_set` when one uncertain value changes at a
-    time, or the suspension is another whole public set."""
+def sensitivity_variants(vehicle_set):
+    """[(label, change)] of the sensitivity table on `vehicle_set`: the reference, one uncertain value changed at
+    a time, each other whole public suspension set; every change names the set it starts from."""
     base = vehicle_parameters(vehicle_set)
     variants = [
         (f"reference ({vehicle_set}, LM, Hertz, mu 0.3)", {}),
@@ -228,10 +228,16 @@ def _sensitivity(radius, stair, workers, vehicle_set):
         ("creep law FASTSIM instead of Shen-Hedrick-Elkins", dict(contact=dict(creep_model="fastsim"))),
         ("creep law Polach instead of Shen-Hedrick-Elkins", dict(contact=dict(creep_model="polach"))),
     ]
+    return [(label, dict(dict(vehicle_set=vehicle_set), **change)) for label, change in variants]
+
+
+def _sensitivity(radius, stair, workers, vehicle_set):
+    """Critical derailment speed (staircase) at one radius of `vehicle_set` when one uncertain value changes at a
+    time, or the suspension is another whole public set."""
+    variants = sensitivity_variants(vehicle_set)
     from concurrent.futures import ProcessPoolExecutor
     with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = [pool.submit(_variant_trial, radius, stair, dict(dict(vehicle_set=vehicle_set), **change))
-                   for _, change in variants]
+        futures = [pool.submit(_variant_trial, radius, stair, change) for _, change in variants]
         speeds = [f.result() for f in futures]
     return [(label, v) for (label, _), v in zip(variants, speeds)]
 
