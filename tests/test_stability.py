@@ -117,6 +117,8 @@ def test_the_report_of_another_set_runs_that_set_and_puts_the_other_whole_sets_b
         assert all(set(c) <= {"vehicle_set", "vehicle", "contact"} for _, c in variants)
     assert [label for label, _ in report.sensitivity_variants("hs19")][6:8] == ["suspension set a380",
                                                                                 "suspension set zhai"]
+    assert [(c.radius_m, c.vehicle_set) for c in report.headline_cases(False, "hs19-a380yaw")] == \
+        [(r, "hs19-a380yaw") for r in (800.0, 1000.0, 1200.0, 1400.0, 1600.0, 1800.0)]
     car = vehicle_parameters("hs19-a380yaw")
     (run,) = report.process_runs([dict(radius_m=1000.0, refined_speed_kmh=200.0)], car).values()
     assert run.scenario.vehicle == car and run.speed[0] * 3.6 == pytest.approx(200.0)

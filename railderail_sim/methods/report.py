@@ -344,6 +344,11 @@ def _parameter_table(sc):
     return rows + [""]
 
 
+def headline_cases(quick, vehicle_set):
+    """The trials of the report's sweep: the paper's six radii (three when `quick`) on `vehicle_set`."""
+    return sw.cases(radii=(800.0, 1200.0, 1800.0) if quick else sw.PAPER_RADII, vehicle_sets=(vehicle_set,))
+
+
 def write_report(out="report", quick=False, workers=None, vehicle_set="hs19", sensitivity=True):
     """Run everything on the suspension set `vehicle_set` and write out/report.md with its figures (without the
     sensitivity table when `sensitivity` is false); returns the path of report.md."""
@@ -368,9 +373,8 @@ def write_report(out="report", quick=False, workers=None, vehicle_set="hs19", se
     timing["limit_cycle_s"] = time.time() - t
     # --- progressive trial sweep
     t = time.time()
-    radii = (800.0, 1200.0, 1800.0) if quick else sw.PAPER_RADII
     stair = Staircase()
-    results = sw.sweep(sw.cases(radii=radii), sc, stair, refine=True, tolerance_kmh=5.0 if quick else 1.0,
+    results = sw.sweep(headline_cases(quick, vehicle_set), sc, stair, refine=True, tolerance_kmh=5.0 if quick else 1.0,
                        workers=workers, progress=False)
     plotting.critical_speed_figure(results, os.path.join(out, "critical_speed_vs_radius.png"))
     timing["sweep_s"] = time.time() - t
