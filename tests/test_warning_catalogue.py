@@ -295,6 +295,14 @@ def test_an_entry_runs_its_own_suspension_set(tmp_path):
         catalogue_parameters(tmp_path / "sets.yaml", "a")
 
 
+def test_the_line_speed_catalogue_is_ordinary_running_of_the_stable_set_at_250_to_300_km_h():
+    """railderail_monitor/config/catalogue-line-speed.yaml (docs/report/hs19-a380yaw.md): loads (every run
+    within the permitted cant deficiency) and is ordinary running of hs19-a380yaw at line speed."""
+    entries = catalogue.load(Path(catalogue.SHIPPED).with_name("catalogue-line-speed.yaml"))
+    assert {(e.family, e.vehicle_set) for e in entries} == {("ordinary", "hs19-a380yaw")}
+    assert all(250.0 <= e.speed_kmh <= 300.0 for e in entries)
+
+
 def test_the_shipped_catalogue_is_large_enough_to_mean_something():
     """Over 2000 km of ordinary running; every hazard family in both parts with at least 10 runs; at least
     10 runs expected to derail by each of the four mechanisms (known from the entries' families, without
