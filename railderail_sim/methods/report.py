@@ -394,7 +394,8 @@ def write_report(out="report", quick=False, workers=None, vehicle_set="hs19", se
     lines += [
         f"Model: CRH3 car (Yu 2022 Table 1 masses and dimensions), suspension set `{vehicle_set}` (docs/vehicle-model.md),",
         "LM wheel (reconstructed, docs/profiles.md) on UIC60 at 1:40, Hertz normal contact with Shen-Hedrick-Elkins",
-        "creep, friction 0.3, ideal rigid track of Table 2. Nothing was tuned to the paper. The same trial on",
+        "creep, friction 0.3, ideal rigid track of Table 2. Nothing was tuned to the paper. The same trial"
+        + ("" if vehicle_set == "hs19" else " of hs19, beside this folder,") + " on",
         "irregular and elastic track: real-track.md (`railderail real-track`); under crosswind, and the",
         "characteristic wind curves: cwc.md (`railderail cwc`); with suspension faults: faults.md; the warning",
         "criteria over a catalogue of scenarios (which warns, how early, how often falsely): warnings-catalogue.md.",
