@@ -128,7 +128,8 @@ def test_the_report_says_none_where_a_method_found_no_critical_speed():
     from railderail_sim.methods import report
     assert report._critical(float("nan"), "none: stable to 600 km/h") == "none: stable to 600 km/h"
     assert report._critical(403.2, "none") == "403 km/h"
-    assert report._below(float("nan"), float("nan"), 600.0) == "No limit cycle after the kink up to 600 km/h."
-    assert "420 km/h; the centred running stays damped to 600 km/h" in report._below(420.0, float("nan"), 600.0)
-    assert report._below(234.0, 403.0, 600.0).startswith("Nonlinear below linear: yes (234 <= 403 km/h)")
+    assert report._below(float("nan"), float("nan"), 500.0, 600.0) == "No limit cycle after the kink up to 500 km/h."
+    assert "420 km/h; the centred running stays damped to 600 km/h" in report._below(420.0, float("nan"), 500.0,
+                                                                                     600.0)
+    assert report._below(234.0, 403.0, 500.0, 600.0).startswith("Nonlinear below linear: yes (234 <= 403 km/h)")
     assert report._pct(float("nan"), 380.0) == "-"

@@ -262,12 +262,13 @@ def nadal_of(sc):
     return angle, nadal_limit(angle, sc.contact.friction_coefficient)
 
 
-def _below(non, lin, top_kmh):
-    """The sentence on the nonlinear critical speed against the linear one (NaN: none found up to top_kmh)."""
+def _below(non, lin, cycle_top_kmh, locus_top_kmh):
+    """The sentence on the nonlinear critical speed against the linear one (NaN: none found up to the top speed of
+    the limit-cycle scan or of the root locus)."""
     if non != non:
-        return f"No limit cycle after the kink up to {top_kmh:.0f} km/h."
+        return f"No limit cycle after the kink up to {cycle_top_kmh:.0f} km/h."
     if lin != lin:
-        return (f"Nonlinear below linear: yes ({non:.0f} km/h; the centred running stays damped to {top_kmh:.0f} "
+        return (f"Nonlinear below linear: yes ({non:.0f} km/h; the centred running stays damped to {locus_top_kmh:.0f} "
                 "km/h): a kicked car hunts on a limit cycle where the centred running is stable, the bifurcation is "
                 "subcritical.")
     return (f"Nonlinear below linear: {'yes' if non <= lin else 'no'} ({non:.0f} <= {lin:.0f} km/h): the bifurcation "
@@ -374,8 +375,8 @@ def write_report(out="report", quick=False, workers=None, vehicle_set="hs19", se
     # --- progressive trial sweep
     t = time.time()
     stair = Staircase()
-    results = sw.sweep(headline_cases(quick, vehicle_set), sc, stair, refine=True, tolerance_kmh=5.0 if quick else 1.0,
-                       workers=workers, progress=False)
+    results = sw.sweep(headline_cases(quick, vehicle_set), sc, stair, refine=True,
+                       tolerance_kmh=5.0 if quick else 1.0, workers=workers, progress=False)
     plotting.critical_speed_figure(results, os.path.join(out, "critical_speed_vs_radius.png"))
     timing["sweep_s"] = time.time() - t
     # --- derailment process
@@ -392,7 +393,8 @@ def write_report(out="report", quick=False, workers=None, vehicle_set="hs19", se
     lin = locus.linear_critical_speed_kmh
     non = cyc.nonlinear_critical_speed_kmh
     lines += [
-        f"Model: CRH3 car (Yu 2022 Table 1 masses and dimensions), suspension set `{vehicle_set}` (docs/vehicle-model.md),",
+        f"Model: CRH3 car (Yu 2022 Table 1 masses and dimensions), suspension set `{vehicle_set}` "
+        "(docs/vehicle-model.md),",
         "LM wheel (reconstructed, docs/profiles.md) on UIC60 at 1:40, Hertz normal contact with Shen-Hedrick-Elkins",
         "creep, friction 0.3, ideal rigid track of Table 2. Nothing was tuned to the paper. The same trial"
         + ("" if vehicle_set == "hs19" else " of hs19, beside this folder,") + " on",
@@ -408,12 +410,12 @@ def write_report(out="report", quick=False, workers=None, vehicle_set="hs19", se
         + (f"{lin:.0f} km/h ({locus.critical_mode}, {locus.critical_frequency_hz:.1f} Hz) " if lin == lin else
            f"none: stable to {locus.speeds_kmh.max():.0f} km/h ")
         + f"| about {PAPER['linear_critical_speed_kmh']:.0f} km/h | {_pct(lin, PAPER['linear_critical_speed_kmh'])} |",
-        f"| nonlinear critical speed (limit cycle, 10 mm kink) | "
+        "| nonlinear critical speed (limit cycle, 10 mm kink) | "
         f"{_critical(non, f'none: no limit cycle to {cyc.speeds_kmh.max(initial=0.0):.0f} km/h')} "
         f"| below {PAPER['nonlinear_critical_speed_kmh']:.0f} km/h "
         f"| {_pct(non, PAPER['nonlinear_critical_speed_kmh'])} |",
         "",
-        _below(non, lin, locus.speeds_kmh.max()),
+        _below(non, lin, cyc.speeds_kmh.max(initial=0.0), locus.speeds_kmh.max()),
         "",
         "![root locus](root_locus.png)", "", "![limit cycle](limit_cycle.png)", "",
         "## Critical derailment speed against radius (progressive trial)", "",

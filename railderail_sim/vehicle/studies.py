@@ -34,8 +34,8 @@ def tolerance_study(speed_kmh=280.0, radius=1000.0, tolerances=TOLERANCES, vehic
     rate = 200.0
     runs = {}
     for atol, rtol in tolerances:
-        sc = replace(scenario(radius=radius, speed_kmh=speed_kmh, vehicle_set=vehicle_set), atol=atol, rtol=rtol, start_position=150.0,
-                     end_position=600.0, output_rate=rate)
+        sc = replace(scenario(radius=radius, speed_kmh=speed_kmh, vehicle_set=vehicle_set), atol=atol, rtol=rtol,
+                     start_position=150.0, end_position=600.0, output_rate=rate)
         t = time.perf_counter()
         r = simulate(sc)
         runs[(atol, rtol)] = (r.arrays(), time.perf_counter() - t, r.time[-1])
