@@ -160,6 +160,9 @@ def catalogue_parameters(path, name, seed=None):
     if e.defect or not math.isnan(e.approach_m):
         raise ValueError(f"scenario {name!r} has a track defect or a longer approach, which the simulator node's "
                          "parameters do not take (give the defect as an irregularity file instead)")
+    if e.vehicle_set != "hs19":
+        raise ValueError(f"scenario {name!r} runs the suspension set {e.vehicle_set}, which the simulator node's "
+                         "parameters do not take (it runs hs19)")
     irregularity = str(Path(e.folder, e.irregularity)) if e.irregularity.endswith(".csv") else e.irregularity
     return {"radius": e.radius_m, "speed_mode": "progressive" if e.progressive else "constant",
             "speed_kmh": 200.0 if e.progressive else e.speed_kmh, "cant_mm": e.cant_mm, "friction": e.friction,

@@ -103,3 +103,33 @@ def test_study_cache_computes_once_and_returns_the_same_value(tmp_path):
     again = cache.get(dict(case="x", grid=stability.GRID), compute)
     other = cache.get(dict(case="y", grid=stability.GRID), compute)
     assert len(calls) == 2 and first == again == other == dict(nonlinear_kmh=None, points=[1.0, 2.0])
+
+
+def test_the_report_of_another_set_runs_that_set_and_puts_the_other_whole_sets_beside_it():
+    """`railderail report --vehicle-set`: the sensitivity starts from the report's set, the whole public sets
+    beside it are the others; the derailment process runs its car."""
+    from railderail_sim.methods import report
+    for name in ("hs19", "hs19-a380yaw"):
+        variants = report.sensitivity_variants(name)
+        assert variants[0] == (f"reference ({name}, LM, Hertz, mu 0.3)", dict(vehicle_set=name))
+        whole = [c["vehicle_set"] for _, c in variants if c["vehicle_set"] != name]
+        assert whole == [s for s in report.SUSPENSION_SETS if s != name]
+        assert all(set(c) <= {"vehicle_set", "vehicle", "contact"} for _, c in variants)
+    assert [label for label, _ in report.sensitivity_variants("hs19")][6:8] == ["suspension set a380",
+                                                                                "suspension set zhai"]
+    assert [(c.radius_m, c.vehicle_set) for c in report.headline_cases(False, "hs19-a380yaw")] == \
+        [(r, "hs19-a380yaw") for r in (800.0, 1000.0, 1200.0, 1400.0, 1600.0, 1800.0)]
+    car = vehicle_parameters("hs19-a380yaw")
+    (run,) = report.process_runs([dict(radius_m=1000.0, refined_speed_kmh=200.0)], car).values()
+    assert run.scenario.vehicle == car and run.speed[0] * 3.6 == pytest.approx(200.0)
+
+
+def test_the_report_says_none_where_a_method_found_no_critical_speed():
+    from railderail_sim.methods import report
+    assert report._critical(float("nan"), "none: stable to 600 km/h") == "none: stable to 600 km/h"
+    assert report._critical(403.2, "none") == "403 km/h"
+    assert report._below(float("nan"), float("nan"), 500.0, 600.0) == "No limit cycle after the kink up to 500 km/h."
+    assert "420 km/h; the centred running stays damped to 600 km/h" in report._below(420.0, float("nan"), 500.0,
+                                                                                     600.0)
+    assert report._below(234.0, 403.0, 500.0, 600.0).startswith("Nonlinear below linear: yes (234 <= 403 km/h)")
+    assert report._pct(float("nan"), 380.0) == "-"

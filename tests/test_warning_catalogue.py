@@ -270,12 +270,39 @@ def test_the_measured_criteria_s_scores_move_with_the_sensors(small):
     ("scenarios:\n  - {name: a, family: gust, radius_m: 800, speed_kmh: 160, gust: tornado}", "gust 'tornado' is not one"),
     ("scenarios:\n  - {name: a, family: gust, radius_m: 800, speed_kmh: 160, part: validation}",
      "part 'validation' is not one of train, test"),
+    ("scenarios:\n  - {name: a, family: gust, radius_m: 800, speed_kmh: 160, vehicle_set: crh3}",
+     "scenario 1 (a): vehicle_set 'crh3' is not one of hs19, a380, zhai, hs19-a380yaw"),
 ])
 def test_bad_catalogues_name_the_entry_and_the_key(tmp_path, text, message):
     (tmp_path / "bad.yaml").write_text(text)
     with pytest.raises(ValueError, match=message.replace("(", r"\(").replace(")", r"\)").replace("[", r"\[")
                        .replace("]", r"\]")):
         catalogue.load(tmp_path / "bad.yaml")
+
+
+def test_an_entry_runs_its_own_suspension_set(tmp_path):
+    """`vehicle_set:` picks the car of the entry's runs (hs19 without it); the demo's node, which runs hs19
+    only, refuses it."""
+    from railderail_monitor.demo import catalogue_parameters
+    from railderail_sim.parameters import vehicle_parameters
+    (tmp_path / "sets.yaml").write_text(
+        "scenarios:\n  - {name: a, family: ordinary, radius_m: 7000, cant_mm: 150, speed_kmh: 300, seeds: [1],"
+        " vehicle_set: hs19-a380yaw}\n  - {name: b, family: ordinary, radius_m: 7000, cant_mm: 150, speed_kmh: 300,"
+        " seeds: [2]}")
+    a, b = catalogue.load(tmp_path / "sets.yaml")
+    assert a.scenario(1).vehicle == vehicle_parameters("hs19-a380yaw")
+    assert b.scenario(2).vehicle == vehicle_parameters("hs19")
+    assert a.key(1)["vehicle_set"] != b.key(2)["vehicle_set"]
+    with pytest.raises(ValueError, match="runs the suspension set hs19-a380yaw, which the simulator node"):
+        catalogue_parameters(tmp_path / "sets.yaml", "a")
+
+
+def test_the_line_speed_catalogue_is_ordinary_running_of_the_stable_set_at_250_to_300_km_h():
+    """railderail_monitor/config/catalogue-line-speed.yaml (docs/report/hs19-a380yaw.md): loads (every run
+    within the permitted cant deficiency) and is ordinary running of hs19-a380yaw at line speed."""
+    entries = catalogue.load(Path(catalogue.SHIPPED).with_name("catalogue-line-speed.yaml"))
+    assert {(e.family, e.vehicle_set) for e in entries} == {("ordinary", "hs19-a380yaw")}
+    assert all(250.0 <= e.speed_kmh <= 300.0 for e in entries)
 
 
 def test_the_shipped_catalogue_is_large_enough_to_mean_something():

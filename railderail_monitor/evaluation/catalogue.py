@@ -22,6 +22,7 @@ wheels) with one entry per scenario under `scenarios:`, each seed one run (docs/
         wind_speed_m_s: 0                    # optional: a steady wind (or the gust's peak) from the inside of the curve
         gust: none                           # optional: none | chinese-hat (the CEN gust at the curve's middle)
         faults: []                           # optional: NAME@LOCATION (docs/vehicle-model.md)
+        vehicle_set: hs19                    # optional: the suspension parameter set (railderail_sim.parameters)
 
 An `ordinary` entry is ordinary running: its cant deficiency must be within the permitted one
 (`hazards.HazardRules.permitted_cant_deficiency`), or the catalogue is refused. A bad entry is a
@@ -44,7 +45,7 @@ import yaml
 SHIPPED = files("railderail_monitor") / "config" / "catalogue.yaml"
 KEYS = ("name", "family", "radius_m", "speed_kmh", "speed", "cant_mm", "irregularity", "defect", "seeds", "part",
         "friction", "track", "line_length_m", "approach_m", "wind_speed_m_s", "gust", "faults", "expect_derailment",
-        "critical_speed_kmh")
+        "critical_speed_kmh", "vehicle_set")
 FAMILIES = ("ordinary", "overspeed", "defect", "gust", "fault")
 # the mechanism by which each hazard family is meant to derail (`Entry.mechanism`)
 MECHANISMS = {"overspeed": "over-speed unloading", "defect": "flange climb at a defect", "gust": "gust overturning",
@@ -76,6 +77,7 @@ class Entry:
     faults: tuple = ()
     expect_derailment: bool = False
     critical_speed_kmh: float = math.nan     # NaN: the run's hazards say what cures them
+    vehicle_set: str = "hs19"
     folder: str = field(default=".", compare=False)
 
     @property
@@ -146,7 +148,8 @@ class Entry:
             track = replace(track, straight_in=self.approach_m)
         if not math.isnan(self.line_length_m):
             track = track.with_line_length(self.line_length_m)
-        base = replace(scenario(radius=1000.0 if straight else self.radius_m, friction=self.friction), track=track)
+        base = replace(scenario(radius=1000.0 if straight else self.radius_m, friction=self.friction,
+                                vehicle_set=self.vehicle_set), track=track)
         if self.progressive:
             if straight:
                 raise ValueError("the progressive staircase needs a curve (radius_m is .inf)")
@@ -206,7 +209,7 @@ def _number(where, key, value, lo, hi, unit):
 def entry(item, where, folder):
     """The Entry of one catalogue item (a dict), checked key by key."""
     from railderail_sim.loads.wind import GUSTS
-    from railderail_sim.parameters import FRICTION_RANGE, TRACK_MODELS
+    from railderail_sim.parameters import FRICTION_RANGE, TRACK_MODELS, VEHICLE_SETS
     from railderail_sim.track.irregularity import NONE, SEEDS
     from railderail_sim.track.spectra import SPECTRA
     from railderail_sim.vehicle.assemble import FAULT_NAMES
@@ -259,9 +262,12 @@ def entry(item, where, folder):
     gust = item.get("gust", "none")
     if gust not in GUSTS:
         raise ValueError(f"{where}: gust {gust!r} is not one of {', '.join(GUSTS)}")
+    vehicle_set = item.get("vehicle_set", "hs19")
+    if vehicle_set not in VEHICLE_SETS:
+        raise ValueError(f"{where}: vehicle_set {vehicle_set!r} is not one of {', '.join(VEHICLE_SETS)}")
     values = dict(name=name, family=family, radius_m=float(radius), speed_kmh=speed, irregularity=irregularity,
                   defect=_defect(where, item.get("defect")), seeds=tuple(seeds), part=part, track=track, gust=gust,
-                  faults=tuple(faults), folder=str(folder))
+                  faults=tuple(faults), vehicle_set=vehicle_set, folder=str(folder))
     for key, lo, hi, unit in (("cant_mm", 0.0, 200.0, "mm"), ("friction", *FRICTION_RANGE, ""),
                               ("line_length_m", 0.0, 1.0e6, "m"), ("approach_m", 0.0, 1.0e5, "m"),
                               ("wind_speed_m_s", 0.0, 60.0, "m/s"), ("critical_speed_kmh", 1.0, 600.0, "km/h")):

@@ -458,10 +458,15 @@ def report_command(parser):
     parser.add_argument("--out", default="report", help="output directory")
     parser.add_argument("--quick", action="store_true", help="fewer speeds and radii (a smoke run)")
     parser.add_argument("--workers", type=int, default=None)
+    parser.add_argument("--vehicle-set", default="hs19", choices=VEHICLE_SETS,
+                        help="suspension parameter set of every run (default %(default)s)")
+    parser.add_argument("--no-sensitivity", action="store_true",
+                        help="leave out the sensitivity table (a trial per uncertain value: the dearest section)")
 
     def run(args):
         from ..methods.report import write_report
-        path = write_report(args.out, quick=args.quick, workers=args.workers)
+        path = write_report(args.out, quick=args.quick, workers=args.workers, vehicle_set=args.vehicle_set,
+                            sensitivity=not args.no_sensitivity)
         print(f"report written to {path}")
     return run
 

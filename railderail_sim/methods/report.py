@@ -2,7 +2,8 @@
 
 The report is a Markdown file with PNG figures in one directory. Nothing in the model is adjusted to the
 paper: the paper's numbers are only printed beside ours, with the difference and its likely reason.
-`quick` runs a reduced set (fewer speeds, three radii, no sensitivity) for smoke tests.
+`quick` runs a reduced set (fewer speeds, three radii, no sensitivity) for smoke tests. `vehicle_set` runs it
+all on another suspension set (docs/report/hs19-a380yaw/ is the report of `hs19-a380yaw`).
 """
 from dataclasses import replace
 import math
@@ -44,11 +45,16 @@ PAPER = {
 
 
 def _pct(ours, theirs):
-    return f"{100.0 * (ours - theirs) / theirs:+.0f} %"
+    return f"{100.0 * (ours - theirs) / theirs:+.0f} %" if ours == ours else "-"
 
 
-def process_runs(results):
-    """Constant-speed run at each radius's refined critical derailment speed over the Table 2 line."""
+def _critical(speed_kmh, none):
+    """A critical speed in km/h, or `none` (what the method found instead) when it found none (NaN)."""
+    return f"{speed_kmh:.0f} km/h" if speed_kmh == speed_kmh else none
+
+
+def process_runs(results, vehicle):
+    """Constant-speed run of `vehicle` at each radius's refined critical derailment speed over the Table 2 line."""
     runs = {}
     for d in results:
         v = d.get("refined_speed_kmh")
@@ -56,7 +62,8 @@ def process_runs(results):
             v = d["critical_derailment_speed_kmh"]
         if v is None or v != v:
             continue
-        sc = Scenario(track=TrackParameters(radius=d["radius_m"]), speed_table=constant_speed(v), output_rate=200.0)
+        sc = Scenario(vehicle=vehicle, track=TrackParameters(radius=d["radius_m"]), speed_table=constant_speed(v),
+                      output_rate=200.0)
         runs[d["radius_m"]] = simulate(sc)
     return runs
 
@@ -198,19 +205,22 @@ def _patch_phases(run, out):
     return rows
 
 
-def _sensitivity(radius, stair, workers):
-    """Critical derailment speed (staircase) at one radius when one uncertain value changes at a time."""
-    base = vehicle_parameters()
+SUSPENSION_SETS = ("hs19", "a380", "zhai")     # the whole public sets the sensitivity puts beside the report's
+
+
+def sensitivity_variants(vehicle_set):
+    """[(label, change)] of the sensitivity table on `vehicle_set`: the reference, one uncertain value changed at
+    a time, each other whole public suspension set; every change names the set it starts from."""
+    base = vehicle_parameters(vehicle_set)
     variants = [
-        ("reference (hs19, LM, Hertz, mu 0.3)", {}),
+        (f"reference ({vehicle_set}, LM, Hertz, mu 0.3)", {}),
         ("car-body CoG height 1.52 -> 1.71 m (CRH6 value)", dict(vehicle=dict(car_body_cog_height=1.712))),
         ("car-body CoG height 1.52 -> 1.35 m", dict(vehicle=dict(car_body_cog_height=1.35))),
         ("anti-roll bar 1.0 -> 2.5 MN m/rad", dict(vehicle=dict(anti_roll_stiffness=2.5e6))),
         ("air-spring vertical 0.2 -> 0.35 MN/m (Velaro E)", dict(vehicle=dict(secondary_vertical_stiffness=0.35e6))),
         ("bump-stop clearance 20 -> 30 mm", dict(vehicle=dict(bump_stop_clearance=0.030,
                                                              bump_stop_travel=tuple(t + 0.010 for t in base.bump_stop_travel)))),
-        ("suspension set a380", dict(vehicle_set="a380")),
-        ("suspension set zhai", dict(vehicle_set="zhai")),
+        *[(f"suspension set {name}", dict(vehicle_set=name)) for name in SUSPENSION_SETS if name != vehicle_set],
         ("wheel S1002 instead of LM", dict(contact=dict(wheel_profile="s1002"))),
         ("friction 0.3 -> 0.4", dict(contact=dict(friction_coefficient=0.4))),
         ("discrete (Kik-Piotrowski) normal contact", dict(contact=dict(normal_model="discrete"))),
@@ -218,6 +228,13 @@ def _sensitivity(radius, stair, workers):
         ("creep law FASTSIM instead of Shen-Hedrick-Elkins", dict(contact=dict(creep_model="fastsim"))),
         ("creep law Polach instead of Shen-Hedrick-Elkins", dict(contact=dict(creep_model="polach"))),
     ]
+    return [(label, dict(dict(vehicle_set=vehicle_set), **change)) for label, change in variants]
+
+
+def _sensitivity(radius, stair, workers, vehicle_set):
+    """Critical derailment speed (staircase) at one radius of `vehicle_set` when one uncertain value changes at a
+    time, or the suspension is another whole public set."""
+    variants = sensitivity_variants(vehicle_set)
     from concurrent.futures import ProcessPoolExecutor
     with ProcessPoolExecutor(max_workers=workers) as pool:
         futures = [pool.submit(_variant_trial, radius, stair, change) for _, change in variants]
@@ -229,7 +246,7 @@ def _variant_trial(radius, stair, change):
     """Critical derailment speed of one variant: the bisection over constant speeds (1 km/h), which
     resolves finer than the staircase's 5 km/h steps."""
     from .progressive_trial import progressive_trial
-    veh = vehicle_parameters(change.get("vehicle_set", "hs19"), **change.get("vehicle", {}))
+    veh = vehicle_parameters(change["vehicle_set"], **change.get("vehicle", {}))
     sc = Scenario(vehicle=veh, contact=replace(ContactParameters(), **change.get("contact", {})))
     r = progressive_trial(sc, radius, stair, refine=True, tolerance_kmh=1.0)
     return r.refined_speed_kmh if r.refined_speed_kmh == r.refined_speed_kmh else r.critical_derailment_speed_kmh
@@ -245,18 +262,34 @@ def nadal_of(sc):
     return angle, nadal_limit(angle, sc.contact.friction_coefficient)
 
 
+def _below(non, lin, cycle_top_kmh, locus_top_kmh):
+    """The sentence on the nonlinear critical speed against the linear one (NaN: none found up to the top speed of
+    the limit-cycle scan or of the root locus)."""
+    if non != non:
+        return f"No limit cycle after the kink up to {cycle_top_kmh:.0f} km/h."
+    if lin != lin:
+        return (f"Nonlinear below linear: yes ({non:.0f} km/h; the centred running stays damped to {locus_top_kmh:.0f} "
+                "km/h): a kicked car hunts on a limit cycle where the centred running is stable, the bifurcation is "
+                "subcritical.")
+    return (f"Nonlinear below linear: {'yes' if non <= lin else 'no'} ({non:.0f} <= {lin:.0f} km/h): the bifurcation "
+            "is subcritical, a kicked car hunts on a flange-contact limit cycle well below the speed where the centred "
+            "running loses its damping.")
+
+
 def _discussion(locus, cyc, results, numbers, phases, sens, sets, nadal):
     """Where the model and the paper differ, by how much, and the likely reason."""
     out = ["## Where we differ from Yu 2022, and why", ""]
     lin = locus.linear_critical_speed_kmh
-    line = (f"* **Linear critical speed** {lin:.0f} km/h against about 380 km/h ({_pct(lin, 380.0)}). It rests on "
+    lin_text = _critical(lin, f"none (stable to {locus.speeds_kmh.max():.0f} km/h)")
+    line = (f"* **Linear critical speed** {lin_text} against about 380 km/h ({_pct(lin, 380.0)}). It rests on "
             "the primary guidance stiffness and the yaw dampers, which no public source gives for the CRH3. ")
     if sets:
         line += "With the documented suspension sets it is " + ", ".join(
             f"{k}: {'stable to 800 km/h' if v != v else f'{v:.0f} km/h'}" for k, v in sets.items()) + ". "
     out.append(line + "The conicity of the reconstructed LM (0.11 at the centre) enters too.")
     non = cyc.nonlinear_critical_speed_kmh
-    out.append(f"* **Nonlinear critical speed** {non:.0f} km/h; the paper says below 320 km/h and close to it. "
+    non_text = _critical(non, f"none (no limit cycle to {cyc.speeds_kmh.max(initial=0.0):.0f} km/h)")
+    out.append(f"* **Nonlinear critical speed** {non_text}; the paper says below 320 km/h and close to it. "
                "The bifurcation is subcritical, so the value depends on the size of the kick (here a 10 mm, 20 m "
                "kink; the paper's excitation is not given) and on the same stand-in suspension.")
     d = [(r["radius_m"], r.get("refined_speed_kmh"), PAPER["critical_derailment_speed_kmh"].get(r["radius_m"]))
@@ -312,13 +345,20 @@ def _parameter_table(sc):
     return rows + [""]
 
 
-def write_report(out="report", quick=False, workers=None):
-    """Run everything and write out/report.md with its figures; returns the path of report.md."""
+def headline_cases(quick, vehicle_set):
+    """The trials of the report's sweep: the paper's six radii (three when `quick`) on `vehicle_set`."""
+    return sw.cases(radii=(800.0, 1200.0, 1800.0) if quick else sw.PAPER_RADII, vehicle_sets=(vehicle_set,))
+
+
+def write_report(out="report", quick=False, workers=None, vehicle_set="hs19", sensitivity=True):
+    """Run everything on the suspension set `vehicle_set` and write out/report.md with its figures (without the
+    sensitivity table when `sensitivity` is false); returns the path of report.md."""
+    sc = Scenario(vehicle=vehicle_parameters(vehicle_set))
     os.makedirs(out, exist_ok=True)
     t0 = time.time()
     workers = workers or os.cpu_count() or 1
-    sc = Scenario()
-    lines = ["# railderail report: critical derailment speed of the CRH3 model beside Yu et al. (2022)", ""]
+    lines = ["# railderail report: critical derailment speed of the CRH3 model beside Yu et al. (2022)"
+             + ("" if vehicle_set == "hs19" else f", suspension set {vehicle_set}"), ""]
     timing = {}
 
     # --- root locus
@@ -334,29 +374,30 @@ def write_report(out="report", quick=False, workers=None):
     timing["limit_cycle_s"] = time.time() - t
     # --- progressive trial sweep
     t = time.time()
-    radii = (800.0, 1200.0, 1800.0) if quick else sw.PAPER_RADII
     stair = Staircase()
-    results = sw.sweep(sw.cases(radii=radii), sc, stair, refine=True, tolerance_kmh=5.0 if quick else 1.0,
-                       workers=workers, progress=False)
+    results = sw.sweep(headline_cases(quick, vehicle_set), sc, stair, refine=True,
+                       tolerance_kmh=5.0 if quick else 1.0, workers=workers, progress=False)
     plotting.critical_speed_figure(results, os.path.join(out, "critical_speed_vs_radius.png"))
     timing["sweep_s"] = time.time() - t
     # --- derailment process
     t = time.time()
-    runs = process_runs(results)
+    runs = process_runs(results, sc.vehicle)
     figs = _process_figures(runs, out)
     numbers = _process_numbers(runs)
     patches = _patch_sizes(runs)
     phase_radius = 1000.0 if 1000.0 in runs else min(runs) if runs else None
     phases = _patch_phases(runs[phase_radius], out) if phase_radius else []
     timing["process_s"] = time.time() - t
-    sens = [] if quick else _sensitivity(1000.0, stair, workers)
+    sens = _sensitivity(1000.0, stair, workers, vehicle_set) if sensitivity and not quick else []
 
     lin = locus.linear_critical_speed_kmh
     non = cyc.nonlinear_critical_speed_kmh
     lines += [
-        "Model: CRH3 car (Yu 2022 Table 1 masses and dimensions), suspension set `hs19` (docs/vehicle-model.md),",
+        f"Model: CRH3 car (Yu 2022 Table 1 masses and dimensions), suspension set `{vehicle_set}` "
+        "(docs/vehicle-model.md),",
         "LM wheel (reconstructed, docs/profiles.md) on UIC60 at 1:40, Hertz normal contact with Shen-Hedrick-Elkins",
-        "creep, friction 0.3, ideal rigid track of Table 2. Nothing was tuned to the paper. The same trial on",
+        "creep, friction 0.3, ideal rigid track of Table 2. Nothing was tuned to the paper. The same trial"
+        + ("" if vehicle_set == "hs19" else " of hs19, beside this folder,") + " on",
         "irregular and elastic track: real-track.md (`railderail real-track`); under crosswind, and the",
         "characteristic wind curves: cwc.md (`railderail cwc`); with suspension faults: faults.md; the warning",
         "criteria over a catalogue of scenarios (which warns, how early, how often falsely): warnings-catalogue.md.",
@@ -365,14 +406,16 @@ def write_report(out="report", quick=False, workers=None):
         "",
         "| quantity | this model | Yu 2022 | difference |",
         "|---|---|---|---|",
-        f"| linear critical speed (root locus) | {lin:.0f} km/h ({locus.critical_mode}, {locus.critical_frequency_hz:.1f} Hz) "
-        f"| about {PAPER['linear_critical_speed_kmh']:.0f} km/h | {_pct(lin, PAPER['linear_critical_speed_kmh'])} |",
-        f"| nonlinear critical speed (limit cycle, 10 mm kink) | {non:.0f} km/h | below {PAPER['nonlinear_critical_speed_kmh']:.0f} km/h "
+        "| linear critical speed (root locus) | "
+        + (f"{lin:.0f} km/h ({locus.critical_mode}, {locus.critical_frequency_hz:.1f} Hz) " if lin == lin else
+           f"none: stable to {locus.speeds_kmh.max():.0f} km/h ")
+        + f"| about {PAPER['linear_critical_speed_kmh']:.0f} km/h | {_pct(lin, PAPER['linear_critical_speed_kmh'])} |",
+        "| nonlinear critical speed (limit cycle, 10 mm kink) | "
+        f"{_critical(non, f'none: no limit cycle to {cyc.speeds_kmh.max(initial=0.0):.0f} km/h')} "
+        f"| below {PAPER['nonlinear_critical_speed_kmh']:.0f} km/h "
         f"| {_pct(non, PAPER['nonlinear_critical_speed_kmh'])} |",
         "",
-        f"Nonlinear below linear: {'yes' if non <= lin else 'no'} ({non:.0f} <= {lin:.0f} km/h): the bifurcation is "
-        "subcritical, a kicked car hunts on a flange-contact limit cycle well below the speed where the centred "
-        "running loses its damping.",
+        _below(non, lin, cyc.speeds_kmh.max(initial=0.0), locus.speeds_kmh.max()),
         "",
         "![root locus](root_locus.png)", "", "![limit cycle](limit_cycle.png)", "",
         "## Critical derailment speed against radius (progressive trial)", "",
@@ -453,7 +496,7 @@ def write_report(out="report", quick=False, workers=None):
         lines.append("")
     sets = {} if quick else {name: rl.root_locus(Scenario(vehicle=vehicle_parameters(name)),
                                                  np.linspace(100.0, 800.0, 36)).linear_critical_speed_kmh
-                             for name in ("hs19", "a380", "zhai")}
+                             for name in dict.fromkeys(SUSPENSION_SETS + (vehicle_set,))}
     lines += _discussion(locus, cyc, results, numbers, phases, sens, sets, nadal_of(sc))
     lines += _parameter_table(sc)
     timing["total_s"] = time.time() - t0

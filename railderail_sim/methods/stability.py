@@ -396,8 +396,8 @@ km/h, the real one runs at 300-350 and EN 14363 asks stability to 1.1 x the maxi
    geometry, and within the public sets' values the fold ranges from
    {_fold(min(float(r["nonlinear_kmh"]) for r in d["cases"] if r["nonlinear_kmh"] is not None))} to
    {_fold(max(float(r["nonlinear_kmh"]) for r in d["cases"] if r["nonlinear_kmh"] is not None))}.
-   Runs at line speed (250-350 km/h) should take `--vehicle-set {DECIDED}`; their false-alarm figures on hs19
-   hold below its fold ({_kmh(b["nonlinear_kmh"])}).
+   Runs at line speed (250-350 km/h) should take `--vehicle-set {DECIDED}` (hs19-a380yaw.md); false-alarm figures
+   on hs19 hold below its fold over EN 14363's margin ({_kmh(b["nonlinear_kmh"])} / {MARGIN:g}).
 
 Sources: HS19 = Math. Probl. Eng. 2019, art. 7163732, Table 2; A380 = the public CRH380A parameter file
 Par_Vehicle_CRH380A_v6; Zhai = the "high-speed passenger car" preset of Zhai's Vehicle-Track Coupled Dynamics
