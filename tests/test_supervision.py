@@ -10,7 +10,7 @@ import pytest
 
 from railderail_monitor.supervision.curves import (INDICATION, INTERVENTION, NONE, WARNING, SupervisionLimits, Target,
                                                    TargetCurves, ramp, target_limit)
-from railderail_monitor.supervision.loop import survey_targets
+from railderail_monitor.supervision.loop import survey_on_track, targets_of_survey
 from railderail_monitor.supervision.odometry import Odometry
 from railderail_monitor.supervision.supervisor import (LiveInputs, LiveRules, Supervisor, friction_limit,
                                                        wind_speed_limit)
@@ -165,19 +165,23 @@ def test_a_step_costs_under_a_tenth_of_a_millisecond():
     assert cost < 1e-4
 
 
+def _read(path):
+    return json.loads(path.read_text())
+
+
 def test_a_surveys_targets(tmp_path):
     path = tmp_path / "survey.json"
     path.write_text(json.dumps(dict(curves=[dict(start_m=1000.0, end_m=2600.0, radius_m=1000.0, safe_speed_kmh=255.0,
                                                  safe_speed_by_friction_kmh={"0.2": 280.0, "0.6": 250.0})])))
-    (target,) = survey_targets(path)
+    (target,) = targets_of_survey(_read(path), path)
     assert (target.start_m, target.end_m, target.speed_limit_m_s) == (1000.0, 2600.0, 255.0 * KMH)
     assert friction_limit(target, 0.3) == pytest.approx(250.0 * KMH)
     path.write_text(json.dumps(dict(curves=[dict(start_m=1000.0, end_m=900.0, safe_speed_kmh=255.0)])))
     with pytest.raises(ValueError, match="curve 0: target .* start 1000 m is not before its end 900 m"):
-        survey_targets(path)
+        targets_of_survey(_read(path), path)
     path.write_text("[]")
     with pytest.raises(ValueError, match="not a survey's JSON"):
-        survey_targets(path)
+        targets_of_survey(_read(path), path)
 
 
 def test_a_whole_survey_is_supervised_as_its_most_restrictive_profile(tmp_path):
@@ -189,7 +193,7 @@ def test_a_whole_survey_is_supervised_as_its_most_restrictive_profile(tmp_path):
     data["curves"][0]["safe_speed_by_friction_kmh"] = {"0.2": 250.0, "0.4": 240.0}
     path = tmp_path / "survey.json"
     path.write_text(json.dumps(data))
-    targets = survey_targets(path)
+    targets = targets_of_survey(_read(path), path)
     assert [(t.start_m, t.end_m, t.speed_limit_m_s, t.reason) for t in targets] == sv.survey_targets(data)
     (curve,) = [t for t in targets if t.limits_by_friction]
     assert (curve.start_m, curve.end_m) == (2000.0, 3000.0)
@@ -207,3 +211,16 @@ def test_the_closed_loop_demo_places_the_survey_s_curve_on_its_own_approach(tmp_
     assert placed["safe_speed_kmh"] == shipped["safe_speed_kmh"]
     with pytest.raises(ValueError, match="no curve of R 1200 m and 175 mm cant"):
         closed_loop_survey(SHIPPED_SURVEY, dict(run, radius=1200.0), tmp_path)
+
+
+def test_simulate_supervises_a_survey_s_curve_where_the_run_has_it(tmp_path):
+    """`simulate --supervision` with 3000 m of approach meets the shipped survey's curve on the run's own curve
+    (3000-4400 m), not where the survey's own line has it (200-1600 m)."""
+    from railderail_monitor.supervision.demo_loop import SHIPPED_SURVEY
+    from railderail_sim.parameters import TrackParameters
+    track = TrackParameters(straight_in=3000.0)
+    (target,) = targets_of_survey(survey_on_track(SHIPPED_SURVEY, track), SHIPPED_SURVEY)
+    (shipped,) = json.loads(SHIPPED_SURVEY.read_text())["curves"]
+    assert (target.start_m, target.end_m) == (3000.0, 4400.0)
+    assert target.speed_limit_m_s == pytest.approx(shipped["safe_speed_kmh"] * KMH)
+

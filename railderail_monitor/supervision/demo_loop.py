@@ -2,8 +2,6 @@
 ROS"): the survey the monitor supervises, placed on the run's own geometry, the same run without the
 supervisor in the batch core, and the lines that set the two side by side."""
 from importlib.resources import files
-import json
-from pathlib import Path
 
 from railderail_sim import jsonout
 
@@ -17,25 +15,12 @@ def _scenario(sim_params):
 
 
 def closed_loop_survey(path, sim_params, out):
-    """The survey the closed loop's monitor supervises: the curve of the survey at `path` with the radius and
-    cant of the run's curve, placed on the run's own geometry (its approach), written to the run folder (a
-    catalogue scenario's line is supervised from its own geometry). ValueError when the survey has no such
-    curve."""
-    try:
-        curves = json.loads(Path(path).read_text())["curves"]
-    except (OSError, ValueError, KeyError, TypeError) as error:
-        raise ValueError(f"survey {path}: not a survey's JSON with 'curves' ({error})") from None
-    track = _scenario(sim_params).track
-    match = [c for c in curves if c.get("radius_m") == track.radius and c.get("cant_mm") == track.cant_height * 1e3
-             and c.get("safe_speed_kmh") is not None]
-    if not match:
-        raise ValueError(f"survey {path} has no curve of R {track.radius:g} m and {track.cant_height * 1e3:g} mm "
-                         f"cant: survey a line with that curve (`railderail survey LINE.yaml --out FILE.json`) "
-                         "and give it with --survey")
-    curve = dict(match[0], start_m=track.straight_in,
-                 end_m=track.straight_in + track.transition_in + track.curve_length + track.transition_out)
+    """The survey the closed loop's monitor supervises, placed on the run's own geometry
+    (`loop.survey_on_track`), written to the run folder (a catalogue scenario's line is supervised from its
+    own geometry). ValueError when the survey has no curve of the run's radius and cant."""
+    from .loop import survey_on_track
     placed = out / "survey.json"
-    jsonout.write(placed, dict(source=str(path), curves=[curve]))
+    jsonout.write(placed, survey_on_track(path, _scenario(sim_params).track))
     return str(placed)
 
 

@@ -2,11 +2,12 @@
 (railderail_sim.supervision.closed_loop). The simulate command finds `simulate_supervised` through the
 command table's SUPERVISION (railderail_monitor/commands.py), so railderail_sim never imports this package.
 
-Targets: a survey's JSON (`railderail survey LINE.yaml --json`: `curves`, each with `start_m`, `end_m`,
-`safe_speed_kmh` and, where it gives them, `safe_speed_by_friction_kmh` {friction: km/h}), or the scenario's
-own curve from its entry transition to the end of its exit transition under a given critical derailment
-speed (`--critical-speed-kmh`; the survey computes it by the paper's method, `railderail trial` for one
-curve), its target speed from `curves.target_limit`.
+Targets: a survey's JSON (`railderail survey LINE.yaml --json`) placed on the run's own curve
+(`survey_on_track`: the survey's curve of the run's radius and cant, its safe speed and per-friction limits),
+or the scenario's own curve from its entry transition to the end of its exit transition under a given
+critical derailment speed (`--critical-speed-kmh`; the survey computes it by the paper's method, `railderail
+trial` for one curve), its target speed from `curves.target_limit`: that speed less dV_ebi only, without the
+margins a survey's safe speed keeps (docs/supervision.md, "The safe speed").
 """
 import json
 import math
@@ -37,23 +38,35 @@ def scenario_targets(track, critical_speed, limits):
                    "(given)")]
 
 
-def survey_targets(path):
-    """The targets of a survey's JSON file. A whole survey (`railderail survey --out`, with its line): the most
-    restrictive speed profile along the line (railderail_sim.methods.survey.survey_targets: the line speed, the
-    civil limits, each curve's permitted and safe speed, each defect's safe speed), a curve's safe-speed piece
-    carrying the curve's per-friction limits. A survey of curves only (its `curves`, each with `start_m`,
-    `end_m`, `safe_speed_kmh`): one target per curve under its safe speed."""
+def survey_on_track(path, track):
+    """The survey at `path` placed on a scenario's own geometry (`track`, a one-curve run such as `simulate` and
+    the demo run): its curve of the run's radius and cant, moved to the run's curve (its entry transition to
+    the end of its exit transition), as a survey of curves only. A survey's positions are its own line's, and
+    a run with another approach would otherwise meet its targets in the wrong place. ValueError when the
+    survey has no such curve."""
     try:
         with open(path) as f:
-            data = json.load(f)
-    except (OSError, ValueError) as error:
+            curves = json.load(f)["curves"]
+    except (OSError, ValueError, KeyError, TypeError) as error:
         raise ValueError(f"survey {path}: not a survey's JSON with 'curves' ({error})") from None
-    return targets_of_survey(data, path)
+    match = [c for c in curves if c.get("radius_m") == track.radius and c.get("cant_mm") == track.cant_height * 1e3
+             and c.get("safe_speed_kmh") is not None]
+    if not match:
+        raise ValueError(f"survey {path} has no curve of R {track.radius:g} m and {track.cant_height * 1e3:g} mm "
+                         f"cant: survey a line with that curve (`railderail survey LINE.yaml --out FILE.json`) "
+                         "and give it with --survey")
+    start = track.straight_in
+    end = start + track.transition_in + track.curve_length + track.transition_out
+    return dict(source=str(path), curves=[dict(match[0], start_m=start, end_m=end)])
 
 
 def targets_of_survey(data, path):
-    """The targets of a survey's JSON content `data` (read from `path`, which the errors and reasons name), as
-    `survey_targets` gives them."""
+    """The targets of a survey's JSON content `data` (read from `path`, which the errors and reasons name). A
+    whole survey (`railderail survey --out`, with its line): the most restrictive speed profile along the
+    line (railderail_sim.methods.survey.survey_targets: the line speed, the civil limits, each curve's
+    permitted and safe speed, each defect's safe speed), a curve's safe-speed piece carrying the curve's
+    per-friction limits. A survey of curves only (its `curves`, each with `start_m`, `end_m`,
+    `safe_speed_kmh`): one target per curve under its safe speed."""
     try:
         curves = data["curves"]
     except (KeyError, TypeError) as error:
@@ -159,7 +172,7 @@ def simulate_supervised(args, sc):
     limits = SupervisionLimits()
     braking = BrakingModel(adhesion=args.adhesion).validated()
     if args.supervision:
-        targets = survey_targets(args.supervision)
+        targets = targets_of_survey(survey_on_track(args.supervision, sc.track), args.supervision)
     elif args.critical_speed_kmh is not None:
         targets = scenario_targets(sc.track, args.critical_speed_kmh * KMH, limits)
     else:

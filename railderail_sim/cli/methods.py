@@ -165,13 +165,15 @@ def _supervision_args(parser):
     """--supervision, --closed-loop, --critical-speed-kmh, --approach-m, --adhesion (docs/supervision.md)."""
     from ..supervision.braking import ADHESIONS
     parser.add_argument("--supervision", nargs="?", const="", metavar="SURVEY.json",
-                        help="supervise the speed against the targets of a survey's JSON, or without one the "
-                             "scenario's curve under --critical-speed-kmh (railderail_monitor's supervisor)")
+                        help="supervise the speed against a survey's JSON (its curve of the run's radius and cant, "
+                             "placed on the run's curve), or without one the scenario's curve under "
+                             "--critical-speed-kmh (railderail_monitor's supervisor)")
     parser.add_argument("--closed-loop", action="store_true",
                         help="with --supervision: brake on the supervisor's emergency brake command")
     parser.add_argument("--critical-speed-kmh", type=float, default=None,
                         help="the critical derailment speed of the scenario's curve (km/h; `railderail trial` "
-                             "or the survey computes it)")
+                             "or the survey computes it), supervised less dV_ebi only: a survey's safe speed "
+                             "also keeps every hazard margin")
     parser.add_argument("--approach-m", type=float, default=None,
                         help="metres of straight before the curve's entry transition (default: Table 2's 200)")
     parser.add_argument("--odometer", action="store_true",
