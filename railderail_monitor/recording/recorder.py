@@ -355,7 +355,8 @@ def delivery_text(table):
                 f"topic{'s' if len(kept) != 1 else ''}" + note)
     return ("the recording LOST " + ", ".join(f"{row['lost']} of {row['published']} {topic}"
                                               for topic, row in lost.items())
-            + " (best-effort topics: a recorder behind the simulator drops what its queue cannot hold)" + note)
+            + " (a reader's queue holds 5000 messages a topic: a recorder that far behind the simulator loses the"
+              " oldest)" + note)
 
 
 # --- the recorder node --------------------------------------------------------------------------
