@@ -205,7 +205,7 @@ class RunViewer:
                       + level_text("attack_angle", self.limits.attack_angle))
         # the car looked at from the inner side of the built-in (left) curve, a little ahead and above: the inner
         # wheels, which unload and lift, in front of the bogies, and the four wheelsets (and their labels) apart
-        eye = rrb.EyeControls3D(kind=rrb.Eye3DKind.Orbital, position=[2.0, 21.0, 5.0], look_target=[0.0, 0.0, 1.0],
+        eye = rrb.EyeControls3D(kind=rrb.Eye3DKind.Orbital, position=[1.5, 18.5, 4.5], look_target=[0.0, 0.0, 0.8],
                                 eye_up=[0.0, 0.0, 1.0])
         scene = rrb.Spatial3DView(origin="/scene", name=f"car on the track (displacements x{self.exaggeration:g})",
                                   eye_controls=eye)
@@ -274,13 +274,15 @@ class RunViewer:
             log(f"/scene/track/car/bogie_{name}", rr.Boxes3D(half_sizes=[[1.7, 1.1, 0.2]], colors=[(90, 90, 90)],
                                                              radii=0.03, fill_mode="majorwireframe"), static=True)
         for w in range(4):
+            # no colours here: static data shadows temporal data in Rerun, and the wheels' colours (their lift
+            # levels) are the frames'; a static green kept every wheel green through the derailment
             wheels = rr.Cylinders3D(lengths=[0.14, 0.14, 1.5], radii=[WHEEL_RADIUS, WHEEL_RADIUS, 0.08],
                                     centers=[[0, RAIL_Y, 0], [0, -RAIL_Y, 0], [0, 0, 0]],
                                     rotation_axis_angles=[rr.RotationAxisAngle(axis=[1, 0, 0], degrees=90)] * 3,
-                                    colors=[GREEN, GREEN, (60, 60, 60)], fill_mode="solid")
+                                    fill_mode="solid")
             log(f"/scene/track/wheelset_{w}", wheels, static=True)
-            # the label above the bogie frame, between it and the car body: over the wheel it hid the wheel's colour
-            log(f"/scene/track/wheelset_{w}/label", rr.Points3D([[0.0, 0.0, 0.6]], radii=0.02,
+            # the label below the rails: over the wheel it hid the wheel's colour
+            log(f"/scene/track/wheelset_{w}/label", rr.Points3D([[0.0, 0.0, -WHEEL_RADIUS - 0.5]], radii=0.02,
                                                                 labels=[f"ws{w}"], show_labels=True), static=True)
         log(f"/plots/{ATTACK}/values", rr.SeriesLines(names=WHEELSETS, colors=WHEELSET_COLORS), static=True)
         self._static_limits(f"/plots/{ATTACK}", "attack_angle")
