@@ -288,3 +288,21 @@ def test_samples_scene_and_alerts_have_their_track_position(tmp_path):
     assert any(line.startswith("/alerts ") and "'track_position_mm'" in line for line in rows)
     assert any(line.startswith("/scene/track/wheelset_0 ") for line in rows)
     assert all(f"'{TIMELINE}'" in line and f"'{POSITION}'" in line for line in rows), rows
+
+
+def test_no_static_component_shadows_the_frames_in_the_scene(rrd):
+    """Rerun shows an entity's static component instead of its temporal one: the scene's frames (the wheels'
+    colours by their lift levels, the bodies' transforms) must have no static twin, or every wheel stays green."""
+    import re
+
+    path, _ = rrd
+    static, temporal = {}, {}
+    for line in str(RrdReader(path).store().summary()).splitlines():
+        entity, _, rest = line.partition(" rows=")
+        found = re.search(r"cols=\[(.*)\]", rest)
+        if entity.startswith("/scene/") and found:
+            cols = {c.strip(" '") for c in found.group(1).split(",")}
+            (static if "static=True" in rest else temporal).setdefault(entity, set()).update(cols)
+    assert "Cylinders3D:colors" in temporal["/scene/track/wheelset_0"]
+    for entity, cols in temporal.items():
+        assert not cols & static.get(entity, set()), entity
