@@ -456,7 +456,7 @@ def events_executor(context=None):
     """rclpy's events executor (rclpy.experimental, its dispatch in C++): about 20 us a message against
     the single-threaded executor's 120 (an empty callback on sensor_msgs/Imu, measured here), for a node
     that takes thousands of messages a second (the measured-mode monitor: the shipped sensors send about
-    3800 a second at real time). Not the recorder's: with its timers, a Ctrl-C left it spinning (12 times in 12 on
+    3800 a second at real time). Not the recorder's: with its timers, a Ctrl-C left it spinning (13 times in 14 on
     2026-12-06; before the signals were held while it was built, it aborted, SIGABRT)."""
     from rclpy.experimental import EventsExecutor
     return EventsExecutor(context=context)
