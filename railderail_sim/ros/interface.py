@@ -81,8 +81,9 @@ SENSOR = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5000, reliability=Rel
 # the recorder reads them reliable; its queue holds 25 s at 200 Hz, or a short run published as fast as possible
 # (about 2500 samples a second), so that a Python callback that falls behind for a while loses nothing
 RECORDER = SENSOR
-# the monitors and the viewer read them best effort, with as deep a queue: the measured-mode monitor on reliable
-# subscriptions lost a tenth of its sensor messages in test_onboard_ros (not understood; 2026-12-06)
+# the monitors and the viewer read them best effort, with as deep a queue: with this profile reliable, the measured
+# monitor (whose sensor subscriptions are its own, best effort) lost 12-30 % of its sensor messages in
+# test_onboard_ros, 3 runs in 3, and none with it best effort (1 run; not understood, 2026-12-06)
 SENSOR_SUBSCRIBER = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5000,
                                reliability=ReliabilityPolicy.BEST_EFFORT, durability=DurabilityPolicy.VOLATILE)
 LATCHED = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1, reliability=ReliabilityPolicy.RELIABLE,
