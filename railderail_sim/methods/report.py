@@ -287,8 +287,8 @@ def _discussion(locus, cyc, results, numbers, phases, sens, sets, nadal):
         verdict = "below" if qp2 < limit else "above"
         out.append(f"* **Derailment coefficient**: largest 2 m mean {qp2:.2f} on the outer wheels, {verdict} Nadal's "
                    f"limit ({limit:.2f} at {math.degrees(angle):.1f} deg, mu 0.3); the paper found Y/Q (its Q/P) below "
-                   "0.8 and concluded that Y/Q does not announce this derailment. Raw 200 Hz peaks during flange impacts are "
-                   "higher; EN 14363 evaluates the 2 m mean.")
+                   "0.8 and concluded that Y/Q does not announce this derailment. Raw 200 Hz peaks during flange "
+                   "impacts are higher; EN 14363 evaluates the 2 m mean.")
     if phases:
         root = next((r for r in phases if r["phase"].startswith("c")), None)
         tread = next((r for r in phases if r["phase"].startswith("a")), None)
