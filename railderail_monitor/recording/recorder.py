@@ -380,8 +380,7 @@ class RecorderNode(Node):
         shipped_sensors = sm.sensor_topics(load_sensors())
         for topic, (type_name, _, pub_qos, sub_qos) in {**m.TOPICS, **shipped_sensors,
                                                         m.CLOCK: m.CLOCK_TOPIC}.items():
-            # the samples reliable: the transport sends again what it dropped while the recorder waited for a core
-            self.subscribe(topic, type_name, m.RECORDER if sub_qos is m.SENSOR_SUBSCRIBER else sub_qos, pub_qos)
+            self.subscribe(topic, type_name, sub_qos, pub_qos)
         self.create_timer(1.0, self.discover)
         self.create_timer(flush_period_s, self.recording.flush)
         self.get_logger().info(f"recording {len(self.subscriptions_by_topic)} topics to {self.recording.path}")

@@ -25,9 +25,8 @@ With the simulator's `sensors` on, the on-board sensors (railderail_sim/sensors,
 /railderail/sensors/ (SENSORS_NS) with the samples' QoS: their topics and messages are
 railderail_sim/ros/sensor_messages.py.
 
-The samples are published reliable with a deep queue (SENSOR); the recorder reads them reliable (RECORDER), so
-that neither the transport under load nor a burst before its callback runs loses a sample; the monitors and the
-viewer read them best effort (SENSOR_SUBSCRIBER).
+The samples' QoS (SENSOR, SENSOR_SUBSCRIBER: one profile) is reliable with a deep queue, so that neither the
+transport under load nor a burst before a callback runs loses a sample.
 """
 from __future__ import annotations
 
@@ -72,20 +71,15 @@ ONBOARD_ESTIMATES = f"{NS}/onboard_estimates"
 BRAKE = f"{NS}/brake_command"
 CLOCK = "/clock"
 
-# the samples' topics (states, forces, status, the on-board sensors): published reliable, keep last 5000, so that a
-# reliable reader gets again what the transport dropped while its process waited for a core (best effort lost 46 of
-# 22 765 states in a demo's recording; a reader held still 1.5 s lost a tenth of what came meanwhile), and a reader
-# that stops reading loses the oldest instead of holding the simulator up (keep all would block it).
-SENSOR = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5000, reliability=ReliabilityPolicy.RELIABLE,
-                    durability=DurabilityPolicy.VOLATILE)
-# the recorder reads them reliable; its queue holds 25 s at 200 Hz, or a short run published as fast as possible
-# (about 2500 samples a second), so that a Python callback that falls behind for a while loses nothing
-RECORDER = SENSOR
-# the monitors and the viewer read them best effort, with as deep a queue: with this profile reliable, the measured
-# monitor (whose sensor subscriptions are its own, best effort) lost 12-30 % of its sensor messages in
-# test_onboard_ros, 3 runs in 3, and none with it best effort (1 run; not understood, 2026-12-06)
-SENSOR_SUBSCRIBER = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5000,
-                               reliability=ReliabilityPolicy.BEST_EFFORT, durability=DurabilityPolicy.VOLATILE)
+# the samples' topics (states, forces, status, the on-board sensors), publishers and subscribers alike. Reliable:
+# best effort lost what the transport dropped while a reader's process waited for a core (46 of 22 765 states in a
+# demo's recording; a reader held still for 1.5 s lost a tenth of what came meanwhile, reliable none); keep last,
+# deep: a reader's queue holds 25 s at 200 Hz, or a short run published as fast as possible (about 2500 samples a
+# second), so that a Python callback that falls behind for a while loses nothing, and the writer keeps as many to
+# send again; a reader that stops reading loses the oldest instead of holding the simulator up (keep all would
+# block it). Best-effort subscribers (another tool's sensor-data QoS) still match.
+SENSOR = SENSOR_SUBSCRIBER = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5000,
+                                        reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
 LATCHED = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1, reliability=ReliabilityPolicy.RELIABLE,
                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
 ALERT_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000, reliability=ReliabilityPolicy.RELIABLE,
