@@ -70,7 +70,7 @@ def test_recorder_writes_a_rosbag2_bag_that_rosbags_reads(spawn, read_until, tmp
         states = connections[m.STATES]
         assert states.msgtype == "railderail_msgs/msg/WheelsetStates" and states.msgcount >= 200
         (offered,) = states.ext.offered_qos_profiles
-        assert offered.reliability == QosReliability.BEST_EFFORT and offered.durability == QosDurability.VOLATILE
+        assert offered.reliability == QosReliability.RELIABLE and offered.durability == QosDurability.VOLATILE
         assert connections[m.FINAL_STATUS].ext.offered_qos_profiles[0].durability == QosDurability.TRANSIENT_LOCAL
     with AnyReader([folder]) as reader:
         samples = [reader.deserialize(raw, c.msgtype).sample for c, _, raw in reader.messages()

@@ -89,7 +89,7 @@ def test_geometry_human_text_and_friction(capsys):
                      "--step-mm", "0.2"]) == 0
     out = capsys.readouterr().out
     assert "flange height" in out and "28.00 mm" in out
-    assert "Nadal limit Q/P" in out and "mu 0.36" in out
+    assert "Nadal limit Y/Q" in out and "mu 0.36" in out
     assert "equivalent conicity" in out
 
 

@@ -265,3 +265,44 @@ def test_the_measured_monitor_s_alerts_are_in_the_rrd(tmp_path):
     feed_viewer(viewer)(m.ONBOARD_ALERTS, "railderail_msgs/msg/Alert", 58_400_000_000, b"", alert)
     viewer.close()
     assert entity_rows(tmp_path / "alerts.rrd")["/alerts"] == 1
+
+
+def test_samples_scene_and_alerts_have_their_track_position(tmp_path):
+    """The position timeline beside simulation time: a sample's place is the wheelset states' at its time
+    (interpolated, mm), an alert's its own; every temporal entity of the .rrd is on both timelines."""
+    from railderail_monitor.views.rerun_views import POSITION, TIMELINE, RunViewer
+    from railderail_sim.ros import interface as m
+
+    viewer = RunViewer(scene_rate=1000.0, flush_every=10**6)
+    viewer.save(tmp_path / "place.rrd")
+    for t in (0.0, 0.005, 0.01):
+        synthetic(viewer, t)                                   # the car at 80 t m
+    index = viewer._index([0.0, 0.0025, 0.01, 0.02])
+    assert [column.timeline_name() for column in index] == [TIMELINE, POSITION]
+    assert index[1].times.to_pylist() == [0, 200, 800, 800]    # held beyond the last state's sample
+    alert = m.stamp(m.Alert(criterion="wheel_lift", severity=1, track_position=0.61, message="warning: ..."), 0.0075)
+    viewer.on_alert(alert)
+    viewer.close()
+    rows = [line for line in str(RrdReader(tmp_path / "place.rrd").store().summary()).splitlines()
+            if "static=False" in line]
+    assert any(line.startswith("/alerts ") and "'track_position_mm'" in line for line in rows)
+    assert any(line.startswith("/scene/track/wheelset_0 ") for line in rows)
+    assert all(f"'{TIMELINE}'" in line and f"'{POSITION}'" in line for line in rows), rows
+
+
+def test_no_static_component_shadows_the_frames_in_the_scene(rrd):
+    """Rerun shows an entity's static component instead of its temporal one: the scene's frames (the wheels'
+    colours by their lift levels, the bodies' transforms) must have no static twin, or every wheel stays green."""
+    import re
+
+    path, _ = rrd
+    static, temporal = {}, {}
+    for line in str(RrdReader(path).store().summary()).splitlines():
+        entity, _, rest = line.partition(" rows=")
+        found = re.search(r"cols=\[(.*)\]", rest)
+        if entity.startswith("/scene/") and found:
+            cols = {c.strip(" '") for c in found.group(1).split(",")}
+            (static if "static=True" in rest else temporal).setdefault(entity, set()).update(cols)
+    assert "Cylinders3D:colors" in temporal["/scene/track/wheelset_0"]
+    for entity, cols in temporal.items():
+        assert not cols & static.get(entity, set()), entity

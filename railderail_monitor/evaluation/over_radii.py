@@ -151,7 +151,7 @@ def _cell(first, level, derailed):
 
 def table(runs):
     names = levels()
-    head = ["R (m)", "case", "v (km/h)", "derailment", "peaks: attack angle ws0 (rad) / lift (mm) / Q/P / dP/P0"] + names
+    head = ["R (m)", "case", "v (km/h)", "derailment", "peaks: attack angle ws0 (rad) / lift (mm) / Y/Q / ΔQ/Q0"] + names
     rows = []
     for r in runs:
         d = r["derailment"]

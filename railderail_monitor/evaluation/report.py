@@ -127,7 +127,7 @@ def mechanisms(result):
         lift = {share: sum(p["lift_share_max"] >= share for p in peaks) for share in (0.25, 0.5, 0.75)}
         lines += ["", f"The flange-climb margin is Nadal's limit at the run's friction (the simulator knows it, and the "
                   f"wheel climbs by it); 49 CFR 213.333's single-wheel L/V limit is Nadal's at friction 0.5. Of "
-                  f"{len(peaks)} runs, the Q/P's 5 ft mean reached the first in {over_run} and the second in {over_cfr}. "
+                  f"{len(peaks)} runs, the Y/Q's 5 ft mean reached the first in {over_run} and the second in {over_cfr}. "
                   "The lift level (half the flange height) has no standard value: the runs whose wheel lift reached "
                   + ", ".join(f"{share:g} of the flange height: {n}" for share, n in lift.items()) + "."]
     return lines

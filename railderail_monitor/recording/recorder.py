@@ -358,7 +358,8 @@ def delivery_text(table):
                 f"topic{'s' if len(kept) != 1 else ''}" + note)
     return ("the recording LOST " + ", ".join(f"{row['lost']} of {row['published']} {topic}"
                                               for topic, row in lost.items())
-            + " (best-effort topics: a recorder behind the simulator drops what its queue cannot hold)" + note)
+            + " (a reader's queue holds 5000 messages a topic: a recorder that far behind the simulator loses the"
+              " oldest)" + note)
 
 
 # --- the recorder node --------------------------------------------------------------------------
@@ -404,7 +405,7 @@ class RecorderNode(Node):
                 continue
             reliable = all(i.qos_profile.reliability == ReliabilityPolicy.RELIABLE for i in infos)
             latched = all(i.qos_profile.durability == DurabilityPolicy.TRANSIENT_LOCAL for i in infos)
-            qos = QoSProfile(depth=500,
+            qos = QoSProfile(depth=5000,
                              reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
                              durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE)
             try:

@@ -92,7 +92,7 @@ def estimator_panels(style, wheel_colours, vehicle=None):
         paths += [_series(f"{FORCES}.vertical_force[{2 * w + s}]", f"ws{w} {side} (truth)", wheel_colours[2 * w + s])
                   for w in RUNNING_GEARS[j] for s, side in enumerate(("left", "right"))]
         paths += [_series(repr((1.0 - unloading) * p0), f"unloading {unloading:g}", _hex(RED), lineSize=1),
-                  _series(repr(p0), "static wheel load P0", _hex(GREY), lineSize=1)]
+                  _series(repr(p0), "static wheel load Q0", _hex(GREY), lineSize=1)]
         panels[f"Plot!sensors_estimator_{bogie}_loads"] = {
             "foxglove.panelTitle": f"{bogie} bogie wheel loads (N): each side's estimated from the sensors (its two "
                                    "wheels alike) beside the ground truth's Q", "paths": paths, **style}

@@ -4,7 +4,9 @@ read. Live (the viewer node, viewer_node.py: `railderail view` spawns a viewer, 
 one, `--rrd FILE.rrd` writes a file) or from a recording (`railderail replay FILE.mcap --rerun` or
 `--rrd OUT.rrd`).
 
-Entities (timeline `sim_time`, simulation time):
+Entities, on two timelines: `sim_time` (simulation time) and `track_position_mm` (the car-body centre along the
+line, mm: an integer timeline, so that an engineer scrubs along the line and reads an alert's place off the axis;
+a sample's place from the wheelset states at its time, interpolated; none without them, a recording of sensors only):
   plots/attack_angle_mrad/values   front-to-rear wheelsets, mrad; the warning line once the
                                    attack angle reaches half of it (so that the data sets the scale)
   plots/NAME/left, plots/NAME/right    the left and the right wheels of the four wheelsets, for NAME
@@ -58,6 +60,7 @@ from .planning import PlanningArea, planning_view
 WHEELSETS = [f"ws{w}" for w in range(4)]
 SIDES = ("left", "right")                  # wheel k is wheelset k // 2, side k % 2
 TIMELINE = "sim_time"
+POSITION = "track_position_mm"             # Rerun's sequence timelines are integers: mm keeps every sample apart
 # schematic geometry (m) of the built-in car and track; body sizes only for the picture
 _CAR, _TRACK = VehicleParameters(), TrackParameters()
 BOGIES = (_CAR.bogie_semi_distance, -_CAR.bogie_semi_distance)              # bogie centres from the car's
@@ -85,9 +88,15 @@ TRUTH_COLORS = ((90, 90, 90), (170, 170, 170))
 YELLOW = (200, 160, 0)
 
 
-# said in the plot's title: what the raw reading drawn is not
-GROUP_NOTES = {"car_body": ", raw: rules on filtered ÿ* 2.5 (0.4-10 Hz), ÿ*_qst 1.5 (100 m mean)",
-               "axle_box": ", IEPE: AC coupled, no steady part"}
+# said in the plot's title: what the raw reading drawn is not (the car body's rules are on its lateral reading)
+GROUP_NOTES = {("car_body", "lateral"): ", raw; its rules: ÿ* 2.5 (0.4-10 Hz), ÿ*_qst 1.5 (100 m mean)",
+               ("axle_box", "lateral"): ", IEPE: AC coupled, no steady part",
+               ("axle_box", "vertical"): ", IEPE: AC coupled, no steady part"}
+
+
+def mount_label(mount, group):
+    """A mount's name in its group's legend, without the group's words: front, frame_0, 0_left."""
+    return mount.removeprefix(group + "_").removeprefix("bogie_")
 
 
 def sensor_group(mount):
@@ -105,10 +114,10 @@ def sensor_levels(vehicle):
     roll_rate = 2.0 * math.pi * onboard.car_body_roll_frequency(vehicle) * onboard.roll_level(vehicle)
     # the car body's raw reading carries the curve's steady part, which neither of its rules reads as such (ydd*
     # is band-passed, ydd*_qst a 100 m mean): their levels are named in the plot's title, not drawn against it
-    return {("bogie_frame", "lateral"): [("limit_peak", peak, RED, f"peak {peak:.2f} (f0 +- 2 Hz band)"),
+    return {("bogie_frame", "lateral"): [("limit_peak", peak, RED, f"peak {peak:.2f} (f0 ± 2 Hz band)"),
                                          ("limit_bids", onboard.BIDS_LIMIT, ORANGE,
                                           f"BIDS {onboard.BIDS_LIMIT:g} x {onboard.BIDS_PEAKS} peaks (4-8 Hz band)"),
-                                         ("limit_rms", rms, YELLOW, f"r.m.s. {rms:.2f} (f0 +- 2 Hz, 100 m)")],
+                                         ("limit_rms", rms, YELLOW, f"r.m.s. {rms:.2f} (f0 ± 2 Hz, 100 m)")],
             ("car_body", "roll_rate"): [("limit_roll_rate", roll_rate, RED, f"{roll_rate:.3f} (0.4-10 Hz band)")]}
 
 
@@ -123,7 +132,7 @@ SO_FAR = dict(start=rrb.TimeRangeBoundary.infinite(), end=rrb.TimeRangeBoundary.
 
 def plot(origin, name, contents="$origin/**", legend=True):
     return rrb.TimeSeriesView(origin=origin, name=name, contents=contents,
-                              time_ranges=[rrb.VisibleTimeRange(TIMELINE, **SO_FAR)],
+                              time_ranges=[rrb.VisibleTimeRange(line, **SO_FAR) for line in (TIMELINE, POSITION)],
                               axis_x=rrb.TimeAxis(view_range=rrb.TimeRange(**SO_FAR)),
                               plot_legend=rrb.PlotLegend(corner=rrb.Corner2D.LeftTop, visible=legend))
 
@@ -157,6 +166,8 @@ class RunViewer:
         self.flush_every = flush_every
         self.rec = rr.RecordingStream(application, recording_id=recording_id)
         self.buffers = {}          # entity -> (times, values)
+        self.track = ([], [])      # time and track position (m) of every wheelset-states sample: the position timeline
+        self.track_arrays = None   # the same as arrays, made again when it has grown
         self.last_scene = -math.inf
         self.status = None
         self.forces = None
@@ -194,9 +205,9 @@ class RunViewer:
         rows = {entity: sides(entity, criterion, title) for entity, criterion, _, title in WHEEL_PLOTS}
         attack = plot(f"/plots/{ATTACK}", "attack angle (mrad), warning "
                       + level_text("attack_angle", self.limits.attack_angle))
-        # the car looked at from behind the inner side of the built-in (left) curve, a little above: the inner
-        # wheels, which unload and lift, in front of the bogies instead of behind them
-        eye = rrb.EyeControls3D(kind=rrb.Eye3DKind.Orbital, position=[-15.0, 13.0, 6.0], look_target=[0.0, 0.0, 0.8],
+        # the car looked at from the inner side of the built-in (left) curve, a little ahead and above: the inner
+        # wheels, which unload and lift, in front of the bogies, and the four wheelsets (and their labels) apart
+        eye = rrb.EyeControls3D(kind=rrb.Eye3DKind.Orbital, position=[1.5, 18.5, 4.5], look_target=[0.0, 0.0, 0.8],
                                 eye_up=[0.0, 0.0, 1.0])
         scene = rrb.Spatial3DView(origin="/scene", name=f"car on the track (displacements x{self.exaggeration:g})",
                                   eye_controls=eye)
@@ -206,8 +217,11 @@ class RunViewer:
                 rrb.Vertical(rows["wheel_lift_mm"], rows["derailment_coefficient"], rows["unloading_ratio"]),
                 rrb.Vertical(rows["lateral_force_kN"], rows["vertical_force_kN"]),
                 column_shares=[4, 5, 4]),
-            # the whole width, so that an alert's sentence is read whole
-            rrb.TextLogView(origin="/alerts", name="alerts"),
+            # the whole width, so that an alert's sentence is read whole; its time and place, not its entity
+            rrb.TextLogView(origin="/alerts", name="alerts", columns=rrb.archetypes.TextLogColumns(
+                timeline_columns=[rrb.encodings.TimelineColumn(line) for line in (TIMELINE, POSITION)],
+                text_log_columns=[rrb.encodings.TextLogColumn(kind, visible=kind != "EntityPath")
+                                  for kind in ("LogLevel", "EntityPath", "Body")])),
             row_shares=[4, 1], name="run")
 
     def sensors_view(self):
@@ -215,17 +229,20 @@ class RunViewer:
         estimator's unloading beside the ground truth's."""
         rows = []
         for group, title in SENSOR_GROUPS:
-            panels = [plot(f"/sensors/{group}/lateral", f"{title} lateral (m/s²){GROUP_NOTES.get(group, '')}"),
-                      plot(f"/sensors/{group}/vertical", f"{title} vertical (m/s²){GROUP_NOTES.get(group, '')}")]
-            if group == "car_body":
+            panels = [plot(f"/sensors/{group}/{axis}", f"{title} {axis} (m/s²){GROUP_NOTES.get((group, axis), '')}")
+                      for axis in ("lateral", "vertical")]
+            if group == "car_body":        # the lateral panel wider: its title names the rules
                 panels.append(plot("/sensors/car_body/roll_rate", "car body roll rate (rad/s)"))
-            rows.append(rrb.Horizontal(*panels))
+                rows.append(rrb.Horizontal(*panels, column_shares=[2, 1, 1]))
+            else:
+                rows.append(rrb.Horizontal(*panels))
         unloading = " / ".join(level_text("running_gear_unloading", thr)
                                for _, thr in self.limits.levels("running_gear_unloading"))
         rows.append(rrb.Horizontal(*(plot(f"/sensors/estimator/{bogie}", f"{bogie} gear ΔQ/Q0, estimate and "
                                           f"truth: {unloading}")
                                      for bogie in estimator.BOGIES)))
-        return rrb.Vertical(*rows, name="sensors")
+        # the bogie frames' legend is the longest (six mounts, three levels +-), then the axle boxes' (eight mounts)
+        return rrb.Vertical(*rows, row_shares=[1.0, 1.5, 1.3, 1.0], name="sensors")
 
     def save(self, path):
         self.rec.save(str(path), default_blueprint=self.blueprint())
@@ -255,15 +272,19 @@ class RunViewer:
                                                 colors=[(70, 110, 200)], radii=0.02, fill_mode="majorwireframe"),
             static=True)
         for b, name in enumerate(("front", "rear")):
+            # wire frames too: a solid bogie hid its wheels' middle from the side
             log(f"/scene/track/car/bogie_{name}", rr.Boxes3D(half_sizes=[[1.7, 1.1, 0.2]], colors=[(90, 90, 90)],
-                                                             fill_mode="solid"), static=True)
+                                                             radii=0.03, fill_mode="majorwireframe"), static=True)
         for w in range(4):
+            # no colours here: static data shadows temporal data in Rerun, and the wheels' colours (their lift
+            # levels) are the frames'; a static green kept every wheel green through the derailment
             wheels = rr.Cylinders3D(lengths=[0.14, 0.14, 1.5], radii=[WHEEL_RADIUS, WHEEL_RADIUS, 0.08],
                                     centers=[[0, RAIL_Y, 0], [0, -RAIL_Y, 0], [0, 0, 0]],
                                     rotation_axis_angles=[rr.RotationAxisAngle(axis=[1, 0, 0], degrees=90)] * 3,
-                                    colors=[GREEN, GREEN, (60, 60, 60)], fill_mode="solid")
+                                    fill_mode="solid")
             log(f"/scene/track/wheelset_{w}", wheels, static=True)
-            log(f"/scene/track/wheelset_{w}/label", rr.Points3D([[0.0, 0.0, WHEEL_RADIUS + 0.15]], radii=0.02,
+            # the label below the rails: over the wheel it hid the wheel's colour
+            log(f"/scene/track/wheelset_{w}/label", rr.Points3D([[0.0, 0.0, -WHEEL_RADIUS - 0.5]], radii=0.02,
                                                                 labels=[f"ws{w}"], show_labels=True), static=True)
         log(f"/plots/{ATTACK}/values", rr.SeriesLines(names=WHEELSETS, colors=WHEELSET_COLORS), static=True)
         self._static_limits(f"/plots/{ATTACK}", "attack_angle")
@@ -320,6 +341,8 @@ class RunViewer:
 
     def on_states(self, msg):
         t = seconds(msg.header.stamp)
+        self.track[0].append(t)
+        self.track[1].append(float(msg.track_position))
         attack = _arr(msg.attack_angle)
         self._append(f"/plots/{ATTACK}/values", t, attack * 1e3)
         # its 0.06 rad line would flatten attack angles of a few mrad: drawn once they reach half of it
@@ -355,7 +378,7 @@ class RunViewer:
     def on_alert(self, alert, signals="ground_truth"):
         """An Alert message into the alerts' log, marked with the monitor's signals (as the demo prints it)."""
         a = m.alert_dict(alert)
-        self.rec.set_time(TIMELINE, duration=a["time_s"])
+        self._set_time(a["time_s"], a["track_position"])
         level = "ERROR" if a["severity"] == SEVERITY_CRITICAL else "WARN"
         self.rec.log("/alerts", rr.TextLog(f"[{signals}] s = {a['track_position']:.1f} m, {a['speed'] * 3.6:.1f} km/h: "
                                            f"{a['message']}", level=level))
@@ -366,7 +389,7 @@ class RunViewer:
 
     def on_brake(self, msg):
         """A speed supervision's emergency brake command (railderail_msgs/BrakeCommand) in the alerts' log."""
-        self.rec.set_time(TIMELINE, duration=seconds(msg.header.stamp))
+        self._set_time(seconds(msg.header.stamp), msg.track_position)
         self.rec.log("/alerts", rr.TextLog(
             f"s = {msg.track_position:.1f} m: EMERGENCY BRAKE commanded at {msg.speed * 3.6:.1f} km/h, held down to "
             f"{msg.release_speed * 3.6:.1f} km/h ({msg.reason})", level="ERROR"))
@@ -384,7 +407,7 @@ class RunViewer:
     def on_derailment(self, event):
         d = m.derailment_dict(event)
         self.derailed_at = d["time_s"]
-        self.rec.set_time(TIMELINE, duration=d["time_s"])
+        self._set_time(d["time_s"], d["track_position_m"])
         self.rec.log("/alerts", rr.TextLog(
             f"s = {d['track_position_m']:.1f} m: DERAILED: wheelset {d['wheelset']} {d['wheel_side']} "
             f"({d['rail_side']} rail), {d['mechanism'].replace('_', ' ')}, {d['speed_kmh']:.1f} km/h",
@@ -393,16 +416,16 @@ class RunViewer:
             self._log_final(*self.final_entry)
 
     def on_final_status(self, msg):
-        entry = (seconds(msg.header.stamp), f"run stopped: {msg.message}")
+        entry = (seconds(msg.header.stamp), msg.track_position, f"run stopped: {msg.message}")
         if msg.state == m.msgs.VehicleStatus.STATE_DERAILED and self.derailed_at is None:
             self.final_entry = entry        # logged after the DERAILED line, whichever message comes first
         else:
             self._log_final(*entry)
 
-    def _log_final(self, t, text):
+    def _log_final(self, t, position, text):
         if self.derailed_at is not None:    # the log is sorted by time: after the derailment
             t = max(t, self.derailed_at + 1e-6)
-        self.rec.set_time(TIMELINE, duration=t)
+        self._set_time(t, position)
         self.rec.log("/alerts", rr.TextLog(text, level="INFO"))
         self.final_entry = None
 
@@ -430,10 +453,11 @@ class RunViewer:
             entity = f"{origin}/{mount}"
             if entity not in self.sensor_series:
                 shown = sum(e.startswith(origin + "/") and "/limit_" not in e for e in self.sensor_series)
-                self._style(entity, [mount], [MOUNT_COLORS[shown % len(MOUNT_COLORS)]])
+                self._style(entity, [mount_label(mount, group)], [MOUNT_COLORS[shown % len(MOUNT_COLORS)]])
             self._append(entity, t, value)
             for line, level, colour, label in self.sensor_levels.get((group, name), ()):
-                self._style(f"{origin}/{line}", [f"+{label}", f"-{label}"], [colour] * 2, [2.0] * 2)
+                # one name for the + and - lines: the legend shows the pair as one entry
+                self._style(f"{origin}/{line}", [f"±{label}"] * 2, [colour] * 2, [2.0] * 2)
                 self._line(f"{origin}/{line}", t, (level, -level))
 
     def _estimate(self, final):
@@ -530,6 +554,23 @@ class RunViewer:
                 count += 1
         b["patch_n"].append(count)
 
+    def _set_time(self, t, position):
+        """The time and the place of what is logged next (an entry of the alerts' log)."""
+        self.rec.set_time(TIMELINE, duration=t)
+        self.rec.set_time(POSITION, sequence=int(round(position * 1e3)))
+
+    def _index(self, times):
+        """The index columns of samples at `times`: simulation time and, once wheelset states have come, the
+        track position at those times (interpolated between the states' samples, held beyond them)."""
+        t = np.asarray(times, dtype=float)
+        index = [rr.TimeColumn(TIMELINE, duration=t)]
+        if self.track[0]:
+            if self.track_arrays is None or len(self.track_arrays[0]) != len(self.track[0]):  # once per flush
+                self.track_arrays = tuple(np.asarray(x) for x in self.track)
+            s = np.interp(t, *self.track_arrays)
+            index.append(rr.TimeColumn(POSITION, sequence=np.round(s * 1e3).astype(np.int64)))
+        return index
+
     def _level(self, criterion, value):
         """0 below a criterion's levels, 1 at or above its first, 2 at or above its second."""
         return min(sum(value >= x for _, x in self.limits.levels(criterion)), 2)
@@ -545,7 +586,7 @@ class RunViewer:
         if not n:
             return
         send = self.rec.send_columns
-        index = [rr.TimeColumn(TIMELINE, duration=np.asarray(b["time"]))]
+        index = self._index(b["time"])
         send("/scene/track", index, rr.Transform3D.columns(quaternion=b["track"]))
         send("/scene/track/car/body", index, rr.Transform3D.columns(translation=b["body_t"], quaternion=b["body_q"]))
         for k, name in enumerate(("front", "rear")):
@@ -568,7 +609,7 @@ class RunViewer:
         for entity, (times, values) in self.buffers.items():
             if not times:
                 continue
-            self.rec.send_columns(entity, indexes=[rr.TimeColumn(TIMELINE, duration=np.asarray(times))],
+            self.rec.send_columns(entity, indexes=self._index(times),
                                   columns=rr.Scalars.columns(scalars=np.asarray(values, dtype=float)))
             times.clear()
             values.clear()

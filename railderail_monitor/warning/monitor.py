@@ -74,7 +74,7 @@ class Monitor:
                 + self._check("wheel_lift", wheel_lift, t, sample, position, speed))
 
     def on_forces(self, t, sample, position, speed, derailment_coefficient, vertical_force):
-        """Q/P (8 wheels) and vertical forces P (8 wheels, N) of one sample."""
+        """Y/Q (8 wheels) and vertical forces Q (8 wheels, N) of one sample."""
         unloading = unloading_ratio(vertical_force, self.limits.static_wheel_load)
         return (self._check("derailment_coefficient", derailment_coefficient, t, sample, position, speed)
                 + self._check("derailment_coefficient_duration", derailment_coefficient, t, sample, position, speed)

@@ -17,7 +17,7 @@ def front_attack_angle(attack_angle):
 
 
 def unloading_ratio(vertical_force, static_wheel_load):
-    """Wheel unloading ratio dP/P0 = (P0 - P) / P0 (dimensionless; 1 = wheel fully unloaded)."""
+    """Wheel unloading ratio ΔQ/Q0 = (Q0 - Q) / Q0 (dimensionless; 1 = wheel fully unloaded)."""
     if not static_wheel_load > 0.0:
         raise ValueError(f"static wheel load {static_wheel_load:g} N must be positive")
     return (static_wheel_load - np.asarray(vertical_force, dtype=float)) / static_wheel_load
@@ -31,7 +31,7 @@ def running_gear_unloading(unloading):
 
 def sliding_mean(values, position, window):
     """The mean of each column of `values` (n, ...) over the samples of the last `window` m of track up to
-    each sample (those with position > position_i - window), as EN 14363 evaluates Q/P. From prefix sums,
+    each sample (those with position > position_i - window), as EN 14363 evaluates Y/Q. From prefix sums,
     so that the monitor's running version (`SlidingMean`) gives the same numbers."""
     v = np.asarray(values, dtype=float)
     pos = np.asarray(position, dtype=float)

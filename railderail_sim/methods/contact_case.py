@@ -26,7 +26,9 @@ Sign conventions: totals in track axes (x forward, y left, z up), forces on the 
 everything is in that wheel's own frame (the right wheel mirrored into the left-wheel form of
 `geometry`): lateral positions, lateral creepage and lateral creep force + toward the field side of its
 rail, contact angle + toward the flange, spin likewise mirrored; so a centred wheelset gives identical
-left and right values. Q (+ toward the field side) and P (+ down) are the forces on the rail. Yaw
+left and right values. Y (+ toward the field side) and Q (+ down) are the lateral and vertical forces on the
+rail (EN 14363's notation, docs/output-format.md; the JSON keys `Q_N`, `P_N`, `Q_over_P` keep the paper's letters,
+Q lateral and P vertical). Yaw
 psi > 0 turns the wheelset's heading to the left (toward the left rail). `force_on_rail_N` is the one
 exception: the wheel's whole force on its rail in track axes (x forward, y left, z up), the way CONTACT
 reports its totals, so that the two wheels can be compared with a benchmark without mirroring.
@@ -79,8 +81,8 @@ class WheelsetPose:
 
 @dataclass(frozen=True, kw_only=True)
 class WheelForces:
-    """One wheel's force on its rail with one set of creep forces: Q, P in the wheel's own frame, the whole
-    force in track axes."""
+    """One wheel's force on its rail with one set of creep forces: Y (key Q_N), Q (key P_N) and Y/Q (key
+    Q_over_P) in the wheel's own frame, the whole force in track axes."""
     Q_N: float
     P_N: float
     Q_over_P: float
@@ -196,7 +198,7 @@ class ContactCase:
 
 
 def _wheel_text(w):
-    return (f"Q {w.Q_N / 1e3:.2f} kN, P {w.P_N / 1e3:.2f} kN, Q/P {w.Q_over_P:.3f}, longitudinal "
+    return (f"Y {w.Q_N / 1e3:.2f} kN, Q {w.P_N / 1e3:.2f} kN, Y/Q {w.Q_over_P:.3f}, longitudinal "
             f"{w.longitudinal_force_on_rail_N / 1e3:+.3f} kN")
 
 

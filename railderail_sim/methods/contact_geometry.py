@@ -133,7 +133,7 @@ class ContactGeometry:
         else:
             lines.append("  flange contact                not reached within the table (increase --y-max-mm)")
         lines += [
-            f"  Nadal limit Q/P               {self.nadal_limit:.3f} (mu {self.friction:g}, at the max "
+            f"  Nadal limit Y/Q               {self.nadal_limit:.3f} (mu {self.friction:g}, at the max "
             "contact angle)",
             f"  rail head width               {self.rail_head_width_m * 1e3:.2f} mm "
             f"(at {p.track.gauge_depth * 1e3:g} mm)",

@@ -81,11 +81,11 @@ def _process_figures(runs, out):
         ("process_attack_front.png", "attack angle, front wheelset (rad)", lambda run, i: run.attack_angle[:, 0]),
         ("process_attack_rear.png", "attack angle, rear wheelset of the front bogie (rad)",
          lambda run, i: run.attack_angle[:, 1]),
-        ("process_lateral_force.png", "lateral force Q, outer wheel of the front wheelset (kN)",
+        ("process_lateral_force.png", "lateral force Y, outer wheel of the front wheelset (kN)",
          lambda run, i: run.wheel("lateral_force")[:, 1 - i] / 1e3),
-        ("process_vertical_force.png", "vertical force P, outer wheel of the front wheelset (kN)",
+        ("process_vertical_force.png", "vertical force Q, outer wheel of the front wheelset (kN)",
          lambda run, i: run.wheel("vertical_force")[:, 1 - i] / 1e3),
-        ("process_derailment_coefficient.png", "derailment coefficient Q/P, outer wheel, front wheelset",
+        ("process_derailment_coefficient.png", "derailment quotient Y/Q, outer wheel, front wheelset",
          lambda run, i: run.wheel("derailment_coefficient")[:, 1 - i]),
     ]
     names = []
@@ -98,7 +98,7 @@ def _process_figures(runs, out):
 
 
 def sliding_mean(values, position, window=2.0):
-    """Mean over the preceding `window` metres of track (EN 14363 evaluates Q/P as a 2 m sliding mean)."""
+    """Mean over the preceding `window` metres of track (EN 14363 evaluates Y/Q as a 2 m sliding mean)."""
     c = np.concatenate(([0.0], np.cumsum(values)))
     start = np.searchsorted(position, position - window)
     n = np.arange(1, len(values) + 1) - start
@@ -319,9 +319,9 @@ def _discussion(locus, cyc, results, numbers, phases, sens, sets, nadal):
         angle, limit = nadal
         verdict = "below" if qp2 < limit else "above"
         out.append(f"* **Derailment coefficient**: largest 2 m mean {qp2:.2f} on the outer wheels, {verdict} Nadal's "
-                   f"limit ({limit:.2f} at {math.degrees(angle):.1f} deg, mu 0.3); the paper found Q/P below 0.8 and "
-                   "concluded that Q/P does not announce this derailment. Raw 200 Hz peaks during flange impacts are "
-                   "higher; EN 14363 evaluates the 2 m mean.")
+                   f"limit ({limit:.2f} at {math.degrees(angle):.1f} deg, mu 0.3); the paper found Y/Q (its Q/P) below "
+                   "0.8 and concluded that Y/Q does not announce this derailment. Raw 200 Hz peaks during flange "
+                   "impacts are higher; EN 14363 evaluates the 2 m mean.")
     if phases:
         root = next((r for r in phases if r["phase"].startswith("c")), None)
         tread = next((r for r in phases if r["phase"].startswith("a")), None)
@@ -442,10 +442,10 @@ def write_report(out="report", quick=False, workers=None, vehicle_set="hs19", se
         lines.append(f"Increase from R 1600 to 1800 m: {inc:+.0f} km/h (Yu 2022: +{PAPER['increase_1600_1800_kmh']:.0f}).")
     lines += ["", "![critical speed vs radius](critical_speed_vs_radius.png)", "",
               "## Derailment process at the critical derailment speed", "",
-              "Front wheelset; forces and Q/P of its outer wheel; Q/P raw (200 Hz) and as the 2 m sliding mean of "
-              "EN 14363.", "",
+              "Front wheelset; forces and Y/Q of its outer wheel (EN 14363's notation: Y lateral, Q vertical; the "
+              "paper writes Q and P); Y/Q raw (200 Hz) and as the 2 m sliding mean of EN 14363.", "",
               "| radius (m) | speed (km/h) | max attack angle front / rear (rad) | max lift inner / outer (mm) | "
-              "Q, P at derailment (kN) | max Q, P (kN) | max Q/P raw / 2 m |",
+              "Y, Q at derailment (kN) | max Y, Q (kN) | max Y/Q raw / 2 m |",
               "|---|---|---|---|---|---|---|"]
     for radius, n in numbers.items():
         lines.append(f"| {radius:.0f} | {n['speed_kmh']:.1f} | {n['max_front_attack_rad']:.4f} / {n['max_rear_attack_rad']:.4f} | "

@@ -8,14 +8,14 @@ railderail_sim never imports railderail_monitor. Topics (all under /railderail/ 
 
 | topic                            | type                             | QoS                                    |
 | -------------------------------- | -------------------------------- | -------------------------------------- |
-| /railderail/wheelset_states      | railderail_msgs/WheelsetStates   | sensor data (best effort, volatile, 5) |
-| /railderail/contact_forces       | railderail_msgs/ContactForces    | sensor data                            |
-| /railderail/vehicle_status       | railderail_msgs/VehicleStatus    | sensor data                            |
+| /railderail/wheelset_states      | railderail_msgs/WheelsetStates   | samples (reliable, volatile, 5000)     |
+| /railderail/contact_forces       | railderail_msgs/ContactForces    | samples                                |
+| /railderail/vehicle_status       | railderail_msgs/VehicleStatus    | samples                                |
 | /railderail/final_status         | railderail_msgs/VehicleStatus    | reliable, transient local, depth 1     |
 | /railderail/derailment           | railderail_msgs/DerailmentEvent  | reliable, transient local, depth 1     |
 | /railderail/alerts               | railderail_msgs/Alert            | reliable, transient local, depth 1000  |
 | /railderail/onboard_alerts       | railderail_msgs/Alert            | the same (the monitor in measured mode)|
-| /railderail/onboard_estimates    | railderail_msgs/OnboardEstimate  | sensor data (its estimator's)          |
+| /railderail/onboard_estimates    | railderail_msgs/OnboardEstimate  | samples (its estimator's)              |
 | /railderail/brake_command        | railderail_msgs/BrakeCommand     | reliable, volatile, depth 10 (the      |
 |                                  |                                  | speed supervision's intervention)      |
 | /railderail/supervision          | std_msgs/String (JSON)           | reliable, transient local, depth 1     |
@@ -26,10 +26,11 @@ railderail_sim never imports railderail_monitor. Topics (all under /railderail/ 
 |                                  |                                  | when not running at real time          |
 
 With the simulator's `sensors` on, the on-board sensors (railderail_sim/sensors, docs/onboard.md) publish under
-/railderail/sensors/ (SENSORS_NS) with sensor-data QoS: their topics and messages are railderail_sim/ros/sensor_messages.py.
+/railderail/sensors/ (SENSORS_NS) with the samples' QoS: their topics and messages are
+railderail_sim/ros/sensor_messages.py.
 
-Subscribers of the sensor-data topics use best effort with a deeper queue (SENSOR_SUBSCRIBER) so
-that a burst does not overwrite samples before the callback runs.
+The samples' QoS (SENSOR, SENSOR_SUBSCRIBER: one profile) is reliable with a deep queue, so that neither the
+transport under load nor a burst before a callback runs loses a sample.
 """
 from __future__ import annotations
 
@@ -47,7 +48,7 @@ from rclpy.exceptions import ParameterException
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.parameter import Parameter
 from rclpy.signals import SignalHandlerOptions
-from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
 from std_msgs.msg import Float64MultiArray, MultiArrayDimension, String
 
@@ -82,11 +83,15 @@ SUPERVISION = f"{NS}/supervision"
 SUPERVISION_STATUS = f"{NS}/supervision_status"
 CLOCK = "/clock"
 
-SENSOR = qos_profile_sensor_data
-# a subscriber's queue: 25 s at 200 Hz, or a short run published as fast as possible (about 2500 samples
-# a second), so that a Python callback that falls behind for a while loses nothing
-SENSOR_SUBSCRIBER = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5000,
-                               reliability=ReliabilityPolicy.BEST_EFFORT, durability=DurabilityPolicy.VOLATILE)
+# the samples' topics (states, forces, status, the on-board sensors), publishers and subscribers alike. Reliable:
+# best effort lost what the transport dropped while a reader's process waited for a core (46 of 22 765 states in a
+# demo's recording; a reader held still for 1.5 s lost a tenth of what came meanwhile, reliable none); keep last,
+# deep: a reader's queue holds 25 s at 200 Hz, or a short run published as fast as possible (about 2500 samples a
+# second), so that a Python callback that falls behind for a while loses nothing, and the writer keeps as many to
+# send again; a reader that stops reading loses the oldest instead of holding the simulator up (keep all would
+# block it). Best-effort subscribers (another tool's sensor-data QoS) still match.
+SENSOR = SENSOR_SUBSCRIBER = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5000,
+                                        reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
 LATCHED = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1, reliability=ReliabilityPolicy.RELIABLE,
                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
 ALERT_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000, reliability=ReliabilityPolicy.RELIABLE,
@@ -500,8 +505,8 @@ def events_executor(context=None):
     """rclpy's events executor (rclpy.experimental, its dispatch in C++): about 20 us a message against
     the single-threaded executor's 120 (an empty callback on sensor_msgs/Imu, measured here), for a node
     that takes thousands of messages a second (the measured-mode monitor: the shipped sensors send about
-    3800 a second at real time). Not the recorder's: with its timers, a Ctrl-C just after its start
-    aborted the process (SIGABRT) once the file was written."""
+    3800 a second at real time). Not the recorder's: with its timers, a Ctrl-C left it spinning (13 times in 14 on
+    2026-12-06; before the signals were held while it was built, it aborted, SIGABRT)."""
     from rclpy.experimental import EventsExecutor
     return EventsExecutor(context=context)
 

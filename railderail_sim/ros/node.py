@@ -2,7 +2,7 @@
 
 A timer fires at the publish rate (times the real-time factor); each tick integrates exactly one
 publication period (`Simulation.advance`) and publishes the new sample on the state topics
-(sensor-data QoS): wheelset states and contact forces at every sample, the vehicle status at
+(the samples' QoS, reliable): wheelset states and contact forces at every sample, the vehicle status at
 `status_rate` (every 4th sample by default), plus /clock when not running at real time. When the
 run stops it publishes the final VehicleStatus on /railderail/final_status and, after a derailment,
 the ground-truth DerailmentEvent on /railderail/derailment (both reliable, transient local), then
@@ -40,6 +40,7 @@ from railderail_sim.vehicle.simulate import (RADIUS_RANGE, SPEED_RANGE_KMH, Simu
 
 MAX_CATCH_UP = 20   # samples one late tick may publish in a row
 MATCH_WAIT_S = 5.0   # s the run waits, once its subscribers are there, for every subscription to match
+ACK_WAIT_S = 5.0     # s the node waits at the end, at most, for its readers to acknowledge every message
 PUBLISH_RATE_RANGE = (1.0, 2000.0)        # Hz of simulated time
 
 # The scenario's parameters are read-only: the model is built from them before the run starts.
@@ -369,8 +370,8 @@ class SimulatorNode(Node):
 
 
 def run_until_done(node, executor):
-    """Spin until the run stops, stay up `linger_s` for late subscribers and until the reliable
-    readers of the latched topics acknowledged; or, with exit_when_done false, until Ctrl-C."""
+    """Spin until the run stops, stay up `linger_s` for late subscribers and until the readers
+    acknowledged every message (at most ACK_WAIT_S); or, with exit_when_done false, until Ctrl-C."""
     if not node.p["exit_when_done"]:
         m.spin_until(executor)
         return node.exit_code
@@ -378,8 +379,10 @@ def run_until_done(node, executor):
     end = time.monotonic() + node.p["linger_s"]
     while time.monotonic() < end:
         executor.spin_once(timeout_sec=0.05)
-    for topic in (m.FINAL_STATUS, m.DERAILMENT):
-        node.pubs[topic].wait_for_all_acked(rclpy.duration.Duration(seconds=2.0))
+    # every topic is reliable: the readers' last samples too, which the transport may have to send again
+    end = time.monotonic() + ACK_WAIT_S
+    for pub in node.pubs.values():
+        pub.wait_for_all_acked(rclpy.duration.Duration(seconds=max(end - time.monotonic(), 0.0)))
     return node.exit_code
 
 

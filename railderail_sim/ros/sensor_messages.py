@@ -2,8 +2,9 @@
 (`SensorConverter`), and messages -> samples (`SensorDecoder`) or -> the `sensor_<unit>_<signal>` arrays of
 `railderail simulate --sensors` (`SensorRecord`, built on the decoder, so that a message is read one way).
 
-With the simulator's `sensors` on, each sensor is published at its own rate with sensor-data QoS, stamped with
-the physical instant plus its latency, header.frame_id the mount's or the air spring's name (`sensor_topics`):
+With the simulator's `sensors` on, each sensor is published at its own rate with the samples' QoS (reliable),
+stamped with the physical instant plus its latency, header.frame_id the mount's or the air spring's name
+(`sensor_topics`):
 
 | topic                                          | type                                      |
 | ---------------------------------------------- | ----------------------------------------- |
@@ -157,7 +158,8 @@ class SensorDecoder:
     {signal: values})], or None for a topic that is not a sensor's. A mount's acceleration, and its angular_rate
     unless the message marks it absent; the air springs' four deflections (the spring's height less the Range)
     and pressures once all eight messages of a stamp are in; the odometer's speed. `missed` counts the air
-    springs' stamps given up incomplete (a later stamp completed first: best-effort transport lost a message).
+    springs' stamps given up incomplete (a later stamp completed first: a message was lost, e.g. a reader's queue
+    overflowed).
     `sensors` (a `sensors.sensor_set.SensorSet`) gives the topics to subscribe to and the springs' height; without
     it, any mount decodes and the height is the shipped one (`height_m` to say another)."""
 
