@@ -3,9 +3,7 @@ else (rclpy's graph API), and the alerts it publishes are MeasuredMonitor's on t
 sensor messages decode back to the samples they were made from (sensor_messages.SensorDecoder)."""
 import numpy as np
 import pytest
-import rclpy
 from rclpy.serialization import deserialize_message, serialize_message
-from rclpy.signals import SignalHandlerOptions
 
 from railderail_sim.ros import interface as m
 from railderail_sim.ros import sensor_messages as sm
@@ -13,34 +11,15 @@ from railderail_sim.parameters import vehicle_parameters
 from railderail_sim.sensors.config import load as load_sensors
 from railderail_monitor.onboard import measured as me
 from railderail_monitor.onboard.monitor import MeasuredMonitor
+from monitor_node import node_of, subscribed  # noqa: F401 (node_of: a fixture)
 from test_onboard_measured import LOW, _record
 
 GROUND_TRUTH_TOPICS = {m.STATES, m.FORCES, m.STATUS, m.FINAL_STATUS, m.DERAILMENT, m.ALERTS}
 
 
-@pytest.fixture
-def node_of():
-    made = []
-
-    def make(*parameters):
-        from railderail_monitor.node import MonitorNode
-        rclpy.init(args=["--ros-args", *[a for p in parameters for a in ("-p", p)]],
-                   signal_handler_options=SignalHandlerOptions.NO)
-        made.append(MonitorNode())
-        return made[-1]
-    yield make
-    for node in made:
-        node.destroy_node()
-    rclpy.try_shutdown()
-
-
-def _subscribed(node):
-    return {topic for topic, _ in node.get_subscriber_names_and_types_by_node(node.get_name(), node.get_namespace())}
-
-
 def test_measured_mode_subscribes_to_the_sensor_topics_only(node_of):
     node = node_of("signals:=measured")
-    subscribed = _subscribed(node)
+    subscribed = subscribed(node)
     assert subscribed == set(sm.sensor_topics(load_sensors()))
     assert not subscribed & GROUND_TRUTH_TOPICS
     published = {t for t, _ in node.get_publisher_names_and_types_by_node(node.get_name(), node.get_namespace())}
@@ -48,7 +27,7 @@ def test_measured_mode_subscribes_to_the_sensor_topics_only(node_of):
 
 
 def test_ground_truth_mode_subscribes_to_the_simulator_s_topics(node_of):
-    assert {m.STATES, m.FORCES, m.STATUS} <= _subscribed(node_of())
+    assert {m.STATES, m.FORCES, m.STATUS} <= subscribed(node_of())
 
 
 def _messages(record):

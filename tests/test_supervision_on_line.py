@@ -10,9 +10,7 @@ import math
 
 import numpy as np
 import pytest
-import rclpy
 from rclpy.parameter import Parameter
-from rclpy.signals import SignalHandlerOptions
 
 from railderail_monitor.onboard.measured import CRITERIA as MEASURED_CRITERIA
 from railderail_monitor.supervision.curves import INTERVENTION, KMH, SupervisionLimits, target_limit
@@ -27,6 +25,8 @@ from railderail_sim.sensors.measure import SensorStream
 from railderail_sim.sensors.sensor_set import ODOMETER, SensorSet
 from railderail_sim.vehicle.layout import OutputRow
 from railderail_sim.vehicle.simulate import output_arrays, simulate
+
+from monitor_node import node_of, subscribed  # noqa: F401 (node_of: a fixture)
 
 LIMITS = SupervisionLimits()
 # the ROS test's run (tests/test_supervision_ros.py): R 1000 m at 320 km/h after 2500 m of straight, a survey
@@ -216,26 +216,6 @@ def test_the_live_inputs_move_the_targets(run):
     assert supervision.setup()["live"]["hunting"] is True
 
 
-@pytest.fixture
-def node_of():
-    made = []
-
-    def make(*parameters):
-        from railderail_monitor.node import MonitorNode
-        rclpy.init(args=["--ros-args", *[a for p in parameters for a in ("-p", p)]],
-                   signal_handler_options=SignalHandlerOptions.NO)
-        made.append(MonitorNode())
-        return made[-1]
-    yield make
-    for node in made:
-        node.destroy_node()
-    rclpy.try_shutdown()
-
-
-def _subscribed(node):
-    return {topic for topic, _ in node.get_subscriber_names_and_types_by_node(node.get_name(), node.get_namespace())}
-
-
 def test_the_node_s_live_input_parameters_and_hunting_alerts(run, tmp_path, node_of):
     sc, _, _ = run
     path = tmp_path / "survey.json"
@@ -243,7 +223,7 @@ def test_the_node_s_live_input_parameters_and_hunting_alerts(run, tmp_path, node
     node = node_of(f"supervision:={path}", "supervision_wind_speed:=45.0")
     sup = node.supervision.supervisor
     assert sup.live.wind_speed_m_s == 45.0 and sup.live.friction is None
-    assert m.ONBOARD_ALERTS in _subscribed(node)
+    assert m.ONBOARD_ALERTS in subscribed(node)
     assert node.set_parameters([Parameter("supervision_friction", value=0.3)])[0].successful
     assert sup.live.friction == 0.3
     assert node.set_parameters([Parameter("supervision_wind_speed", value=math.nan)])[0].successful
@@ -262,7 +242,7 @@ def test_the_node_s_odometer_mode_subscribes_to_the_odometer(tmp_path, node_of, 
     path = tmp_path / "survey.json"
     path.write_text(json.dumps(_survey(sc)))
     node = node_of(f"supervision:={path}", "supervision_signals:=odometer")
-    assert f"{m.SENSORS_NS}/{ODOMETER}" in _subscribed(node)
+    assert f"{m.SENSORS_NS}/{ODOMETER}" in subscribed(node)
     assert node.supervision.signals == "odometer"
 
 

@@ -39,16 +39,19 @@ def scenario_targets(track, critical_speed, limits):
 
 
 def survey_on_track(path, track):
-    """The survey at `path` placed on a scenario's own geometry (`track`, a one-curve run such as `simulate` and
-    the demo run): its curve of the run's radius and cant, moved to the run's curve (its entry transition to
-    the end of its exit transition), as a survey of curves only. A survey's positions are its own line's, and
-    a run with another approach would otherwise meet its targets in the wrong place. ValueError when the
-    survey has no such curve."""
+    """The survey at `path` for a run of a scenario's own geometry (`track`, a one-curve run such as `simulate`
+    and the demo run). A whole survey (with its line) has its own line's positions: its curve of the run's
+    radius and cant is moved to the run's curve (its entry transition to the end of its exit transition), as a
+    survey of curves only, so that a run with another approach meets it where its curve is (ValueError when
+    the survey has no such curve). A survey of curves only is taken as given in the run's positions."""
     try:
         with open(path) as f:
-            curves = json.load(f)["curves"]
+            data = json.load(f)
+        curves = data["curves"]
     except (OSError, ValueError, KeyError, TypeError) as error:
         raise ValueError(f"survey {path}: not a survey's JSON with 'curves' ({error})") from None
+    if "line" not in data:
+        return data
     match = [c for c in curves if c.get("radius_m") == track.radius and c.get("cant_mm") == track.cant_height * 1e3
              and c.get("safe_speed_kmh") is not None]
     if not match:
