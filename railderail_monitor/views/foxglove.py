@@ -23,8 +23,9 @@ from railderail_sim.vehicle.layout import RUNNING_GEARS
 
 from ..onboard.estimator import BOGIES
 from ..onboard.measured import GEAR_SIDES, measured_limits
+from .colours import MOUNT_COLORS, RED
 from .planning import COLOURS as PLANNING_COLOURS
-from .rerun_views import MOUNT_COLORS, RED, SENSOR_GROUPS, sensor_group, sensor_levels
+from .sensor_plots import SENSOR_GROUPS, sensor_group, sensor_levels
 
 LAYOUT = Path(__file__).resolve().parents[2] / "foxglove" / "railderail-layout.json"
 TABS = "Tab!views"

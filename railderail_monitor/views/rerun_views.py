@@ -51,11 +51,13 @@ from railderail_sim.ros import sensor_messages as sm
 from railderail_sim.ros.interface import seconds
 from railderail_sim.sensors.sensor_set import AIR_SPRING_EFFECTIVE_AREA
 
-from ..onboard import criteria as onboard, estimator
+from ..onboard import estimator
 from ..warning.alerts import level_text
 from ..warning.limits import Limits, default_limits, SEVERITY_CRITICAL
 from ..warning.quantities import unloading_ratio
+from .colours import ESTIMATE_COLORS, GREEN, GREY, MOUNT_COLORS, ORANGE, RED, TRUTH_COLORS, WHEELSET_COLORS
 from .planning import PlanningArea, planning_view
+from .sensor_plots import GROUP_NOTES, SENSOR_GROUPS, mount_label, sensor_group, sensor_levels
 
 WHEELSETS = [f"ws{w}" for w in range(4)]
 SIDES = ("left", "right")                  # wheel k is wheelset k // 2, side k % 2
@@ -67,11 +69,7 @@ BOGIES = (_CAR.bogie_semi_distance, -_CAR.bogie_semi_distance)              # bo
 STATIONS = tuple(b + w for b in BOGIES for w in (_CAR.wheelbase_semi, -_CAR.wheelbase_semi))   # wheelsets 0..3
 RAIL_Y = _TRACK.rail_spacing / 2.0                                          # rail centre from the track centre line
 WHEEL_RADIUS = _CAR.rolling_radius
-GREEN, ORANGE, RED, GREY = (60, 180, 75), (245, 130, 48), (230, 25, 75), (128, 128, 128)
 LEVEL_COLORS = (ORANGE, RED)
-# one colour per wheelset in every plot, none of them the levels' orange and red (the Foxglove layout
-# uses the same hues)
-WHEELSET_COLORS = [(31, 119, 180), (188, 189, 34), (148, 103, 189), (140, 86, 75)]   # blue, olive, purple, brown
 # per-wheel plots: (entity, criterion of its levels or None, scale from SI, title)
 # (EN 14363's notation: Y lateral, Q vertical wheel-rail force; docs/output-format.md)
 WHEEL_PLOTS = (("wheel_lift_mm", "wheel_lift", 1e3, "lift h_p (mm)"),
@@ -80,47 +78,6 @@ WHEEL_PLOTS = (("wheel_lift_mm", "wheel_lift", 1e3, "lift h_p (mm)"),
                ("lateral_force_kN", None, 1e-3, "Y (kN)"),
                ("vertical_force_kN", None, 1e-3, "Q (kN)"))
 ATTACK = "attack_angle_mrad"
-# the sensors' mount groups (sensors.sensor_set.MOUNTS by their prefix) and the colours of their mounts in order
-SENSOR_GROUPS = (("car_body", "car body"), ("bogie_frame", "bogie frame"), ("axle_box", "axle box"))
-MOUNT_COLORS = WHEELSET_COLORS + [(23, 190, 207), (227, 119, 194), (127, 127, 127), (255, 187, 120)]
-ESTIMATE_COLORS = ((31, 119, 180), (148, 103, 189))          # left, right; the ground truth in grey tones
-TRUTH_COLORS = ((90, 90, 90), (170, 170, 170))
-YELLOW = (200, 160, 0)
-
-
-# said in the plot's title: what the raw reading drawn is not (the car body's rules are on its lateral reading)
-GROUP_NOTES = {("car_body", "lateral"): ", raw; its rules: ÿ* 2.5 (0.4-10 Hz), ÿ*_qst 1.5 (100 m mean)",
-               ("axle_box", "lateral"): ", IEPE: AC coupled, no steady part",
-               ("axle_box", "vertical"): ", IEPE: AC coupled, no steady part"}
-
-
-def mount_label(mount, group):
-    """A mount's name in its group's legend, without the group's words: front, frame_0, 0_left."""
-    return mount.removeprefix(group + "_").removeprefix("bogie_")
-
-
-def sensor_group(mount):
-    """The plot group of a mount (car_body, bogie_frame, axle_box), None for another name."""
-    if mount.startswith("bogie_") and mount.endswith("_frame"):
-        return "bogie_frame"
-    return next((group for group, _ in SENSOR_GROUPS if mount.startswith(group + "_")), None)
-
-
-def sensor_levels(vehicle):
-    """{(group, plot): [(entity name, level, colour, label)]} of the on-board rules' levels drawn +- on the
-    sensors' plots (onboard/criteria.py), each rule's filter named in its label."""
-    peak, rms = onboard.bogie_limits(vehicle.bogie_frame_mass + 2.0 * vehicle.wheelset_mass)
-    # car_body_roll_rate's level: a roll at its emergency-spring level oscillating at the body's roll frequency
-    roll_rate = 2.0 * math.pi * onboard.car_body_roll_frequency(vehicle) * onboard.roll_level(vehicle)
-    # the car body's raw reading carries the curve's steady part, which neither of its rules reads as such (ydd*
-    # is band-passed, ydd*_qst a 100 m mean): their levels are named in the plot's title, not drawn against it
-    return {("bogie_frame", "lateral"): [("limit_peak", peak, RED, f"peak {peak:.2f} (f0 ± 2 Hz band)"),
-                                         ("limit_bids", onboard.BIDS_LIMIT, ORANGE,
-                                          f"BIDS {onboard.BIDS_LIMIT:g} x {onboard.BIDS_PEAKS} peaks (4-8 Hz band)"),
-                                         ("limit_rms", rms, YELLOW, f"r.m.s. {rms:.2f} (f0 ± 2 Hz, 100 m)")],
-            ("car_body", "roll_rate"): [("limit_roll_rate", roll_rate, RED, f"{roll_rate:.3f} (0.4-10 Hz band)")]}
-
-
 def _arr(x):
     return np.asarray(x, dtype=float)
 
