@@ -306,3 +306,60 @@ def test_no_static_component_shadows_the_frames_in_the_scene(rrd):
     assert "Cylinders3D:colors" in temporal["/scene/track/wheelset_0"]
     for entity, cols in temporal.items():
         assert not cols & static.get(entity, set()), entity
+
+
+def test_every_legend_of_the_sensors_tab_has_its_rows_height():
+    """A legend taller than its plot is cut (the axle boxes' at 1920x1080, the tab in four rows): each row's share
+    is its longest legend's entries and LEGEND_FRAME_ENTRIES more, the entries counted from the names the viewer
+    gives each plot once every mount of the shipped set has sent and an estimate has come."""
+    import numpy as np
+    import rerun as rr
+
+    from railderail_monitor.views.colours import ESTIMATE_COLORS, TRUTH_COLORS
+    from railderail_monitor.views.rerun_views import LEGEND_FRAME_ENTRIES, RunViewer
+    from railderail_sim.ros import sensor_messages as sm
+    from railderail_sim.sensors.config import default_set
+    from railderail_sim.sensors.sensor_set import MOUNTS
+
+    viewer = RunViewer(flush_every=10**6)
+    names, log = {}, viewer.rec.log
+
+    def naming(entity, archetype, **kwargs):       # the legend's entries of a plot: its series' names
+        if isinstance(archetype, rr.SeriesLines):
+            names.setdefault(entity.rsplit("/", 1)[0], set()).update(archetype.names.as_arrow_array().to_pylist())
+        return log(entity, archetype, **kwargs)
+
+    viewer.rec.log = naming
+    imu = sm.SensorConverter(default_set(), 200.0, 0.46).messages(
+        {mount: dict(time=np.array([0.007, 0.012]), acceleration=np.array([[0.1, -0.2, 9.8]] * 2),
+                     angular_rate=np.zeros((2, 3))) for mount in MOUNTS})
+    for _, topic, msg in imu:
+        viewer.on_sensor(topic, msg)
+    for series, colours in (("estimated", ESTIMATE_COLORS), ("ground_truth", TRUTH_COLORS)):
+        viewer._estimated(series, np.array([0.007, 0.012]), np.zeros((2, 4)), colours)
+    tab = viewer.sensors_view()
+    shown = {str(view.origin) for row in tab.contents for view in row.contents}
+    assert shown == set(names) and "/sensors/car_body/roll_rate" in shown
+    assert tab.row_shares == [max(len(names[str(view.origin)]) for view in row.contents) + LEGEND_FRAME_ENTRIES
+                              for row in tab.contents]
+    assert max(len(entries) for entries in names.values()) == 9          # the bogie frames': 6 mounts, 3 levels
+
+
+def test_an_alert_s_time_and_place_are_read_whole_in_its_text():
+    """The alerts' log's timeline columns are as wide as their names, which cut sim_time's values: they are hidden
+    and each entry says its time and place."""
+    import rerun as rr
+
+    from railderail_monitor.views.rerun_views import RunViewer
+    from railderail_sim.ros import interface as m
+
+    viewer = RunViewer(flush_every=10**6)
+    logged, log = [], viewer.rec.log
+    viewer.rec.log = lambda entity, archetype, **kwargs: (logged.append(archetype), log(entity, archetype, **kwargs))
+    viewer.on_alert(m.stamp(m.Alert(criterion="wheel_lift", severity=1, track_position=7643.14, speed=81.4,
+                                    message="warning: ..."), 113.685))
+    assert [a.text.as_arrow_array().to_pylist() for a in logged if isinstance(a, rr.TextLog)] == [
+        ["[ground_truth] t = 113.685 s, s = 7643.1 m, 293.0 km/h: warning: ..."]]
+    alerts = next(view for view in views(viewer.run_view()) if str(view.origin) == "/alerts")
+    assert not any(column["visible"] for column in
+                   alerts.properties["TextLogColumns"].timeline_columns.as_arrow_array().to_pylist())

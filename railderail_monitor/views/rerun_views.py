@@ -49,7 +49,7 @@ from railderail_sim.parameters import TrackParameters, VehicleParameters
 from railderail_sim.ros import interface as m
 from railderail_sim.ros import sensor_messages as sm
 from railderail_sim.ros.interface import seconds
-from railderail_sim.sensors.sensor_set import AIR_SPRING_EFFECTIVE_AREA
+from railderail_sim.sensors.sensor_set import AIR_SPRING_EFFECTIVE_AREA, MOUNTS
 
 from ..onboard import estimator
 from ..warning.alerts import level_text
@@ -78,6 +78,10 @@ WHEEL_PLOTS = (("wheel_lift_mm", "wheel_lift", 1e3, "lift h_p (mm)"),
                ("lateral_force_kN", None, 1e-3, "Y (kN)"),
                ("vertical_force_kN", None, 1e-3, "Q (kN)"))
 ATTACK = "attack_angle_mrad"
+# a plot's legend is cut where the plot is shorter than it: each row of the sensors' tab has as its share its longest
+# legend's entries and this many more (the view's title, time axis and the legend's frame, about 4.2 legend entries
+# at 1920x1080 in the viewer)
+LEGEND_FRAME_ENTRIES = 4
 def _arr(x):
     return np.asarray(x, dtype=float)
 
@@ -92,6 +96,11 @@ def plot(origin, name, contents="$origin/**", legend=True):
                               time_ranges=[rrb.VisibleTimeRange(line, **SO_FAR) for line in (TIMELINE, POSITION)],
                               axis_x=rrb.TimeAxis(view_range=rrb.TimeRange(**SO_FAR)),
                               plot_legend=rrb.PlotLegend(corner=rrb.Corner2D.LeftTop, visible=legend))
+
+
+def _place(t, position):
+    """An entry of the alerts' log: its time and place, as the demo prints them."""
+    return f"t = {t:.3f} s, s = {position:.1f} m"
 
 
 def _quat_xz(roll, yaw):
@@ -174,9 +183,10 @@ class RunViewer:
                 rrb.Vertical(rows["wheel_lift_mm"], rows["derailment_coefficient"], rows["unloading_ratio"]),
                 rrb.Vertical(rows["lateral_force_kN"], rows["vertical_force_kN"]),
                 column_shares=[4, 5, 4]),
-            # the whole width, so that an alert's sentence is read whole; its time and place, not its entity
+            # the whole width, so that an alert's sentence is read whole; its time and place are in the sentence
+            # (the log's timeline columns are as wide as their names: sim_time's cut its value), not its entity
             rrb.TextLogView(origin="/alerts", name="alerts", columns=rrb.archetypes.TextLogColumns(
-                timeline_columns=[rrb.encodings.TimelineColumn(line) for line in (TIMELINE, POSITION)],
+                timeline_columns=[rrb.encodings.TimelineColumn(line, visible=False) for line in (TIMELINE, POSITION)],
                 text_log_columns=[rrb.encodings.TextLogColumn(kind, visible=kind != "EntityPath")
                                   for kind in ("LogLevel", "EntityPath", "Body")])),
             row_shares=[4, 1], name="run")
@@ -184,22 +194,31 @@ class RunViewer:
     def sensors_view(self):
         """What the sensors measure, each lateral plot with its rules' levels in the legend, and the
         estimator's unloading beside the ground truth's."""
-        rows = []
+        panels = {}          # (group, plot): (view, its legend's entries)
         for group, title in SENSOR_GROUPS:
-            panels = [plot(f"/sensors/{group}/{axis}", f"{title} {axis} (m/s²){GROUP_NOTES.get((group, axis), '')}")
-                      for axis in ("lateral", "vertical")]
-            if group == "car_body":        # the lateral panel wider: its title names the rules
-                panels.append(plot("/sensors/car_body/roll_rate", "car body roll rate (rad/s)"))
-                rows.append(rrb.Horizontal(*panels, column_shares=[2, 1, 1]))
-            else:
-                rows.append(rrb.Horizontal(*panels))
-        unloading = " / ".join(level_text("running_gear_unloading", thr)
-                               for _, thr in self.limits.levels("running_gear_unloading"))
-        rows.append(rrb.Horizontal(*(plot(f"/sensors/estimator/{bogie}", f"{bogie} gear ΔQ/Q0, estimate and "
-                                          f"truth: {unloading}")
-                                     for bogie in estimator.BOGIES)))
-        # the bogie frames' legend is the longest (six mounts, three levels +-), then the axle boxes' (eight mounts)
-        return rrb.Vertical(*rows, row_shares=[1.0, 1.5, 1.3, 1.0], name="sensors")
+            mounts = sum(sensor_group(mount) == group for mount in MOUNTS)     # of the shipped set
+            for axis in ("lateral", "vertical", "roll_rate") if group == "car_body" else ("lateral", "vertical"):
+                name = ("car body roll rate (rad/s)" if axis == "roll_rate"
+                        else f"{title} {axis} (m/s²){GROUP_NOTES.get((group, axis), '')}")
+                # a level drawn +- is one entry
+                panels[group, axis] = (plot(f"/sensors/{group}/{axis}", name),
+                                       mounts + len(self.sensor_levels.get((group, axis), ())))
+        levels = self.limits.levels("running_gear_unloading")
+        unloading = " / ".join(level_text("running_gear_unloading", thr) for _, thr in levels)
+        for bogie in estimator.BOGIES:     # estimated and ground truth, each side, and the levels
+            panels["estimator", bogie] = (plot(f"/sensors/estimator/{bogie}", f"{bogie} gear ΔQ/Q0, estimate and "
+                                               f"truth: {unloading}"), 2 * len(SIDES) + len(levels))
+        # three rows, so that every legend is whole at 1920x1080 (in four, one of them was cut): the car body's
+        # lateral panel wider, its title naming the rules; the estimates, whose legends are shorter, beside the
+        # axle boxes
+        rows = (((("car_body", "lateral"), ("car_body", "vertical"), ("car_body", "roll_rate")), [2, 1, 1]),
+                ((("bogie_frame", "lateral"), ("bogie_frame", "vertical")), [1, 1]),
+                ((("axle_box", "lateral"), ("axle_box", "vertical"), *(("estimator", b) for b in estimator.BOGIES)),
+                 [1, 1, 1, 1]))
+        return rrb.Vertical(*(rrb.Horizontal(*(panels[key][0] for key in keys), column_shares=shares)
+                              for keys, shares in rows),
+                            row_shares=[max(panels[key][1] for key in keys) + LEGEND_FRAME_ENTRIES
+                                        for keys, _ in rows], name="sensors")
 
     def save(self, path):
         self.rec.save(str(path), default_blueprint=self.blueprint())
@@ -337,8 +356,8 @@ class RunViewer:
         a = m.alert_dict(alert)
         self._set_time(a["time_s"], a["track_position"])
         level = "ERROR" if a["severity"] == SEVERITY_CRITICAL else "WARN"
-        self.rec.log("/alerts", rr.TextLog(f"[{signals}] s = {a['track_position']:.1f} m, {a['speed'] * 3.6:.1f} km/h: "
-                                           f"{a['message']}", level=level))
+        self.rec.log("/alerts", rr.TextLog(f"[{signals}] {_place(a['time_s'], a['track_position'])}, "
+                                           f"{a['speed'] * 3.6:.1f} km/h: {a['message']}", level=level))
 
     def on_onboard_alert(self, alert):
         """A measured-mode monitor's alert (/railderail/onboard_alerts)."""
@@ -348,7 +367,7 @@ class RunViewer:
         """A speed supervision's emergency brake command (railderail_msgs/BrakeCommand) in the alerts' log."""
         self._set_time(seconds(msg.header.stamp), msg.track_position)
         self.rec.log("/alerts", rr.TextLog(
-            f"s = {msg.track_position:.1f} m: EMERGENCY BRAKE commanded at {msg.speed * 3.6:.1f} km/h, held down to "
+            f"{_place(seconds(msg.header.stamp), msg.track_position)}: EMERGENCY BRAKE commanded at {msg.speed * 3.6:.1f} km/h, held down to "
             f"{msg.release_speed * 3.6:.1f} km/h ({msg.reason})", level="ERROR"))
 
     def on_supervision(self, msg):
@@ -366,7 +385,7 @@ class RunViewer:
         self.derailed_at = d["time_s"]
         self._set_time(d["time_s"], d["track_position_m"])
         self.rec.log("/alerts", rr.TextLog(
-            f"s = {d['track_position_m']:.1f} m: DERAILED: wheelset {d['wheelset']} {d['wheel_side']} "
+            f"{_place(d['time_s'], d['track_position_m'])}: DERAILED: wheelset {d['wheelset']} {d['wheel_side']} "
             f"({d['rail_side']} rail), {d['mechanism'].replace('_', ' ')}, {d['speed_kmh']:.1f} km/h",
             level="CRITICAL"))
         if self.final_entry is not None:
