@@ -16,7 +16,8 @@ a sample's place from the wheelset states at its time, interpolated; none withou
                                    round them (warning.alerts.level_text)
   plots/speed_kmh
   alerts                       text log (WARN = warning level, ERROR = critical, CRITICAL = derailment), the
-                               ground-truth and the measured-mode monitors' alerts marked as the demo marks them
+                               ground-truth and the measured-mode monitors' alerts marked as the demo marks them,
+                               each entry's time and place in its text
   sensors/GROUP/lateral/MOUNT, sensors/GROUP/vertical/MOUNT    with the simulator's sensors on (or a
                                recording of their topics): each mount's measured acceleration (m/s^2, its
                                body's axes), GROUP car_body, bogie_frame or axle_box; on the lateral plots the
