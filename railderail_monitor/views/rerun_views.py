@@ -80,8 +80,8 @@ WHEEL_PLOTS = (("wheel_lift_mm", "wheel_lift", 1e3, "lift h_p (mm)"),
                ("vertical_force_kN", None, 1e-3, "Q (kN)"))
 ATTACK = "attack_angle_mrad"
 # a plot's legend is cut where the plot is shorter than it: each row of the sensors' tab has as its share its longest
-# legend's entries and this many more (the view's title, time axis and the legend's frame, about 4.2 legend entries
-# at 1920x1080 in the viewer)
+# legend's entries and this many more (the view's title, time axis and the legend's frame: about 4 entries' height,
+# seen at 1920x1080 in the viewer)
 LEGEND_FRAME_ENTRIES = 4
 def _arr(x):
     return np.asarray(x, dtype=float)
