@@ -366,9 +366,10 @@ class RunViewer:
 
     def on_brake(self, msg):
         """A speed supervision's emergency brake command (railderail_msgs/BrakeCommand) in the alerts' log."""
-        self._set_time(seconds(msg.header.stamp), msg.track_position)
+        t = seconds(msg.header.stamp)
+        self._set_time(t, msg.track_position)
         self.rec.log("/alerts", rr.TextLog(
-            f"{_place(seconds(msg.header.stamp), msg.track_position)}: EMERGENCY BRAKE commanded at {msg.speed * 3.6:.1f} km/h, held down to "
+            f"{_place(t, msg.track_position)}: EMERGENCY BRAKE commanded at {msg.speed * 3.6:.1f} km/h, held down to "
             f"{msg.release_speed * 3.6:.1f} km/h ({msg.reason})", level="ERROR"))
 
     def on_supervision(self, msg):
