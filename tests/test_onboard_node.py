@@ -19,9 +19,9 @@ GROUND_TRUTH_TOPICS = {m.STATES, m.FORCES, m.STATUS, m.FINAL_STATUS, m.DERAILMEN
 
 def test_measured_mode_subscribes_to_the_sensor_topics_only(node_of):
     node = node_of("signals:=measured")
-    subscribed = subscribed(node)
-    assert subscribed == set(sm.sensor_topics(load_sensors()))
-    assert not subscribed & GROUND_TRUTH_TOPICS
+    topics = subscribed(node)
+    assert topics == set(sm.sensor_topics(load_sensors()))
+    assert not topics & GROUND_TRUTH_TOPICS
     published = {t for t, _ in node.get_publisher_names_and_types_by_node(node.get_name(), node.get_namespace())}
     assert m.ONBOARD_ALERTS in published and m.ALERTS not in published
 

@@ -52,11 +52,12 @@ def left_and_right():
 def test_right_curve_is_the_mirror_of_the_left_curve(left_and_right):
     """Mirror image: the car is built mirror-symmetric and the right wheel is computed as the mirrored left
     one, so the runs differ only by rounding (sums taken in another order), which flange contact amplifies
-    to below a micrometre here. Forces are compared low-pass filtered at 20 Hz (as EN 14363 evaluates
+    to a few micrometres at most here (1.6 um at wheelset 2's flange impact near 4.67 s, 0.3 um at the end of
+    the run, with the rounding-level cuts of issue 44; below 1 um before them). Forces are compared low-pass filtered at 20 Hz (as EN 14363 evaluates
     them): a sub-micrometre shift of a flange impact changes its raw peak by kilonewtons."""
     from scipy.signal import butter, filtfilt
     left, right = left_and_right
-    assert np.allclose(right.wheelset_lateral, -left.wheelset_lateral, atol=1e-6)
+    assert np.allclose(right.wheelset_lateral, -left.wheelset_lateral, atol=3e-6)
     # attack angle is signed toward the outer rail, so it is the same on both curves
     assert np.allclose(right.attack_angle, left.attack_angle, atol=1e-6)
     swap = [1, 0, 3, 2, 5, 4, 7, 6]
