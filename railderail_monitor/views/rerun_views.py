@@ -83,6 +83,8 @@ ATTACK = "attack_angle_mrad"
 # legend's entries and this many more (the view's title, time axis and the legend's frame: about 4 entries' height,
 # seen at 1920x1080 in the viewer)
 LEGEND_FRAME_ENTRIES = 4
+
+
 def _arr(x):
     return np.asarray(x, dtype=float)
 
