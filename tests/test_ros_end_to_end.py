@@ -68,14 +68,21 @@ class Listener:
 
 
 def keys(alerts):
-    return sorted((a["sample"], a["criterion"], a["severity"], a["wheelset"], a["wheel_side"], a["rail_side"])
-                  for a in alerts)
+    """Which sample, criterion, level and wheel alerted. Not the rail side: the monitor takes it from the last
+    vehicle status message it has, and the live node may get a sample's forces before the status message of
+    the sample before them (the topics are delivered apart), so an alert where the curve begins can have no
+    rail side live (seen in a fresh-clone CI run) and one in the replay, which reads in log-time order."""
+    return sorted((a["sample"], a["criterion"], a["severity"], a["wheelset"], a["wheel_side"]) for a in alerts)
+
+
+def rail_sides(alerts):
+    return {(a["sample"], a["criterion"], a["severity"], a["wheelset"], a["wheel_side"]): a["rail_side"]
+            for a in alerts}
 
 
 def events(alerts):
-    """The alerts without their samples and rail sides: which criterion, level and wheel alerted (the rail side
-    comes from the vehicle status messages, which a recording that lost some may not have had at the alert)."""
-    return sorted(key[1:-1] for key in keys(alerts))
+    """The alerts without their samples: which criterion, level and wheel alerted."""
+    return sorted(key[1:] for key in keys(alerts))
 
 
 def stop(process, timeout=20):
@@ -133,6 +140,9 @@ def test_nodes_warn_before_the_derailment_and_the_recording_replays_to_the_same_
                     == (states, forces, -(-states // status_every)))
         same = keys if complete else events
         assert same(a.as_dict() for a in found.alerts) == same(live)
+        if complete:      # where the live monitor knew the rail side, the replay names the same
+            replayed = rail_sides(a.as_dict() for a in found.alerts)
+            assert all(replayed[k] == side for k, side in rail_sides(live).items() if side)
         assert found.derailment["time_s"] == pytest.approx(d["time_s"])
 
         # replayed on the topics to a fresh monitor node: the same alerts again
