@@ -59,7 +59,7 @@ def _live_run(spawn, read_until, mcap):
                         + [a for k, v in MEASURED_LEVELS.items() for a in ("-p", f"{k}:={v!r}")])
         read_until(monitor, "monitoring", timeout=60)
         # the recorder takes the monitor's alerts once it has discovered their publisher
-        read_until(recorder, f"recording {m.ONBOARD_ALERTS}", timeout=60)
+        read_until(recorder, f"recording {m.ONBOARD_ALERTS}", timeout=120)     # 60 s was missed once in CI
         assert listener.spin_until(lambda: listener.node.count_subscribers(f"{m.SENSORS_NS}/odometer") >= 1, 30)
         simulator = spawn([PY, "-m", "railderail_sim.ros.node", "--ros-args", "-p", "real_time_factor:=1.0",
                            "-p", "wait_for_subscribers:=1"] + [a for k, v in RUN.items() for a in ("-p", f"{k}:={v}")])
