@@ -28,11 +28,16 @@ from .odometry import Odometry
 from .supervisor import LiveInputs, Supervisor
 
 
+def curve_extent(track):
+    """(start, end) m of a scenario's curve: its entry transition's start to its exit transition's end."""
+    start = track.straight_in
+    return start, start + track.transition_in + track.curve_length + track.transition_out
+
+
 def scenario_targets(track, critical_speed, limits):
     """The target of a scenario's curve (transition in to transition out) under its critical derailment speed
     (m/s)."""
-    start = track.straight_in
-    end = start + track.transition_in + track.curve_length + track.transition_out
+    start, end = curve_extent(track)
     return [Target(start, end, target_limit(critical_speed, limits),
                    f"curve R {track.radius:g} m: critical derailment speed {critical_speed / KMH:.1f} km/h "
                    "(given)")]
@@ -58,8 +63,7 @@ def survey_on_track(path, track):
         raise ValueError(f"survey {path} has no curve of R {track.radius:g} m and {track.cant_height * 1e3:g} mm "
                          f"cant: survey a line with that curve (`railderail survey LINE.yaml --out FILE.json`) "
                          "and give it with --survey")
-    start = track.straight_in
-    end = start + track.transition_in + track.curve_length + track.transition_out
+    start, end = curve_extent(track)
     return dict(source=str(path), curves=[dict(match[0], start_m=start, end_m=end)])
 
 
