@@ -142,6 +142,9 @@ def test_runs_on_curves_of_one_shape_share_one_survey_placed_on_each_run_s_own_l
     lines = [ss.run_line(e, 1) for e in (near, long, other)]
     assert ss.survey_key(lines[0], 0.3) == ss.survey_key(lines[1], 0.3) != ss.survey_key(lines[2], 0.3)
     assert ss.survey_key(lines[0], 0.3) != ss.survey_key(lines[0], 0.4)
+    # a run is surveyed with its own car
+    assert ss.survey_key(lines[0], 0.3) != ss.survey_key(lines[0], 0.3, "hs19-a380yaw")
+    assert ss.survey_settings(0.3, "hs19-a380yaw").vehicle_sets == ("hs19-a380yaw",)
     assert ss.survey_key(ss.run_line(straight, 1), 0.3) is None
     cut = ss.surveyed_line(lines[1]).curves[0]
     survey = dict(line=dict(name="x", length_m=0.0, file={}), defects=[],

@@ -315,6 +315,10 @@ def test_the_shipped_catalogue_is_large_enough_to_mean_something():
     runs = [(e, seed) for e in entries for seed in e.seeds]
     ordinary_km = sum(e.scenario(seed).track.line_length for e, seed in runs if e.family == "ordinary") / 1000.0
     assert ordinary_km >= 2000.0
+    # ordinary running at line speed, by the car stable there (issue 41), in both parts
+    line_speed = [(e, seed) for e, seed in runs if e.family == "ordinary" and e.speed_kmh >= 250.0]
+    assert {e.vehicle_set for e, _ in line_speed} == {"hs19-a380yaw"}
+    assert {e.part_of(seed) for e, seed in line_speed} == {"train", "test"}
     families = {e.family for e in entries} - {"ordinary"}
     assert len(families) >= 4
     for f in families | {"ordinary"}:

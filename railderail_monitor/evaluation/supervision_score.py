@@ -3,7 +3,7 @@
 
 Each catalogue run is supervised over its own line: `Line.from_track` of the run's track (its curve; its
 defect in the line data, as the last track-recording run found it), surveyed by `railderail_sim.methods.survey`
-at the evaluation's setting (`survey_settings`: the catalogue's car, the run's friction, no wind or fault
+at the evaluation's setting (`survey_settings`: the run's own car and friction, no wind or fault
 cases), the survey's most restrictive profile its targets (`supervision.loop.profile_targets`). The
 supervisor sees every output row's front (the leading wheelset) and speed (ground truth: the line data and
 the position are taken as true) and the friction the run has; its levels WARNING and INTERVENTION are the
@@ -48,19 +48,20 @@ VARIANTS = ("defect missing from the line data", "gust above the measured wind",
             "odometer, its modelled error", "odometer error beyond its interval")
 
 
-def survey_settings(friction):
-    """The evaluation's survey setting: the catalogue's car (hs19, the shipped parameter set) at the run's own
+def survey_settings(friction, vehicle_set):
+    """The evaluation's survey setting: the run's own car (its entry's `vehicle_set`) at the run's own
     friction; no crosswind, fault or wind-site cases (the scenario's line has no wind site and the
     supervisor is given no fault). The survey's default (four frictions x three parameter sets) would cost
     twelve trials a curve where this costs one (docs/warning-evaluation.md, "The speed supervision")."""
     from railderail_sim.methods.survey import Settings
-    return Settings(frictions=(friction,), vehicle_sets=("hs19",), reference_set="hs19", reference_friction=friction,
+    return Settings(frictions=(friction,), vehicle_sets=(vehicle_set,), reference_set=vehicle_set,
+                    reference_friction=friction,
                     wind_speeds_m_s=(), faults=(), cwc_speeds_kmh=()).validated()
 
 
 def survey_settings_row():
     """What the evaluation's surveys share, for the report: the car, the frictions, the braking model."""
-    return dict(vehicle_sets=["hs19"], frictions="the run's own (and, for the sensitivity, "
+    return dict(vehicle_sets="the run's own", frictions="the run's own (and, for the sensitivity, "
                 f"{FRICTION_ABOVE:g} above it)", wind_and_fault_cases=False, braking_adhesion=ADHESION)
 
 
@@ -114,17 +115,19 @@ def placed(survey, line):
                 curves=crawl(curves), defects=crawl(survey["defects"]))
 
 
-def survey_key(line, friction):
-    """The key of the survey a line needs at a friction (`surveyed_line`), None where it needs none."""
+def survey_key(line, friction, vehicle_set="hs19"):
+    """The key of the survey a line needs at a friction with a car (`surveyed_line`), None where it needs
+    none."""
     from railderail_sim.line.file import line_as_dict
     line = surveyed_line(line)
-    return None if line is None else jsonout.dumps(dict(line=line_as_dict(line), friction=friction))
+    return None if line is None else jsonout.dumps(dict(line=line_as_dict(line), friction=friction,
+                                                         vehicle_set=vehicle_set))
 
 
-def survey_for(line, friction, survey_by_key):
-    """The survey (its dict) a run on `line` at `friction` is supervised over, placed on the line; None for a
-    line with nothing to survey."""
-    key = survey_key(line, friction)
+def survey_for(line, friction, vehicle_set, survey_by_key):
+    """The survey (its dict) a run on `line` at `friction` with the car `vehicle_set` is supervised over,
+    placed on the line; None for a line with nothing to survey."""
+    key = survey_key(line, friction, vehicle_set)
     return None if key is None else placed(survey_by_key[key], line)
 
 
@@ -139,7 +142,8 @@ def survey_case(job, folder):
     key, item = job
     data = json.loads(key)
     started = time.process_time()
-    run_case(item, data["line"], Scenario(), survey_settings(data["friction"]), cache=folder)
+    run_case(item, data["line"], Scenario(), survey_settings(data["friction"], data["vehicle_set"]),
+             cache=folder)
     return time.process_time() - started
 
 
@@ -155,14 +159,14 @@ def needed(entries):
     keys = []
     for entry in entries:
         for _, seed in entry.runs():
-            keys.append(survey_key(run_line(entry, seed), entry.friction))
+            keys.append(survey_key(run_line(entry, seed), entry.friction, entry.vehicle_set))
             if entry.part_of(seed) != "test" or entry.family == "ordinary":
                 continue
             if entry.defect:
-                keys.append(survey_key(run_line(entry, seed, with_defect=False), entry.friction))
+                keys.append(survey_key(run_line(entry, seed, with_defect=False), entry.friction, entry.vehicle_set))
             above = friction_above(entry.friction)
             if above > entry.friction:
-                keys.append(survey_key(run_line(entry, seed), above))
+                keys.append(survey_key(run_line(entry, seed), above, entry.vehicle_set))
     return sorted(set(keys) - {None})
 
 
@@ -179,7 +183,7 @@ def surveys(entries, cache=None, workers=None, scheduler=None, progress=True):
     from railderail_sim.methods.survey import COST, cases, survey
     keys = needed(entries)
     lines = {key: line_from_dict(json.loads(key)["line"]) for key in keys}
-    settings = {key: survey_settings(json.loads(key)["friction"]) for key in keys}
+    settings = {key: survey_settings(json.loads(key)["friction"], json.loads(key)["vehicle_set"]) for key in keys}
     jobs = [(key, item) for key in keys for item in cases(lines[key], settings[key])]
     with tempfile.TemporaryDirectory() as scratch:
         folder = str(Path(cache or scratch, "survey"))
@@ -265,7 +269,7 @@ def supervision_of_run(entry, seed, sc, sim, arrays, found, rules, beyond, surve
     from .hazards import windows
     from railderail_sim.vehicle.layout import WHEELSETS, BodyTable
     front = float(sim.model.bodies[WHEELSETS[0], BodyTable.station])
-    survey = survey_for(run_line(entry, seed), entry.friction, survey_by_key)
+    survey = survey_for(run_line(entry, seed), entry.friction, entry.vehicle_set, survey_by_key)
     levels = row_levels(supervisor(survey, entry.friction), arrays, front)
     out = dict(windows={str(w): scores(levels, arrays, found, w, windows(arrays["time"], found, w, beyond)[1])
                         for w in rules.windows_s},
@@ -285,7 +289,7 @@ def sensitivity_of_run(entry, seed, sc, survey, survey_by_key, prevented):
     from railderail_sim.sensors import config as sensor_config
     out = dict.fromkeys(VARIANTS)
     if entry.defect:
-        bare = survey_for(run_line(entry, seed, with_defect=False), entry.friction, survey_by_key)
+        bare = survey_for(run_line(entry, seed, with_defect=False), entry.friction, entry.vehicle_set, survey_by_key)
         out[VARIANTS[0]] = not closed_loop_derails(sc, bare, entry.friction)
     if entry.gust != "none":
         # the scenario's line has no wind site: the supervisor is given no wind at all (not even the mean), so
@@ -293,7 +297,8 @@ def sensitivity_of_run(entry, seed, sc, survey, survey_by_key, prevented):
         out[VARIANTS[1]] = prevented
     above = friction_above(entry.friction)
     if above > entry.friction:
-        out[VARIANTS[2]] = not closed_loop_derails(sc, survey_for(run_line(entry, seed), above, survey_by_key), above)
+        out[VARIANTS[2]] = not closed_loop_derails(
+            sc, survey_for(run_line(entry, seed), above, entry.vehicle_set, survey_by_key), above)
     shipped = sensor_config.load(None)
     out[VARIANTS[3]] = not closed_loop_derails(sc, survey, entry.friction, odometer=shipped.odometer,
                                                seed=shipped.seed)
