@@ -12,7 +12,8 @@ from rosidl_adapter.parser import parse_message_file
 from railderail_monitor.warning.limits import default_limits
 from railderail_monitor.onboard.measured import measured_limits
 from railderail_monitor.recording.recorder import msg_file
-from railderail_monitor.views.rerun_views import SENSOR_GROUPS, WHEELSET_COLORS, sensor_group, sensor_levels
+from railderail_monitor.views.colours import WHEELSET_COLORS
+from railderail_monitor.views.sensor_plots import SENSOR_GROUPS, sensor_group, sensor_levels
 from railderail_sim.ros import interface as m
 from railderail_sim.ros import sensor_messages as sm
 from railderail_sim.parameters import VehicleParameters

@@ -316,7 +316,8 @@ def test_every_legend_of_the_sensors_tab_has_its_rows_height():
     import rerun as rr
 
     from railderail_monitor.views.colours import ESTIMATE_COLORS, TRUTH_COLORS
-    from railderail_monitor.views.rerun_views import LEGEND_FRAME_ENTRIES, RunViewer
+    from railderail_monitor.views.rerun_views import RunViewer
+    from railderail_monitor.views.sensor_tab import LEGEND_FRAME_ENTRIES
     from railderail_sim.ros import sensor_messages as sm
     from railderail_sim.sensors.config import default_set
     from railderail_sim.sensors.sensor_set import MOUNTS

@@ -30,6 +30,7 @@ from railderail_sim.ros import interface as m
 from railderail_sim.supervision.braking import BrakingModel
 
 from ..supervision.curves import KMH, LEVELS, SupervisionLimits, Target, TargetCurves
+from .plots import plot
 
 X_SCALE = 0.1               # units of the area per metre of track, against one per km/h: 1 km is 100 units
 SPEED_STEP_KMH = 50.0       # the grid's speeds
@@ -38,9 +39,9 @@ COLOURS = dict(grid=(90, 90, 90), permitted=(170, 170, 170), targets=(255, 127, 
 SERIES = (("speed", (31, 119, 180)), ("limit", (170, 170, 170)), ("target", (255, 127, 14)))
 
 
-def planning_view(plot, name="supervision"):
+def planning_view(name="supervision"):
     """The tab: the planning area above the supervision's speed, margin, time to the last braking point and
-    level over time, each drawn by `plot(origin, title)` (the views' time series view)."""
+    level over time (the views' time series, `plots.plot`)."""
     area = rrb.Spatial2DView(origin="/planning", name="planning area: speed (km/h, up) along the line (the front, km)")
     return rrb.Vertical(
         area,
