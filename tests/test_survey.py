@@ -174,7 +174,27 @@ def test_highest_intact_bisects_to_the_first_broken_margin():
     assert m["first_broken"]["margin"] == "wheel_unloading"
     assert 203.7 < m["first_broken"]["speed_kmh"] <= m["margins_intact_up_to_kmh"] + 1.0
     assert sv.highest_intact(run, 60.0, 200.0, 1.0) == dict(margins_intact_up_to_kmh=200.0, first_broken=None, runs=1)
-    assert sv.highest_intact(lambda v: sv.Judged(False, "derailment"), 60.0, 450.0, 1.0)["margins_intact_up_to_kmh"] == 0.0
+    broken = sv.highest_intact(lambda v: sv.Judged(False, "derailment"), 60.0, 450.0, 1.0)
+    assert broken["margins_intact_up_to_kmh"] == 0.0
+
+
+def test_highest_intact_takes_the_lowest_speed_as_intact_until_it_must_run_it():
+    """A curve's search (`lo_assumed`) does not run its lowest speed while a faster one keeps every margin, and
+    gives what the search that runs it gives; where no faster speed keeps them it runs it, and gives 0 if it
+    breaks a margin too."""
+    for crossing in (203.7, 60.4, 30.0):
+        calls = []
+
+        def run(v):
+            calls.append(v)
+            return sv.Judged(v <= crossing, "" if v <= crossing else "wheel_unloading")
+        full = sv.highest_intact(run, 60.0, 450.0, 1.0)
+        assumed = sv.highest_intact(run, 60.0, 450.0, 1.0, lo_assumed=True)
+        assert {k: assumed[k] for k in ("margins_intact_up_to_kmh", "first_broken")} == \
+            {k: full[k] for k in ("margins_intact_up_to_kmh", "first_broken")}
+        assert calls.count(60.0) == (1 if crossing == 203.7 else 2)
+        if crossing == 203.7:
+            assert assumed["runs"] == full["runs"] - 1
 
 
 def test_curve_margins_judged_over_the_curve():

@@ -11,12 +11,13 @@ to supervise the car against its own limits rather than against fixed civil ones
   reported as that top (`derailed: false`), a lower bound; the staircase and bisection run only on a curve
   that derails at the top.
 - Its safe speed: the highest constant speed at which the car passes the curve with every hazard margin intact
-  (`margins_intact_up_to_kmh`), by bisection from `SurveyRules.margins_low_kmh` up to the case's critical
-  derailment speed, the margins judged over the curve's extent (entry transition to exit transition) by the
-  rules below, lowest over the cases; less ETCS's emergency-brake-intervention margin (`SafetyMargin`,
-  SUBSET-026's dV_ebi). Why not the critical derailment speed less dV_ebi: ETCS's emergency brake curve reaches
-  a target at its speed plus dV_ebi, so a train held to it would meet the curve at its critical derailment
-  speed; a civil limit carries its own margin, a physical limit does not. The sensitivity to the margin
+  (`margins_intact_up_to_kmh`), by bisection from `SurveyRules.margins_low_kmh` (taken as intact once a faster
+  speed keeps every margin) up to the case's critical derailment speed, the margins judged over the curve's
+  extent (entry transition to exit transition) by the rules below, lowest over the cases; less ETCS's
+  emergency-brake-intervention margin (`SafetyMargin`, SUBSET-026's dV_ebi). Why not the critical derailment
+  speed less dV_ebi: ETCS's emergency brake curve reaches a target at its speed plus dV_ebi, so a train held to
+  it would meet the curve at its critical derailment speed; a civil limit carries its own margin, a physical
+  limit does not. The sensitivity to the margin
   (none, twice dV_ebi, 10 % of the speed) is in every curve's row.
 - Each known defect: the highest constant speed at which the car passes it with every margin intact, by the
   same bisection over `margins_low_kmh` .. the staircase's top. The margins are the simulator's own,
@@ -179,7 +180,7 @@ def curve_case(line: Line, index, base: Scenario, settings: Settings, vehicle_se
         # steps (they do not depend on the output instants), its derailment checked at instants curve_run's has
         known[row["critical_derailment_speed_kmh"]] = Judged(False, "derailment")
     margins = highest_intact(functools.partial(curve_run, sc), RULES.margins_low_kmh,
-                             row["critical_derailment_speed_kmh"], settings.tolerance_kmh, known)
+                             row["critical_derailment_speed_kmh"], settings.tolerance_kmh, known, lo_assumed=True)
     return dict(row, margins_intact_up_to_kmh=margins["margins_intact_up_to_kmh"],
                 first_broken=margins["first_broken"], runs=row["runs"] + margins["runs"])
 
@@ -346,27 +347,32 @@ def curve_run(sc: Scenario, speed_kmh):
                               end_position=hi), lo, hi)
 
 
-def highest_intact(run, lo, hi, tolerance_kmh, known=None):
+def highest_intact(run, lo, hi, tolerance_kmh, known=None, lo_assumed=False):
     """The highest speed (km/h) in [lo, hi] at which `run(speed_kmh)` (a MarginsRun) keeps every margin, by
     bisection (a margin broken at a speed is taken as broken above it too): {margins_intact_up_to_kmh (0 when
     broken at lo), first_broken (the lowest speed tried that broke a margin, and which: its whole run's), runs
-    (the speeds tried)}. `known`: {speed: Judged} for speeds whose outcome is known without a run."""
+    (the speeds tried)}. `known`: {speed: Judged} for speeds whose outcome is known without a run.
+    `lo_assumed`: lo is not run first but taken as intact, by the bisection's own assumption read downwards,
+    once a faster speed keeps every margin, and run only if none does (a curve's; not a defect's, whose margins,
+    a twist's, may be hardest to keep at low speed)."""
     known = known or {}
     tried = {}
+    bottom = lo
 
     def passes(v):
-        tried[v] = known[v] if v in known else run(v)
+        if v not in tried:
+            tried[v] = known[v] if v in known else run(v)
         return tried[v].intact()
 
     if passes(hi):
         intact = hi
-    elif not passes(lo):
+    elif not lo_assumed and not passes(lo):
         intact = 0.0
     else:
         while hi - lo > tolerance_kmh:
             mid = 0.5 * (lo + hi)
             lo, hi = (mid, hi) if passes(mid) else (lo, mid)
-        intact = lo
+        intact = lo if lo > bottom or passes(bottom) else 0.0
     broken = sorted(v for v, r in tried.items() if not r.intact())
     # only the lowest broken run is simulated to its end, for which margin its whole run breaks
     return dict(margins_intact_up_to_kmh=intact,
