@@ -2,9 +2,11 @@
 supervisor's target profile from a hand-built result, the survey of the Table 2 curve against `trial` on the same
 scenario, the command's JSON and its cache, and a defect's margins."""
 import contextlib
+import functools
 import io
 import json
 
+import numpy as np
 import pytest
 
 from railderail_sim.cli import main
@@ -124,8 +126,8 @@ def test_defect_margins():
     200 km/h."""
     line = Line("kink", "test", "C", 3000.0, 300.0, (Curve(500.0, 200.0, 600.0, 200.0, 1000.0, 0.175, -1),),
                 defects=(Defect(900.0, "kink", 0.020, 10.0),)).validated()
-    assert sv.defect_run(line, 0, Scenario(), "hs19", 0.3, 120.0) == (True, "")
-    ok, margin = sv.defect_run(line, 0, Scenario(), "hs19", 0.3, 200.0)
+    assert sv.defect_run(line, 0, Scenario(), "hs19", 0.3, 120.0).outcome() == (True, "")
+    ok, margin = sv.defect_run(line, 0, Scenario(), "hs19", 0.3, 200.0).outcome()
     assert not ok and margin in ("flange_climb", "wheel_unloading", "wheel_lift", "derailment")
 
 
@@ -166,13 +168,33 @@ def test_highest_intact_bisects_to_the_first_broken_margin():
     """The bisection that defects and curves share: the highest speed with every margin intact within the
     tolerance, the lowest speed tried that broke one, and the ends."""
     def run(v):
-        return (v <= 203.7, "" if v <= 203.7 else "wheel_unloading")
+        return sv.Judged(v <= 203.7, "" if v <= 203.7 else "wheel_unloading")
     m = sv.highest_intact(run, 60.0, 450.0, 1.0)
     assert 202.7 <= m["margins_intact_up_to_kmh"] <= 203.7
     assert m["first_broken"]["margin"] == "wheel_unloading"
     assert 203.7 < m["first_broken"]["speed_kmh"] <= m["margins_intact_up_to_kmh"] + 1.0
     assert sv.highest_intact(run, 60.0, 200.0, 1.0) == dict(margins_intact_up_to_kmh=200.0, first_broken=None, runs=1)
-    assert sv.highest_intact(lambda v: (False, "derailment"), 60.0, 450.0, 1.0)["margins_intact_up_to_kmh"] == 0.0
+    broken = sv.highest_intact(lambda v: sv.Judged(False, "derailment"), 60.0, 450.0, 1.0)
+    assert broken["margins_intact_up_to_kmh"] == 0.0
+
+
+def test_highest_intact_takes_the_lowest_speed_as_intact_until_it_must_run_it():
+    """A curve's search (`lo_assumed`) does not run its lowest speed while a faster one keeps every margin, and
+    gives what the search that runs it gives; where no faster speed keeps them it runs it, and gives 0 if it
+    breaks a margin too."""
+    for crossing in (203.7, 60.4, 30.0):
+        calls = []
+
+        def run(v):
+            calls.append(v)
+            return sv.Judged(v <= crossing, "" if v <= crossing else "wheel_unloading")
+        full = sv.highest_intact(run, 60.0, 450.0, 1.0)
+        assumed = sv.highest_intact(run, 60.0, 450.0, 1.0, lo_assumed=True)
+        assert {k: assumed[k] for k in ("margins_intact_up_to_kmh", "first_broken")} == \
+            {k: full[k] for k in ("margins_intact_up_to_kmh", "first_broken")}
+        assert calls.count(60.0) == (1 if crossing == 203.7 else 2)
+        if crossing == 203.7:
+            assert assumed["runs"] == full["runs"] - 1
 
 
 def test_curve_margins_judged_over_the_curve():
@@ -180,8 +202,8 @@ def test_curve_margins_judged_over_the_curve():
     critical derailment speed (about 285 km/h), the car does not derail but a margin is broken in the curve."""
     line = Line("t2", "test", "C", 1800.0, 350.0, (Curve(200.0, 200.0, 1000.0, 200.0, 1000.0, 0.175),)).validated()
     sc = line.scenario_for(line.curves[0], Scenario())
-    assert sv.curve_run(sc, 250.0) == (True, "")
-    assert sv.curve_run(sc, 280.0) == (False, "wheel_unloading")
+    assert sv.curve_run(sc, 250.0).outcome() == (True, "")
+    assert sv.curve_run(sc, 280.0).outcome() == (False, "wheel_unloading")
 
 
 def test_shipped_table2_survey_is_the_margins_survey():
@@ -208,3 +230,44 @@ def test_shipped_table2_survey_is_the_margins_survey():
     # with every margin intact, not at its critical derailment speed
     assert curve["safe_speed_kmh"] + sv.MARGIN.dv(curve["safe_speed_kmh"] * KMH) / KMH == pytest.approx(intact)
     assert intact < curve["critical_derailment_speed_kmh"]
+
+
+TABLE2_CURVE = Line("t2", "test", "C", 1800.0, 350.0, (Curve(200.0, 200.0, 1000.0, 200.0, 1000.0, 0.175),)).validated()
+
+
+def test_margins_run_stops_at_the_first_broken_margin_and_names_the_whole_runs():
+    """The Table 2 curve at 292 km/h, above its critical derailment speed: judged every 10 m, `intact()` stops
+    where the first margin breaks, well before the derailment; `outcome()` takes the run on and names what the
+    whole run breaks (the derailment: the survey's `first_broken`), not the margin it stopped at."""
+    run = sv.curve_run(TABLE2_CURVE.scenario_for(TABLE2_CURVE.curves[0], Scenario()), 292.0)
+    run.PIECE_M = 10.0
+    assert not run.intact()
+    stopped_m = run.simulated_m
+    assert run.outcome() == (False, "derailment")
+    assert stopped_m < run.simulated_m - 20.0
+
+
+def test_margins_judged_in_pieces_as_the_whole_run():
+    """Where the verdict is closest (the Table 2 curve, hs19 at friction 0.3: every margin intact at
+    258.609375 km/h, the wheel unloading broken at 259.5 km/h, the shipped survey's bracket), the run judged every
+    10 m and stopped at its first broken margin gives the verdict of the run judged whole, and its rows are the
+    whole run's to the bit."""
+    sc = TABLE2_CURVE.scenario_for(TABLE2_CURVE.curves[0], Scenario())
+    for speed, intact in ((258.609375, True), (259.5, False)):
+        pieces, whole = sv.curve_run(sc, speed), sv.curve_run(sc, speed)
+        pieces.PIECE_M, whole.PIECE_M = 10.0, 1.0e6
+        assert pieces.intact() == intact
+        assert whole.outcome() == pieces.outcome() == (intact, "" if intact else "wheel_unloading")
+        for name, parts in whole._columns.items():
+            assert np.concatenate(parts).tobytes() == np.concatenate(pieces._columns[name]).tobytes(), name
+
+
+def test_the_trials_derailment_stands_for_the_margins_run_at_the_critical_speed(table2_survey):
+    """The survey takes the margins' run at a case's critical derailment speed as broken by the trial's own
+    derailment there, without running it: the margins' search gives what the search that runs it gives."""
+    case = json.loads(table2_survey[0])["curves"][0]["cases"][0]
+    sc = TABLE2_CURVE.scenario_for(TABLE2_CURVE.curves[0], sv._case_scenario(Scenario(), "hs19", 0.3))
+    full = sv.highest_intact(functools.partial(sv.curve_run, sc), sv.RULES.margins_low_kmh,
+                             case["critical_derailment_speed_kmh"], TOLERANCE_KMH)
+    assert (full["margins_intact_up_to_kmh"], full["first_broken"]) == (case["margins_intact_up_to_kmh"],
+                                                                         case["first_broken"])

@@ -90,8 +90,9 @@ def constant_run(sc: Scenario, radius, speed_kmh):
 
 
 def progressive_trial(sc: Scenario = None, radius=1000.0, stair: Staircase = Staircase(), refine=True,
-                      tolerance_kmh=1.0):
-    """The paper's method on one radius; with `refine`, also the bisection over constant speeds."""
+                      tolerance_kmh=1.0, runs=None):
+    """The paper's method on one radius; with `refine`, also the bisection over constant speeds (its runs kept
+    in the dict `runs` if given, `bisect_constant_speeds`)."""
     sc = sc or Scenario()
     check_range("bisection tolerance", tolerance_kmh, 0.0, 20.0, "km/h", lo_open=True)
     scs = staircase_scenario(sc, radius, stair)
@@ -109,15 +110,17 @@ def progressive_trial(sc: Scenario = None, radius=1000.0, stair: Staircase = Sta
         res.mechanism = d["mechanism"]
         res.derailment_time_s = d["time_s"]
     if refine and d is not None:
-        bisect_constant_speeds(sc, radius, res, tolerance_kmh)
+        bisect_constant_speeds(sc, radius, res, tolerance_kmh, runs)
     return res
 
 
-def bisect_constant_speeds(sc, radius, res, tolerance_kmh):
+def bisect_constant_speeds(sc, radius, res, tolerance_kmh, runs=None):
     """Bisection over constant-speed runs on the scenario's line (the Table 2 line), bracketed around the
     speed `res.critical_derailment_speed_kmh` (the staircase's, or another first guess); fills `res`'s
-    refined fields."""
-    cache = {}
+    refined fields. The runs (Results) are kept by speed (km/h, rounded to 1e-6) in the dict `runs` if given,
+    for a caller that reads them (the survey: the derailment at the refined speed)."""
+    cache = {} if runs is None else runs
+    before = len(cache)
 
     def run(v):
         v = round(v, 6)
@@ -149,6 +152,6 @@ def bisect_constant_speeds(sc, radius, res, tolerance_kmh):
     res.refined_side = d["rail_side"]
     res.refined_wheelset = d["wheelset"]
     res.tolerance_kmh = tolerance_kmh
-    res.runs += len(cache)
+    res.runs += len(cache) - before
 
 

@@ -11,12 +11,13 @@ to supervise the car against its own limits rather than against fixed civil ones
   reported as that top (`derailed: false`), a lower bound; the staircase and bisection run only on a curve
   that derails at the top.
 - Its safe speed: the highest constant speed at which the car passes the curve with every hazard margin intact
-  (`margins_intact_up_to_kmh`), by bisection from `SurveyRules.margins_low_kmh` up to the case's critical
-  derailment speed, the margins judged over the curve's extent (entry transition to exit transition) by the
-  rules below, lowest over the cases; less ETCS's emergency-brake-intervention margin (`SafetyMargin`,
-  SUBSET-026's dV_ebi). Why not the critical derailment speed less dV_ebi: ETCS's emergency brake curve reaches
-  a target at its speed plus dV_ebi, so a train held to it would meet the curve at its critical derailment
-  speed; a civil limit carries its own margin, a physical limit does not. The sensitivity to the margin
+  (`margins_intact_up_to_kmh`), by bisection from `SurveyRules.margins_low_kmh` (taken as intact once a faster
+  speed keeps every margin) up to the case's critical derailment speed, the margins judged over the curve's
+  extent (entry transition to exit transition) by the rules below, lowest over the cases; less ETCS's
+  emergency-brake-intervention margin (`SafetyMargin`, SUBSET-026's dV_ebi). Why not the critical derailment
+  speed less dV_ebi: ETCS's emergency brake curve reaches a target at its speed plus dV_ebi, so a train held to
+  it would meet the curve at its critical derailment speed; a civil limit carries its own margin, a physical
+  limit does not. The sensitivity to the margin
   (none, twice dV_ebi, 10 % of the speed) is in every curve's row.
 - Each known defect: the highest constant speed at which the car passes it with every margin intact, by the
   same bisection over `margins_low_kmh` .. the staircase's top. The margins are the simulator's own,
@@ -56,7 +57,7 @@ from ..loads.wind import Wind
 from ..parameters import FRICTION_RANGE, VEHICLE_SETS, parameter, vehicle_parameters
 from ..ranges import check_range
 from ..supervision.margin import SafetyMargin
-from ..vehicle.simulate import KMH, Scenario, constant_speed, run_to_stop, straight_track
+from ..vehicle.simulate import KMH, Scenario, constant_speed, output_arrays, run_in_pieces, straight_track
 from .parallel import run_all
 from .progressive_trial import SPEED_RANGE_KMH, Staircase, bisect_constant_speeds, constant_run, progressive_trial
 
@@ -169,30 +170,39 @@ def curve_case(line: Line, index, base: Scenario, settings: Settings, vehicle_se
     sc = line.scenario_for(curve, _case_scenario(base, vehicle_set, friction, wind=wind,
                                                  faults=base.faults + ((fault,) if fault else ())),
                            arc_m=min(curve.arc_m, RULES.simulated_arc_m))
-    row = dict(vehicle_set=vehicle_set, friction=friction, wind_speed_m_s=wind_m_s, fault=fault,
-               **_critical_speed(sc, curve, settings))
+    critical, derailment = _critical_speed(sc, curve, settings)
+    row = dict(vehicle_set=vehicle_set, friction=friction, wind_speed_m_s=wind_m_s, fault=fault, **critical)
     if wind_m_s > 0.0 or fault:
         return row       # the live inputs move the critical derailment speed (the tables' changes) only
+    known = {}
+    if derailment is not None and derailment["car_body_position_m"] < curve_extent(sc.track)[1]:
+        # the trial's run at the critical speed is curve_run's scenario at a quarter of its output rate: the same
+        # steps (they do not depend on the output instants), its derailment checked at instants curve_run's has
+        known[row["critical_derailment_speed_kmh"]] = Judged(False, "derailment")
     margins = highest_intact(functools.partial(curve_run, sc), RULES.margins_low_kmh,
-                             row["critical_derailment_speed_kmh"], settings.tolerance_kmh)
+                             row["critical_derailment_speed_kmh"], settings.tolerance_kmh, known, lo_assumed=True)
     return dict(row, margins_intact_up_to_kmh=margins["margins_intact_up_to_kmh"],
                 first_broken=margins["first_broken"], runs=row["runs"] + margins["runs"])
 
 
 def _critical_speed(sc: Scenario, curve, settings: Settings):
-    """A curve's critical derailment speed on its run `sc` by the paper's method (module docstring)."""
+    """A curve's critical derailment speed on its run `sc` by the paper's method (module docstring): (its row,
+    the derailment of the bisection's run at it, or None)."""
     top = constant_run(sc, curve.radius_m, settings.top_kmh)
     if top.derailment is None:
         # the bisection's own assumption (a speed above a derailing one derails too) read the other way: no
         # derailment at the top, none below it; one run instead of the staircase's tens of kilometres
         return dict(derailed=False, critical_derailment_speed_kmh=settings.top_kmh, staircase_speed_kmh=math.nan,
-                    method="no derailment at the top speed", mechanism="", side="", wheelset=-1, section="", runs=1)
-    r = progressive_trial(sc, curve.radius_m, settings.staircase, refine=True, tolerance_kmh=settings.tolerance_kmh)
+                    method="no derailment at the top speed", mechanism="", side="", wheelset=-1, section="",
+                    runs=1), None
+    runs = {}
+    r = progressive_trial(sc, curve.radius_m, settings.staircase, refine=True, tolerance_kmh=settings.tolerance_kmh,
+                          runs=runs)
     staircase = r.critical_derailment_speed_kmh
     if not math.isfinite(staircase):
         # the staircase held on to its top, the constant run at the top did not (its entry): bisect down from it
         r = replace(r, critical_derailment_speed_kmh=settings.top_kmh)
-        bisect_constant_speeds(sc, curve.radius_m, r, settings.tolerance_kmh)
+        bisect_constant_speeds(sc, curve.radius_m, r, settings.tolerance_kmh, runs)
     refined = math.isfinite(r.refined_speed_kmh)
     return dict(derailed=True,
                 critical_derailment_speed_kmh=r.refined_speed_kmh if refined else r.critical_derailment_speed_kmh,
@@ -200,37 +210,114 @@ def _critical_speed(sc: Scenario, curve, settings: Settings):
                 mechanism=r.refined_mechanism if refined else r.mechanism,
                 side=r.refined_side if refined else r.derailed_side,
                 wheelset=r.refined_wheelset if refined else r.derailed_wheelset,
-                section=r.refined_section, runs=r.runs + 1)
+                section=r.refined_section, runs=r.runs + 1), \
+        runs[round(r.refined_speed_kmh, 6)].derailment if refined else None
 
 
-def margins_run(sc: Scenario, lo, hi):
-    """One run of `sc` judged by `SurveyRules` while the car-body centre is within [lo, hi] m: (margins intact,
-    '' or the margin broken: derailment, diverged, or the first of flange_climb, wheel_unloading, wheel_lift
-    that broke)."""
-    from ..assessment.en14363 import sliding
+@functools.lru_cache(maxsize=16)
+def _largest_contact_angle(contact, track, rolling_radius):
+    """The profile pair's largest contact angle (rad), for Nadal's limit: once per pair (the search takes about
+    as long as a run near the critical speed, and every run of a case has the same pair)."""
     from ..contact.conicity import max_contact_angle
-    from ..contact.nadal import nadal_limit
+    from ..vehicle.assemble import contact_geometry
+    return max_contact_angle(contact_geometry(contact, track, rolling_radius))[0]
 
-    sim, arrays, error = run_to_stop(sc)
-    if error or sim.derailment() is not None:
-        return False, "diverged" if error else "derailment"
-    s = arrays["position"]
-    p0 = sc.vehicle.static_wheel_load
-    _, unloading = sliding(s, (p0 - arrays["vertical_force"]) / p0, RULES.margin_window_m, 0.25, lo, hi)
-    _, qp = sliding(s, arrays["derailment_coefficient"], RULES.margin_window_m, 0.25, lo, hi)
-    nadal = float(nadal_limit(max_contact_angle(sim.model.cg)[0], sc.contact.friction_coefficient))
-    lift = arrays["wheel_lift"][(s >= lo) & (s <= hi)]
-    for name, broken in (("flange_climb", np.any(qp >= nadal)),
-                         ("wheel_unloading", np.any(unloading >= RULES.unloading_level)),
-                         ("wheel_lift", np.any(lift >= RULES.lift_share * sim.model.flange_height))):
-        if broken:
-            return False, name
-    return True, ""
+
+class MarginsRun:
+    """One run of `sc` judged by `SurveyRules` while the car-body centre is within [lo, hi] m, simulated in
+    pieces of `PIECE_M` and only as far as the question asked needs. `intact()` stops at the first margin
+    broken: a sliding mean over the rows so far is, at the same place, the whole run's to the bit (the same
+    rows, the same sums in the same order; only windows that end before the last row are judged), so a margin
+    broken on a part is broken on the whole. `outcome()` runs it to its end: (margins intact, '' or the margin
+    broken: diverged, derailment, or the first of flange_climb, wheel_unloading, wheel_lift that broke, in
+    this order and not in time's)."""
+    PIECE_M = 100.0       # m of track between two looks at the margins (a look is a few ms; a run 1-2 km)
+
+    def __init__(self, sc: Scenario, lo, hi):
+        self.scenario, self.lo, self.hi = sc, lo, hi
+        self._pieces, self._sim, self._error, self._running, self._verdict = None, None, "", True, None
+        self.simulated_m = sc.start_position     # how far it has been simulated: the car-body centre's last row
+        self._columns = {k: [] for k in ("position", "vertical_force", "derailment_coefficient", "wheel_lift")}
+
+    def _next_piece(self):
+        if self._pieces is None:
+            speed = float(np.max(self.scenario.speed_table[:, 1]))
+            self._pieces = run_in_pieces(self.scenario, self.PIECE_M / speed)
+        try:
+            self._sim, rows, self._error = next(self._pieces)
+        except StopIteration:
+            self._running = False
+            return
+        arrays = output_arrays(rows)
+        for k, parts in self._columns.items():
+            parts.append(arrays[k].copy())       # the columns judged, not the whole rows
+        if len(rows):
+            self.simulated_m = float(arrays["position"][-1])
+
+    def _broken(self, whole):
+        """'' or the first margin broken (outcome's order) on the rows so far; `whole`: the run has ended."""
+        from ..assessment.en14363 import sliding
+        from ..contact.nadal import nadal_limit
+
+        if self._error:
+            return "diverged"
+        if self._sim.derailment() is not None:
+            return "derailment"
+        sc = self.scenario
+        a = {k: np.concatenate(parts) for k, parts in self._columns.items()}
+        s = a["position"]
+        if len(s) < 2:
+            return ""
+        # the windows judged on a part end a window's length before its last row, inside the rows the whole
+        # run's windows at the same places see
+        end = self.hi if whole else min(self.hi, s[-1] - RULES.margin_window_m)
+        p0 = sc.vehicle.static_wheel_load
+        _, unloading = sliding(s, (p0 - a["vertical_force"]) / p0, RULES.margin_window_m, 0.25, self.lo, end)
+        _, qp = sliding(s, a["derailment_coefficient"], RULES.margin_window_m, 0.25, self.lo, end)
+        nadal = float(nadal_limit(_largest_contact_angle(sc.contact, sc.track, sc.vehicle.rolling_radius),
+                                  sc.contact.friction_coefficient))
+        lift = a["wheel_lift"][(s >= self.lo) & (s <= self.hi)]
+        for name, broken in (("flange_climb", np.any(qp >= nadal)),
+                             ("wheel_unloading", np.any(unloading >= RULES.unloading_level)),
+                             ("wheel_lift", np.any(lift >= RULES.lift_share * self._sim.model.flange_height))):
+            if broken:
+                return name
+        return ""
+
+    def intact(self):
+        """Whether the whole run keeps every margin, simulated up to the first margin broken."""
+        while self._verdict is None and self._running:
+            self._next_piece()
+            if self._running and self._broken(whole=False):
+                self._verdict = False
+        if self._verdict is None:
+            self._verdict = self.outcome()[0]
+        return self._verdict
+
+    def outcome(self):
+        """(margins intact, '' or which margin broke) of the whole run, simulated to its end."""
+        while self._running:
+            self._next_piece()
+        why = self._broken(whole=True)
+        return not why, why
+
+
+@dataclass(frozen=True)
+class Judged:
+    """A speed whose outcome is known without a run (the trial's own derailment): as a MarginsRun."""
+    ok: bool
+    why: str
+
+    def intact(self):
+        return self.ok
+
+    def outcome(self):
+        return self.ok, self.why
 
 
 def defect_run(line: Line, index, base: Scenario, vehicle_set, friction, speed_kmh):
     """One constant-speed run over a defect, its margins judged while the car-body centre is within
-    `defect_window_m` of it (`margins_run`)."""
+    `defect_window_m` of it (`MarginsRun`)."""
     defect = line.defects[index]
     curve = line.curve_at(defect.position_m)
     if curve is None:
@@ -243,41 +330,54 @@ def defect_run(line: Line, index, base: Scenario, vehicle_set, friction, speed_k
     sc = _case_scenario(base, vehicle_set, friction, track=track, irregularity=defect.irregularity(at, track),
                         speed_table=constant_speed(speed_kmh), stop_on_derailment=True, output_rate=200.0,
                         end_position=min(end + RULES.defect_window_m, track.line_length))
-    return margins_run(sc, at - RULES.defect_window_m, end + RULES.defect_window_m)
+    return MarginsRun(sc, at - RULES.defect_window_m, end + RULES.defect_window_m)
+
+
+def curve_extent(track):
+    """(start, end) m of a curve's run's curve, from the start of its entry transition to the end of its exit
+    transition."""
+    return track.straight_in, track.straight_in + track.transition_in + track.curve_length + track.transition_out
 
 
 def curve_run(sc: Scenario, speed_kmh):
     """One constant-speed run over a curve's run (`Line.scenario_for`), its margins judged over the curve's
-    extent, from the start of its entry transition to the end of its exit transition (`margins_run`)."""
-    tr = sc.track
-    lo = tr.straight_in
-    hi = lo + tr.transition_in + tr.curve_length + tr.transition_out
-    return margins_run(replace(sc, speed_table=constant_speed(speed_kmh), stop_on_derailment=True,
-                               output_rate=200.0, end_position=hi), lo, hi)
+    extent (`curve_extent`, `MarginsRun`)."""
+    lo, hi = curve_extent(sc.track)
+    return MarginsRun(replace(sc, speed_table=constant_speed(speed_kmh), stop_on_derailment=True, output_rate=200.0,
+                              end_position=hi), lo, hi)
 
 
-def highest_intact(run, lo, hi, tolerance_kmh):
-    """The highest speed (km/h) in [lo, hi] at which `run(speed_kmh)` -> (intact, why) keeps every margin, by
+def highest_intact(run, lo, hi, tolerance_kmh, known=None, lo_assumed=False):
+    """The highest speed (km/h) in [lo, hi] at which `run(speed_kmh)` (a MarginsRun) keeps every margin, by
     bisection (a margin broken at a speed is taken as broken above it too): {margins_intact_up_to_kmh (0 when
-    broken at lo), first_broken (the lowest speed tried that broke a margin, and which), runs}."""
+    broken at lo), first_broken (the lowest speed tried that broke a margin, and which: its whole run's), runs
+    (the speeds tried)}. `known`: {speed: Judged} for speeds whose outcome is known without a run.
+    `lo_assumed`: lo is not run first but taken as intact, by the bisection's own assumption read downwards,
+    once a faster speed keeps every margin, and run only if none does (a curve's; not a defect's, whose margins,
+    a twist's, may be hardest to keep at low speed)."""
+    known = known or {}
     tried = {}
+    bottom = lo
 
     def passes(v):
-        tried[v] = run(v)
-        return tried[v][0]
+        if v not in tried:
+            tried[v] = known[v] if v in known else run(v)
+        return tried[v].intact()
 
     if passes(hi):
         intact = hi
-    elif not passes(lo):
+    elif not lo_assumed and not passes(lo):
         intact = 0.0
     else:
         while hi - lo > tolerance_kmh:
             mid = 0.5 * (lo + hi)
             lo, hi = (mid, hi) if passes(mid) else (lo, mid)
-        intact = lo
-    broken = [(v, why) for v, (ok, why) in sorted(tried.items()) if not ok]
+        intact = lo if lo > bottom or passes(bottom) else 0.0
+    broken = sorted(v for v, r in tried.items() if not r.intact())
+    # only the lowest broken run is simulated to its end, for which margin its whole run breaks
     return dict(margins_intact_up_to_kmh=intact,
-                first_broken=dict(speed_kmh=broken[0][0], margin=broken[0][1]) if broken else None, runs=len(tried))
+                first_broken=dict(speed_kmh=broken[0], margin=tried[broken[0]].outcome()[1]) if broken else None,
+                runs=len(tried))
 
 
 def defect_case(line: Line, index, base: Scenario, settings: Settings, vehicle_set, friction):

@@ -330,18 +330,29 @@ def simulate(sc: Scenario, progress=None, chunk=1.0, observe=None):
                   flange_height=sim.model.flange_height)
 
 
+def run_in_pieces(sc: Scenario, piece_s):
+    """A run of `sc` as a generator of (the Simulation, the output rows of the next `piece_s` of simulated
+    time, the divergence message or ''), up to where it stops (a diverging run's last piece has no rows): a
+    caller may stop after any piece, or take the next one later; the pieces together are the rows of one
+    `advance` over the whole run (the step sequence does not depend on how a run is cut)."""
+    sim = Simulation(sc)
+    while sim.status == itg.RUNNING:
+        try:
+            rows = sim.advance(piece_s)
+        except SimulationDiverged as exc:
+            yield sim, np.zeros((0, N_OUT)), str(exc)
+            return
+        yield sim, rows, ""
+
+
 def run_to_stop(sc: Scenario, chunk_s=10.0):
     """(the Simulation, its output arrays, the divergence message or '') of a scenario run until it stops,
     `chunk_s` of simulated time at a time: a diverging run keeps the rows before it (the evaluations that
     must score every run to its end: the warning evaluations)."""
-    sim = Simulation(sc)
-    parts, error = [], ""
-    try:
-        while sim.status == itg.RUNNING:
-            parts.append(sim.advance(chunk_s))
-    except SimulationDiverged as exc:
-        error = str(exc)
-    return sim, output_arrays(np.concatenate(parts) if parts else np.zeros((0, N_OUT))), error
+    parts = []
+    for sim, rows, error in run_in_pieces(sc, chunk_s):
+        parts.append(rows)
+    return sim, output_arrays(np.concatenate(parts)), error
 
 
 def output_arrays(rows):
