@@ -172,17 +172,14 @@ def arrival_orders(n):
     """Orders in which a monitor node may get the n samples' wheelset states and contact forces: each topic in
     its own order (a reliable topic keeps it), the two interleaved any way (DDS delivers the topics apart)."""
     states, forces = [("states", i) for i in range(n)], [("forces", i) for i in range(n)]
-    yield "states first", [m for i in range(n) for m in (states[i], forces[i])]
-    yield "forces first", [m for i in range(n) for m in (forces[i], states[i])]
-    for lag in (7, 40):
-        yield f"forces {lag} samples behind", states[:lag] + [m for i in range(lag, n) for m in (states[i],
-                                                                                           forces[i - lag])] \
-            + forces[n - lag:]
-        yield f"states {lag} samples behind", forces[:lag] + [m for i in range(lag, n) for m in (forces[i],
-                                                                                           states[i - lag])] \
-            + states[n - lag:]
-    rng = np.random.default_rng(43)
-    pick = rng.permutation([0] * n + [1] * n)               # which topic delivers next
+
+    def behind(first, second, lag):
+        """`second` running `lag` samples behind `first` (0: sample by sample, `first`'s message first)."""
+        return first[:lag] + [m for i in range(lag, n) for m in (first[i], second[i - lag])] + second[n - lag:]
+    for lag in (0, 7, 40):
+        yield f"forces {lag} samples behind the states", behind(states, forces, lag)
+        yield f"states {lag} samples behind the forces", behind(forces, states, lag)
+    pick = np.random.default_rng(43).permutation([0] * n + [1] * n)      # which topic delivers next
     queues = [iter(states), iter(forces)]
     yield "shuffled", [next(queues[k]) for k in pick]
 
