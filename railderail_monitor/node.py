@@ -1,8 +1,9 @@
 """Monitor node `railderail_monitor`: the derailment criteria over the simulator's topics, or, with
 `signals:=measured`, the on-board criteria over the sensors' topics only.
 
-Ground truth (`signals` ground_truth, the default): subscribes to /railderail/wheelset_states, /railderail/contact_forces (reliable, deep queue)
-and /railderail/vehicle_status (for the curve's side), runs `warning.monitor.Monitor` on every sample and
+Ground truth (`signals` ground_truth, the default): subscribes to /railderail/wheelset_states and
+/railderail/contact_forces (reliable, deep queue; each message carries its sample's track curvature, which names
+an alert's inner or outer rail), runs `warning.monitor.Monitor` on every sample and
 publishes each alert on /railderail/alerts (reliable, transient local). The criteria, their
 thresholds and the debounce/hysteresis are in railderail_monitor/criteria.py. Every threshold is a
 ROS parameter (the fields of `warning.limits.Limits`, `-p name:=value` or `--params-file FILE.yaml`; NaN
@@ -181,7 +182,6 @@ class MonitorNode(Node):
         self.supervision = self._supervision()
         self.create_subscription(m.WheelsetStates, m.STATES, self.on_states, m.SENSOR_SUBSCRIBER)
         self.create_subscription(m.ContactForces, m.FORCES, self.on_forces, m.SENSOR_SUBSCRIBER)
-        self.create_subscription(m.VehicleStatus, m.STATUS, self.on_status, m.SENSOR_SUBSCRIBER)
         self.counts = {"states": [0, 0, None], "forces": [0, 0, None]}   # received, missed, last sample
         self.alerts = 0
         self.get_logger().info(f"railderail monitor: {self.monitoring()}")
@@ -308,11 +308,8 @@ class MonitorNode(Node):
         return f"monitoring {levels}; debounce {self.monitor.limits.debounce_m:g} m"
 
     def on_limits(self, changed):
-        """New thresholds while running: a new Monitor (every channel armed again), the curvature
-        history kept."""
-        curvatures = self.monitor.curvatures
+        """New thresholds while running: a new Monitor (every channel armed again)."""
         self.monitor = Monitor(Limits(**self.limit_values))
-        self.monitor.curvatures = curvatures
         self.get_logger().info("thresholds changed (" + ", ".join(f"{k} {v:g}" for k, v in changed.items())
                                + f"): {self.monitoring()}")
 
@@ -335,8 +332,8 @@ class MonitorNode(Node):
         t = m.seconds(msg.header.stamp)
         if self.supervision is not None:
             self._supervised(self.supervision.on_states(t, msg.sample, msg.track_position, msg.speed))
-        self._publish(self.monitor.on_states(t, msg.sample, msg.track_position, msg.speed, msg.attack_angle,
-                                             msg.wheel_lift))
+        self._publish(self.monitor.on_states(t, msg.sample, msg.track_position, msg.speed, msg.curvature,
+                                             msg.attack_angle, msg.wheel_lift))
 
     def _supervised(self, steps):
         """Publish what the supervision's steps gave: the brake before anything else, then the alerts and the
@@ -358,10 +355,7 @@ class MonitorNode(Node):
     def on_forces(self, msg):
         self._count("forces", msg.sample)
         self._publish(self.monitor.on_forces(m.seconds(msg.header.stamp), msg.sample, msg.track_position, msg.speed,
-                                             msg.derailment_coefficient, msg.vertical_force))
-
-    def on_status(self, msg):
-        self.monitor.set_curvature(msg.sample, msg.curvature)
+                                             msg.curvature, msg.derailment_coefficient, msg.vertical_force))
 
     def summary(self):
         if self.mode == "measured":

@@ -62,12 +62,12 @@ def test_the_monitor_raises_it_where_the_batch_does_and_from_the_attack_angle_be
     monitor = Monitor(limits)
     running, alerts = [], []
     for i in range(n):
-        alerts += monitor.on_forces(i * 0.001, i, position[i], 20.0, qp[i], np.full(8, limits.static_wheel_load))
+        alerts += monitor.on_forces(i * 0.001, i, position[i], 20.0, 0.0, qp[i], np.full(8, limits.static_wheel_load))
         running.append(monitor.climb.run / CD.climb_distance_limit(CD.wheel_attack_angles(aoa[i - 1] if i else
                                                                                           np.zeros(4)),
                                                                    limits.climb_distance_scale,
                                                                    limits.climb_attack_angle_scale))
-        alerts += monitor.on_states(i * 0.001, i, position[i], 20.0, aoa[i], np.zeros(8))
+        alerts += monitor.on_states(i * 0.001, i, position[i], 20.0, 0.0, aoa[i], np.zeros(8))
     assert np.array_equal(np.array(running), batch)
     climb = [a for a in alerts if a.criterion == "flange_climb_distance"]
     limit = CD.climb_distance_limit(0.010, limits.climb_distance_scale, limits.climb_attack_angle_scale)

@@ -160,7 +160,7 @@ def test_the_duration_rule_counts_time_not_track(speed):
     monitor = Monitor(_limits(derailment_coefficient_critical=1.32))
     alerts = []
     for i in range(n):
-        alerts += monitor.on_forces(t[i], i, speed * t[i], speed, qp[i],
+        alerts += monitor.on_forces(t[i], i, speed * t[i], speed, 0.0, qp[i],
                                     np.full(8, monitor.limits.static_wheel_load))
     duration = [a for a in alerts if a.criterion == "derailment_coefficient_duration"]
     assert [(a.time_s, a.wheelset, a.wheel_side) for a in duration] == [(pytest.approx(0.55), 1, "right")]
@@ -168,33 +168,53 @@ def test_the_duration_rule_counts_time_not_track(speed):
     assert track == ([pytest.approx(0.125)] if speed == 80.0 else [])
 
 
-def test_arrival_order_of_a_sample_s_topics_does_not_matter():
-    """The monitor node may get a sample's status before its states and forces (three topics): the
-    same alerts as the batch, which feeds states, forces, then status."""
+def arrival_orders(n):
+    """Orders in which a monitor node may get the n samples' wheelset states and contact forces: each topic in
+    its own order (a reliable topic keeps it), the two interleaved any way (DDS delivers the topics apart)."""
+    states, forces = [("states", i) for i in range(n)], [("forces", i) for i in range(n)]
+
+    def behind(first, second, lag):
+        """`second` running `lag` samples behind `first` (0: sample by sample, `first`'s message first)."""
+        return first[:lag] + [m for i in range(lag, n) for m in (first[i], second[i - lag])] + second[n - lag:]
+    for lag in (0, 7, 40):
+        yield f"forces {lag} samples behind the states", behind(states, forces, lag)
+        yield f"states {lag} samples behind the forces", behind(forces, states, lag)
+    pick = np.random.default_rng(43).permutation([0] * n + [1] * n)      # which topic delivers next
+    queues = [iter(states), iter(forces)]
+    yield "shuffled", [next(queues[k]) for k in pick]
+
+
+def feed(monitor, a, order):
+    """The alerts of a Monitor fed the samples of `a` in `order` (arrival_orders), each message with its own
+    sample's values, as the monitor node passes them on."""
+    found = []
+    for topic, i in order:
+        at = (a["time"][i], i, a["position"][i], 80.0, a["curvature"][i])
+        found += (monitor.on_states(*at, a["attack_angle"][i], a["wheel_lift"][i]) if topic == "states" else
+                  monitor.on_forces(*at, a["derailment_coefficient"][i], a["vertical_force"][i]))
+    return found
+
+
+def test_a_sample_s_rail_side_does_not_depend_on_the_order_its_messages_come_in():
+    """Issue 43: live, a sample's states and forces come in any order against the other samples' (a CI run had
+    the live alert at sample 650 with no rail side where the replay said inner). Each alert names its rail from
+    its own sample's curvature, whatever came before it: here the curve turns the other way at every sample, so
+    a rail side taken from any other sample is wrong. The attack angle is held, so that the climb distance (the
+    latest states before the forces) is the same in every order; the alerts are then the batch's, field for
+    field."""
     a = synthetic_run()
-    a["curvature"] = np.where(np.arange(len(a["time"])) < 150, 0.0, 1e-3)   # straight, then a curve
-    monitor = Monitor(default_limits())
-    streamed = []
-    for i in range(len(a["time"])):
-        monitor.set_curvature(i, a["curvature"][i])
-        streamed += monitor.on_forces(a["time"][i], i, a["position"][i], 80.0, a["derailment_coefficient"][i],
-                                      a["vertical_force"][i])
-        streamed += monitor.on_states(a["time"][i], i, a["position"][i], 80.0, a["attack_angle"][i], a["wheel_lift"][i])
+    n = len(a["time"])
+    a["curvature"] = np.where(np.arange(n) % 2 == 0, 1e-3, -1e-3)
+    a["attack_angle"][:, 0] = 0.07
     batch = alerts_of_run(a, default_limits())
+    assert all(x.rail_side == (rail_side(x.wheel_side, a["curvature"][x.sample]) if x.wheel_side else "")
+               for x in batch)
+    assert {x.rail_side for x in batch if x.wheel_side} == {"inner", "outer"} and len(batch) > 8
     key = lambda x: (x.sample, x.criterion, x.severity, x.wheelset, x.wheel_side)  # noqa: E731
-    assert sorted(map(key, streamed)) == sorted(map(key, batch)) and len(batch) > 4
-    assert [x.as_dict() for x in sorted(streamed, key=key)] == [x.as_dict() for x in sorted(batch, key=key)]
-    assert {x.rail_side for x in batch if x.wheel_side} == {"", "inner"}
-
-
-def test_rail_side_comes_from_the_status_before_the_sample():
-    monitor = Monitor(_limits(debounce_m=0.0))
-    monitor.set_curvature(4, 0.0)
-    monitor.set_curvature(5, 1e-3)       # arrives before the states of sample 5: not used for sample 5
-    (alert,) = monitor.on_states(0.025, 5, 10.0, 80.0, [0, 0, 0, 0], [0.02, 0, 0, 0, 0, 0, 0, 0])[:1]
-    assert alert.rail_side == ""
-    (alert,) = monitor.on_states(0.03, 6, 10.4, 80.0, [0, 0, 0, 0], [0, 0.02, 0, 0, 0, 0, 0, 0])[:1]
-    assert (alert.wheel_side, alert.rail_side) == ("right", "outer")
+    expected = [x.as_dict() for x in sorted(batch, key=key)]
+    for name, order in arrival_orders(n):
+        streamed = feed(Monitor(default_limits()), a, order)
+        assert [x.as_dict() for x in sorted(streamed, key=key)] == expected, name
 
 
 def test_lead_times_by_hand():
@@ -323,7 +343,7 @@ def test_the_duration_rule_decides_alike_on_the_simulator_s_clock_and_on_the_nod
     for name, clock in (("sim", t_sim), ("node", t_node)):
         monitor = Monitor(default_limits())
         alerts[name] = [(a.sample, a.criterion, a.severity, a.wheelset, a.wheel_side)
-                        for i in range(n) for a in monitor.on_forces(clock[i], i, 80.0 * i * 0.005, 80.0, qp[i],
+                        for i in range(n) for a in monitor.on_forces(clock[i], i, 80.0 * i * 0.005, 80.0, 0.0, qp[i],
                                                                        np.full(8, monitor.limits.static_wheel_load))]
     timed = [x for x in alerts["sim"] if x[1] == "derailment_coefficient_duration"]
     assert len(timed) > 10 and alerts["sim"] == alerts["node"]

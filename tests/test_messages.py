@@ -19,6 +19,7 @@ SAMPLES = {
     "WheelsetStates": {
         "header": HEADER,
         "track_position": 1234.5,
+        "curvature": 1 / 2800,
         "lateral_displacement": [0.001, -0.002, 0.0035, -0.0045],
         "vertical_displacement": [1e-4, 2e-4, -3e-4, 4e-4],
         "roll": [0.0011, -0.0012, 0.0013, -0.0014],
@@ -29,6 +30,7 @@ SAMPLES = {
     "ContactForces": {
         "header": HEADER,
         "track_position": 1234.5,
+        "curvature": -1 / 1000,
         "lateral_force": [-12e3, 45e3, -8e3, 30e3, -7e3, 20e3, -6e3, 10e3],
         "vertical_force": [60e3, 95e3, 62e3, 90e3, 61e3, 88e3, 63e3, 86e3],
         "longitudinal_force": [100.0, -200.0, 300.0, -400.0, 500.0, -600.0, 700.0, -800.0],

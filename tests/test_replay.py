@@ -5,9 +5,10 @@ from dataclasses import replace
 import pytest
 
 from railderail_monitor.warning.limits import default_limits
-from railderail_monitor.recording.recorder import McapRecording, record_run
-from railderail_monitor.recording.replay import RecordingError, read_recording, review
+from railderail_monitor.recording.recorder import McapRecording, record_run, schema_text
+from railderail_monitor.recording.replay import Publisher, RecordingError, read_recording, review
 from railderail_sim.cli import main
+from railderail_sim.ros import interface as m
 
 
 @pytest.fixture(scope="module")
@@ -109,3 +110,59 @@ def test_measured_alerts_are_compared_by_what_identifies_them():
     same, why = compare_measured(moved, live)
     assert why == ("found here only: bogie_rms at bogie_front_frame, t = 25.010 s; "
                    "in the recording only: bogie_rms at bogie_front_frame, t = 25.005 s")
+
+
+def plain(message):
+    """An rclpy message as the nested dict of lists that mcap_ros2's encoder takes."""
+    return {name: plain(v) if hasattr(v, "get_fields_and_field_types") else (v.tolist() if hasattr(v, "tolist") else v)
+            for name in message.get_fields_and_field_types() for v in [getattr(message, name)]}
+
+
+def write_before_curvature(recording, path, status_every=4):
+    """`recording` as a railderail before 2026-12-06 recorded it: its wheelset states and contact forces without
+    the curvature field (their definitions and bytes), a vehicle status every `status_every` samples only (the
+    simulator's default status_rate)."""
+    from mcap_ros2.writer import Writer
+
+    with open(path, "wb") as f:
+        writer, schemas = Writer(f), {}
+        for topic, type_name, log_time, _, msg in recording.messages:
+            if topic == m.STATUS and msg.sample % status_every:
+                continue
+            if type_name not in schemas:
+                text = schema_text(type_name)
+                if topic in (m.STATES, m.FORCES):
+                    text = "\n".join(line for line in text.split("\n") if not line.startswith("float64 curvature"))
+                    assert text != schema_text(type_name)
+                schemas[type_name] = writer.register_msgdef(type_name, text)
+            writer.write_message(topic, schemas[type_name], plain(msg), log_time, log_time)
+        writer.finish()
+
+
+def test_a_recording_made_before_the_samples_carried_their_curvature_is_reviewed_and_not_published(
+        capsys, recorded, tmp_path):
+    """Recordings of before 2026-12-06 (issue 43): the review names each alert's rail from the recorded vehicle
+    status at or before its sample (said so); their states and forces are not published, since today's nodes
+    would misread their bytes."""
+    path, _, alerts = recorded
+    old = tmp_path / "old.mcap"
+    write_before_curvature(read_recording(path), old)
+    recording = read_recording(old)
+    assert {m.STATES, m.FORCES} <= recording.other_definition and m.STATUS not in recording.other_definition
+    found = review(recording)
+    assert found.curvature_from == "vehicle_status" and review(read_recording(path)).curvature_from == "samples"
+    # the alerts fall on the curve, where the status of up to 3 samples before names the same rail
+    assert [key(a) for a in found.alerts] == [key(a) for a in alerts]
+    assert {a.rail_side for a in found.alerts if a.wheel_side} == {"inner"}       # unloading on the inner rail
+    assert main(["replay", str(old), "--no-publish"]) == 0
+    assert "each alert's rail from the vehicle status at or before its sample" in capsys.readouterr().out
+    said = []
+    publisher = Publisher(recording, 0.0, False, 0, said.append)
+    try:
+        assert m.STATUS in publisher.publishers and not {m.STATES, m.FORCES} & set(publisher.publishers)
+    finally:
+        publisher.close()
+    assert sorted(said) == [f"replay: cannot publish {topic}: recorded with another definition of {type_name} than "
+                            "the installed one (an older railderail's), which today's nodes would misread"
+                            for topic, type_name in sorted([(m.FORCES, m.TOPICS[m.FORCES][0]),
+                                                            (m.STATES, m.TOPICS[m.STATES][0])])]

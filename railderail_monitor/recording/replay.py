@@ -14,6 +14,12 @@
   onboard.monitor.MeasuredMonitor), beside the measured-mode alerts the recording holds, if any.
 - `--rerun` shows the run in a Rerun viewer; `--rrd OUT.rrd` writes it to a file (headless).
 
+A recording made before the wheelset states and contact forces carried their sample's track curvature
+(railderail_msgs before 2026-12-06) is still reviewed: each sample's curvature, which names an alert's rail,
+is then the recorded vehicle status's at or before it (`status_curvature`). A topic recorded with another
+definition of its type than the installed one (such as those) is not published: today's nodes would misread
+its bytes.
+
 A missing, truncated (no footer), damaged or foreign (no railderail_msgs topics) file is refused
 with one line naming the file and the problem (exit status 2); `--allow-truncated` replays what a
 killed recorder left (the messages up to its last flushed chunk).
@@ -21,6 +27,7 @@ killed recorder left (the messages up to its last flushed chunk).
 from __future__ import annotations
 
 import argparse
+import bisect
 import struct
 import sys
 import time
@@ -63,6 +70,9 @@ class Recording:
     metadata: dict = field(default_factory=dict)
     truncated: bool = False
     problem: str = ""
+    # topics recorded with a definition of their type other than the installed one (an older railderail's, or a
+    # type not installed here)
+    other_definition: set = field(default_factory=set)
 
     @property
     def duration_s(self):
@@ -135,10 +145,14 @@ def read_recording(path, allow_truncated=False, decode=True):
     decoder = message_decoders()
     wanted = decode if callable(decode) else (lambda topic: decode)
     messages, problem = [], ""
-    metadata = {}
+    metadata, other, checked = {}, set(), set()
 
     def collect(iterator):
         for schema, channel, message in iterator:
+            if channel.topic not in checked:
+                checked.add(channel.topic)
+                if schema is not None and schema.encoding == "ros2msg" and installed_class(schema) is None:
+                    other.add(channel.topic)
             name = schema.name if schema else ""
             decoded = decoder(schema)(message.data) if schema is not None and schema.encoding == "ros2msg" \
                 and channel.message_encoding == "cdr" and wanted(channel.topic) else None
@@ -176,7 +190,7 @@ def read_recording(path, allow_truncated=False, decode=True):
         found = ", ".join(f"{t} ({n})" for t, (n, _) in Recording(path, messages).topics().items()) or "none"
         raise RecordingError(f"{path} is not a railderail recording: it has no railderail_msgs topics and no "
                              f"sensor topics under {m.SENSORS_NS}/ (topics: {found})")
-    return Recording(path, messages, metadata, truncated=not complete, problem=problem)
+    return Recording(path, messages, metadata, truncated=not complete, problem=problem, other_definition=other)
 
 
 def limits_of(recording):
@@ -197,16 +211,33 @@ class Review:
     derailment: dict = None
     final_status: str = ""
     samples: int = 0
+    curvature_from: str = "samples"      # where each sample's curvature came from: its own messages, or
+                                         # vehicle_status (a recording made before they carried it)
 
     def as_json(self, recording):
         found = [a.as_dict() for a in self.alerts]
         key = lambda a: (a["sample"], a["criterion"], a["severity"], a["wheelset"], a["wheel_side"])  # noqa: E731
         return dict(file=str(recording.path), truncated=recording.truncated, messages=len(recording.messages),
-                    duration_s=recording.duration_s, samples=self.samples, derailment=self.derailment,
+                    duration_s=recording.duration_s, samples=self.samples, curvature_from=self.curvature_from,
+                    derailment=self.derailment,
                     final_status=self.final_status, alerts=found,
                     lead_times=lead_times(self.alerts, self.derailment),
                     recorded_alerts=self.recorded_alerts,
                     same_as_recorded=sorted(map(key, found)) == sorted(map(key, self.recorded_alerts)))
+
+
+def status_curvature(recording):
+    """sample -> track curvature (1/m, + left) of a recording whose wheelset states and contact forces do not
+    carry it (made before 2026-12-06): the curvature of its vehicle status at the latest sample at or before the
+    sample (the simulator publishes the status every few samples: status_rate), 0 before the first."""
+    kept = sorted((int(msg.sample), float(msg.curvature)) for topic, _, _, _, msg in recording.messages
+                  if topic == STATUS and msg is not None)
+    samples = [sample for sample, _ in kept]
+
+    def curvature(sample):
+        k = bisect.bisect_right(samples, sample)
+        return kept[k - 1][1] if k else 0.0
+    return curvature
 
 
 def review(recording, limits=None, on_message=None, on_alert=None):
@@ -214,6 +245,16 @@ def review(recording, limits=None, on_message=None, on_alert=None):
     decoded)` sees every message first (publishing, viewer), `on_alert(record)` every alert found."""
     monitor = Monitor(limits or limits_of(recording))
     out = Review()
+    from_status = None
+
+    def curvature(msg):
+        nonlocal from_status
+        if hasattr(msg, "curvature"):
+            return msg.curvature
+        if from_status is None:
+            from_status, out.curvature_from = status_curvature(recording), "vehicle_status"
+        return from_status(msg.sample)
+
     for item in recording.messages:
         topic, _, _, _, msg = item
         if on_message is not None:
@@ -223,13 +264,11 @@ def review(recording, limits=None, on_message=None, on_alert=None):
         found = []
         if topic == STATES:
             out.samples += 1
-            found = monitor.on_states(m.seconds(msg.header.stamp), msg.sample,
-                                      msg.track_position, msg.speed, msg.attack_angle, msg.wheel_lift)
+            found = monitor.on_states(m.seconds(msg.header.stamp), msg.sample, msg.track_position, msg.speed,
+                                      curvature(msg), msg.attack_angle, msg.wheel_lift)
         elif topic == FORCES:
-            found = monitor.on_forces(m.seconds(msg.header.stamp), msg.sample,
-                                      msg.track_position, msg.speed, msg.derailment_coefficient, msg.vertical_force)
-        elif topic == STATUS:
-            monitor.set_curvature(msg.sample, msg.curvature)
+            found = monitor.on_forces(m.seconds(msg.header.stamp), msg.sample, msg.track_position, msg.speed,
+                                      curvature(msg), msg.derailment_coefficient, msg.vertical_force)
         elif topic == ALERTS:
             out.recorded_alerts.append(m.alert_dict(msg))
         elif topic == DERAILMENT:
@@ -319,6 +358,10 @@ class Publisher:
                 cls = m.message_class(type_name)
             except (ImportError, AttributeError, ValueError):
                 log(f"replay: cannot publish {topic}: type {type_name} is not installed")
+                continue
+            if topic in recording.other_definition:
+                log(f"replay: cannot publish {topic}: recorded with another definition of {type_name} than the "
+                    "installed one (an older railderail's), which today's nodes would misread")
                 continue
             sensor = topic.startswith(m.SENSORS_NS + "/")
             self.publishers[topic] = self.node.create_publisher(cls, topic, qos.get(topic, m.SENSOR if sensor else
@@ -484,6 +527,9 @@ def command(parser: argparse.ArgumentParser):
             same = result.as_json(recording)["same_as_recorded"]
             print(f"{len(result.alerts)} alerts found; the recording holds {len(result.recorded_alerts)} "
                   f"({'the same' if same else 'they differ'})")
+            if result.curvature_from == "vehicle_status":
+                print("(recorded before the wheelset states and contact forces carried their sample's curvature: "
+                      "each alert's rail from the vehicle status at or before its sample)")
         if args.rrd:
             err(f"wrote {args.rrd}")
         return 0

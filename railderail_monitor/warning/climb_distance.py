@@ -21,8 +21,8 @@ The monitor's value is the climb-distance ratio of each wheel: the track travell
 to Nadal's limit with mu = CLIMB_FRICTION (zero while it is below; the US rule's friction, 49 CFR 238 App. C,
 since an on-board monitor does not know the friction), over D at the attack angle of its wheelset. 1 is
 TCRP's limit.
-The attack angle is the one of the latest wheelset-state sample before the force sample (as the monitor
-takes the curvature), so that a batch evaluation and the stream agree whatever order the topics arrive in.
+The attack angle is the one of the latest wheelset-state sample before the force sample, not the force
+sample's own, so that the order in which the states and the forces of one sample arrive does not matter.
 """
 from __future__ import annotations
 

@@ -16,10 +16,9 @@ from .quantities import SlidingMean, front_attack_angle, rail_side, running_gear
 
 class Monitor:
     """Every criterion over a stream of samples. Feed it `on_states` (wheelset states) and
-    `on_forces` (contact forces), each returning the list of AlertRecords the sample raised, and
-    `set_curvature` (vehicle status): an alert on sample i names the inner or outer rail from the
-    curvature (1/m, + left) of the latest status before sample i (so that the order in which the
-    three topics of one sample arrive does not matter)."""
+    `on_forces` (contact forces), each returning the list of AlertRecords the sample raised: an alert on
+    sample i names the inner or outer rail from the track curvature (1/m, + left) that sample i's own
+    message carries, so that the rail side does not depend on the order in which the topics arrive."""
 
     # (wheelset, side) of each channel of a criterion that is not per wheel; side '' for a wheelset
     PLACES = {"attack_angle": ((0, ""),), "running_gear_unloading": BOGIE_PLACES}
@@ -34,17 +33,10 @@ class Monitor:
             held = debounce(criterion, limits)
             self.channels[criterion] = [(sev, thr, [Detector(thr, held, r, rm) for _ in range(count)])
                                         for sev, thr in limits.levels(criterion)]
-        self.curvatures = collections.deque(maxlen=256)       # (sample, curvature), arrival order
         self.attack_angles = collections.deque(maxlen=256)    # (sample, 4 attack angles), arrival order
         self.qp_mean = SlidingMean(limits.sliding_mean_m, 8)
         self.climb = ClimbDistance(limits.climb_nadal_limit, limits.climb_distance_scale,
                                    limits.climb_attack_angle_scale)
-
-    def set_curvature(self, sample, curvature):
-        self.curvatures.append((int(sample), float(curvature)))
-
-    def curvature_before(self, sample):
-        return self._before(self.curvatures, sample, 0.0)
 
     @staticmethod
     def _before(kept, sample, none):
@@ -53,8 +45,8 @@ class Monitor:
                 return value
         return none
 
-    def _check(self, criterion, values, t, sample, position, speed):
-        t, sample, position, speed = float(t), int(sample), float(position), float(speed)
+    def _check(self, criterion, values, t, sample, position, speed, curvature):
+        t, sample, position, speed, curvature = float(t), int(sample), float(position), float(speed), float(curvature)
         clock = nanoseconds(t) if criterion in TIMED else None
         alerts = []
         for sev, thr, detectors in self.channels[criterion]:
@@ -62,47 +54,46 @@ class Monitor:
                 value = float(values[k])
                 if detector.update(value, position, clock):
                     ws, side = self.PLACES[criterion][k] if criterion in self.PLACES else (k // 2, SIDES[k % 2])
-                    rail = rail_side(side, self.curvature_before(sample)) if side else ""
+                    rail = rail_side(side, curvature) if side else ""
                     alerts.append(AlertRecord(t, sample, criterion, sev, value, thr, ws, side, rail, position,
                                               speed, describe(criterion, sev, value, thr, ws, side, rail)))
         return alerts
 
-    def on_states(self, t, sample, position, speed, attack_angle, wheel_lift):
-        """Attack angle (4 wheelsets, rad) and wheel lift (8 wheels, m) of one sample."""
+    def on_states(self, t, sample, position, speed, curvature, attack_angle, wheel_lift):
+        """Attack angle (4 wheelsets, rad) and wheel lift (8 wheels, m) of one sample, with its place, speed
+        and track curvature (1/m, + left)."""
         self.attack_angles.append((int(sample), np.asarray(attack_angle, dtype=float)))
-        return (self._check("attack_angle", [front_attack_angle(attack_angle)], t, sample, position, speed)
-                + self._check("wheel_lift", wheel_lift, t, sample, position, speed))
+        at = (t, sample, position, speed, curvature)
+        return (self._check("attack_angle", [front_attack_angle(attack_angle)], *at)
+                + self._check("wheel_lift", wheel_lift, *at))
 
-    def on_forces(self, t, sample, position, speed, derailment_coefficient, vertical_force):
-        """Y/Q (8 wheels) and vertical forces Q (8 wheels, N) of one sample."""
+    def on_forces(self, t, sample, position, speed, curvature, derailment_coefficient, vertical_force):
+        """Y/Q (8 wheels) and vertical forces Q (8 wheels, N) of one sample, with its place, speed and track
+        curvature (1/m, + left)."""
         unloading = unloading_ratio(vertical_force, self.limits.static_wheel_load)
-        return (self._check("derailment_coefficient", derailment_coefficient, t, sample, position, speed)
-                + self._check("derailment_coefficient_duration", derailment_coefficient, t, sample, position, speed)
-                + self._check("derailment_coefficient_mean", self.qp_mean.update(derailment_coefficient, position), t,
-                              sample, position, speed)
-                + self._check("wheel_unloading", unloading, t, sample, position, speed)
-                + self._check("running_gear_unloading", running_gear_unloading(unloading), t, sample, position,
-                              speed)
+        at = (t, sample, position, speed, curvature)
+        return (self._check("derailment_coefficient", derailment_coefficient, *at)
+                + self._check("derailment_coefficient_duration", derailment_coefficient, *at)
+                + self._check("derailment_coefficient_mean", self.qp_mean.update(derailment_coefficient, position), *at)
+                + self._check("wheel_unloading", unloading, *at)
+                + self._check("running_gear_unloading", running_gear_unloading(unloading), *at)
                 + self._check("flange_climb_distance", self.climb.update(
                     derailment_coefficient, self._before(self.attack_angles, int(sample), np.zeros(4)), position),
-                    t, sample, position, speed))
+                    *at))
 
 
 def alerts_of_run(arrays, limits: Limits = None):
     """Alerts of a whole run, from the named arrays of `vehicle.simulate.Result.arrays()` or
     `vehicle.simulate.output_arrays` (or the same names from a recording): a Monitor fed sample by
-    sample as the monitor node is fed, the states, then the forces, then the status (curvature) of
-    each sample, so that batch and stream give the same alerts by construction."""
+    sample as the monitor node is fed, the states, then the forces of each sample, each with the sample's
+    curvature, so that batch and stream give the same alerts by construction."""
     monitor = Monitor(limits)
     t, s, v = arrays["time"], arrays["position"], arrays["speed"]
     attack, lift = arrays["attack_angle"], arrays["wheel_lift"]
-    qp, load = arrays["derailment_coefficient"], arrays["vertical_force"]
-    curvature = arrays.get("curvature")
+    qp, load, k = arrays["derailment_coefficient"], arrays["vertical_force"], arrays["curvature"]
     found = []
     for i, sample in enumerate(arrays.get("sample", range(len(t)))):
-        found += monitor.on_states(t[i], sample, s[i], v[i], attack[i], lift[i])
-        found += monitor.on_forces(t[i], sample, s[i], v[i], qp[i], load[i])
-        if curvature is not None:
-            monitor.set_curvature(sample, curvature[i])
+        found += monitor.on_states(t[i], sample, s[i], v[i], k[i], attack[i], lift[i])
+        found += monitor.on_forces(t[i], sample, s[i], v[i], k[i], qp[i], load[i])
     return found
 

@@ -180,6 +180,7 @@ class RowConverter:
         m.sample = sample
         m.track_position = float(a["position"][i])
         m.speed = float(a["speed"][i])
+        m.curvature = float(a["curvature"][i])
         bodies = a["body_states"][i]
         m.lateral_displacement = np.ascontiguousarray(a["wheelset_lateral"][i])
         m.vertical_displacement = np.ascontiguousarray(bodies[WHEELSETS, Dof.vertical])
@@ -194,6 +195,7 @@ class RowConverter:
         m.sample = sample
         m.track_position = float(a["position"][i])
         m.speed = float(a["speed"][i])
+        m.curvature = float(a["curvature"][i])
         m.lateral_force = np.ascontiguousarray(a["lateral_force"][i])
         m.vertical_force = np.ascontiguousarray(a["vertical_force"][i])
         m.longitudinal_force = np.ascontiguousarray(a["longitudinal_force"][i])
