@@ -151,12 +151,18 @@ def test_the_curves_along_the_line_are_where_the_supervisor_raises_its_levels():
 
 def test_the_curves_are_sent_when_their_target_changes_and_none_once_past_it():
     supervision = OnLineSupervision(SURVEY, "survey.json")
-    sent = []
+    viewer = RunViewer(flush_every=10**6)
+    viewer.on_supervision(m.supervision_setup_message(supervision.setup()))
+    sent, drawn = [], []
     for k in range(600):                        # the front from 5200 m to 5700 m: the target ends at 5400 m
         for step in supervision.on_states(k / 200.0, k, 5190.0 + SPEED * k / 200.0, SPEED):
             if step.curves is not None:
                 sent.append((step.time_s, step.curves.shape[1]))
+            viewer.on_supervision_status(m.supervision_status_message(step.status))
+            drawn.append(viewer.planning.curves is not None)
         if k == 30:
             supervision.inputs(friction=0.3)    # a live input: the targets rebuilt, sent at the next sample
     assert sent[:3] == [(0.0, SAMPLES), (pytest.approx(0.155), SAMPLES), (pytest.approx(1.155), SAMPLES)]
     assert sent[-2:] == [(pytest.approx(2.155), SAMPLES), (pytest.approx(200.0 / SPEED, abs=0.006), 0)]
+    # the Rerun area's curves go with them (cleared once past the target, at its next drawing)
+    assert drawn[0] and not drawn[-1] and drawn.index(False) == pytest.approx(480, abs=8)

@@ -47,10 +47,10 @@ HUNTING_CRITERIA = ("bogie_rms", "bogie_peak", "bids_peak_count", "bids_peak_cou
 # curve's extent). A modelling choice: no source read gives an anemometer's reach.
 WIND_SITE_REACH_M = 1000.0
 # s of simulated time: the braking curves are sent again at least this often while their target stays (a
-# planning area needs no more: at 300 km/h the front moves 83 m, against the kilometres a curve spans; every
-# sample would cost each step about 1 ms more)
+# planning area needs no more: at 300 km/h the front moves 83 m, against the kilometres a curve spans; at every
+# sample they would cost each step about 0.4 ms more)
 CURVES_PERIOD_S = 1.0
-# km/h: a planning area's speeds run up to the next multiple of this above the highest speed it shows, one more
+# km/h: a planning area's top is the multiple of this above the highest speed it shows, and one more
 SPEED_STEP_KMH = 50.0
 
 

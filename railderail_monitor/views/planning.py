@@ -37,7 +37,8 @@ from ..supervision.on_line import CURVES_PERIOD_S, SPEED_STEP_KMH, braking_curve
 from .plots import plot
 
 X_SCALE = 0.1               # units of the area per metre of track, against one per km/h: 1 km is 100 units
-# (the grid's speeds are SPEED_STEP_KMH apart); the braking curves' colours are the Foxglove tab's too
+# the grid's speed lines are SPEED_STEP_KMH apart (on_line's, which sets the area's top); the braking curves'
+# colours are the Foxglove tab's too
 COLOURS = dict(grid=(90, 90, 90), permitted=(170, 170, 170), targets=(255, 127, 14), critical=(214, 39, 40),
                ebd=(140, 86, 75), ebi=(148, 103, 189), sbi=(227, 119, 194), warning=(255, 187, 120),
                driver=(188, 189, 34), indication=(23, 190, 207), train=(31, 119, 180))
@@ -169,8 +170,13 @@ class PlanningArea:
         self.rec.log("/planning/front", rr.Points2D([self.trace[-1]], colors=[COLOURS["train"]], labels=[text],
                                                     radii=rr.Radius.ui_points(5.0)))
         target = (d["target_start_m"], d["target_end_m"], d["target_speed_kmh"])
-        if self.braking is not None and math.isfinite(target[0]) and (
-                target != self.target or d["time_s"] - self.curves_drawn >= CURVES_PERIOD_S - 1e-9):
+        if self.braking is None:
+            return
+        if not math.isfinite(target[0]):
+            if self.curves is not None:         # no target ahead any more: no curves, as the node sends none
+                self.curves = self.target = None
+                self.rec.log("/planning/braking", rr.Clear(recursive=False))
+        elif target != self.target or d["time_s"] - self.curves_drawn >= CURVES_PERIOD_S - 1e-9:
             self.target, self.curves_drawn = target, d["time_s"]
             self._braking_curves(d, *target)
 
