@@ -210,6 +210,7 @@ class MonitorNode(Node):
         self.setup_publisher = self.create_publisher(m.TOPICS[m.SUPERVISION][1], m.SUPERVISION, m.LATCHED)
         self.status_publisher = self.create_publisher(m.TOPICS[m.SUPERVISION_STATUS][1], m.SUPERVISION_STATUS,
                                                       m.SENSOR)
+        self.curves_publisher = self.create_publisher(m.TOPICS[m.BRAKING_CURVES][1], m.BRAKING_CURVES, m.SENSOR)
         self.supervision = supervision
         self.on_live_inputs({k: setup[k] for k in LIVE_PARAMETERS})
         if odometer is not None:
@@ -336,8 +337,8 @@ class MonitorNode(Node):
                                              msg.attack_angle, msg.wheel_lift))
 
     def _supervised(self, steps):
-        """Publish what the supervision's steps gave: the brake before anything else, then the alerts and the
-        status."""
+        """Publish what the supervision's steps gave: the brake before anything else, then the alerts, the
+        status and the braking curves when they are sent."""
         for step in steps:
             if step.brake is not None and self.brake_publisher is not None:
                 sv = self.supervision
@@ -351,6 +352,8 @@ class MonitorNode(Node):
                                           f"at {speed * 3.6:.1f} km/h, down to {step.brake * 3.6:.1f} km/h")
             self._publish(step.alerts)
             self.status_publisher.publish(m.supervision_status_message(step.status))
+            if step.curves is not None:
+                self.curves_publisher.publish(m.braking_curves_message(step.curves))
 
     def on_forces(self, msg):
         self._count("forces", msg.sample)

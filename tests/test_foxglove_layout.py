@@ -1,6 +1,7 @@
 """foxglove/railderail-layout.json: every panel placed, every topic and field path it plots or shows exists in
-the message definitions (msg_defs/msg and the installed sensor_msgs, array indexes in range, plotted leaves
-numeric), and its threshold lines are the monitor's thresholds (the shipped monitor.yaml) and, in the sensors'
+the message definitions (msg_defs/msg and the installed sensor_msgs, array indexes and slices in range, plotted
+leaves numeric), the braking curves' panel plots each curve's row of the message against its positions, and its
+threshold lines are the monitor's thresholds (the shipped monitor.yaml) and, in the sensors'
 tab, the on-board rules' levels as the Rerun views draw them."""
 import json
 import re
@@ -9,6 +10,7 @@ from pathlib import Path
 import pytest
 from rosidl_adapter.parser import parse_message_file
 
+from railderail_monitor.supervision.curves import SAMPLES
 from railderail_monitor.warning.limits import default_limits
 from railderail_monitor.onboard.measured import measured_limits
 from railderail_monitor.recording.recorder import msg_file
@@ -24,9 +26,11 @@ ROOT = Path(__file__).resolve().parents[1]
 LAYOUT = json.loads((ROOT / "foxglove" / "railderail-layout.json").read_text())
 NUMERIC = {"bool", "byte", "char", "int8", "uint8", "int16", "uint16", "int32", "uint32", "int64", "uint64",
            "float32", "float64"}
-STEP = re.compile(r"^(\w+)(?:\[(\d+)\])?$")
+# a field, field[index] or field[first:last] (Foxglove's slices include their last index)
+STEP = re.compile(r"^(\w+)(?:\[(\d+)(?::(\d+))?\])?$")
 # the records carried in an unbounded array: (topic, field) -> its length
-RECORDS = {(m.SUPERVISION_STATUS, "data"): m.SupervisionStatus.size()}
+RECORDS = {(m.SUPERVISION_STATUS, "data"): m.SupervisionStatus.size(),
+           (m.BRAKING_CURVES, "data"): m.BrakingCurves.size() * SAMPLES}
 TOPICS = {**m.TOPICS, **sm.sensor_topics(default_set()), m.CLOCK: m.CLOCK_TOPIC,
           m.ONBOARD_ESTIMATES: m.ONBOARD_ESTIMATES_TOPIC}
 
@@ -49,13 +53,13 @@ def leaf_type(path):
     for i, step in enumerate(steps):
         match = STEP.match(step)
         assert match, f"{path}: {step!r} is not a field or field[index]"
-        field, index = match.group(1), match.group(2)
+        field, index, last = match.group(1), match.group(2), match.group(3)
         assert fields is not None and field in fields, f"{path}: no field {field}"
         field_type = fields[field]
         if index is not None:
             size = field_type.array_size or RECORDS.get((topic, field)) if field_type.is_array else None
             assert size, f"{path}: {field} is not a fixed-size array"
-            assert int(index) < size, f"{path}: {field} has {size} elements"
+            assert int(index) <= int(last or index) < size, f"{path}: {field} has {size} elements"
         else:
             assert not field_type.is_array or i == len(steps) - 1, f"{path}: {field} needs an index"
         fields = None if field_type.is_primitive_type() else definition(field_type.pkg_name, field_type.type)
@@ -94,8 +98,9 @@ def test_every_path_exists_in_the_message_definitions():
     # 4 wheelsets, 3 x 8 wheels, speed and acceleration, 2 timelines, 3 whole topics; the sensors' tab: the
     # mounts' lateral and vertical acceleration, the car body's 3 roll rates, the estimator's 4 sides' unloading
     # and Q/P, and per bogie its 2 sides' loads beside its 4 wheels' P
-    # the supervision's tab: 7 series, the planning area's x axis (checked below) and the whole setup topic
-    assert checked == 35 + 2 * len(MOUNTS) + 3 + 2 * 4 + 2 * (2 + 4) + 7 + 1
+    # the supervision's tab: 7 series, the planning area's x axis (checked below) and the whole setup topic, the
+    # braking curves' 7 series
+    assert checked == 35 + 2 * len(MOUNTS) + 3 + 2 * 4 + 2 * (2 + 4) + 7 + 1 + 7
 
 
 def thresholds(panel):
@@ -179,3 +184,19 @@ def test_the_supervision_tab_plots_the_status_against_the_front_s_position():
                      "Plot!supervision_margin": ["margin_kmh", "time_to_intervention_s"],
                      "Plot!supervision_level": ["level", "braking"]}
     assert config["RawMessages!supervision"]["topicPath"] == m.SUPERVISION
+
+
+def test_the_braking_curves_panel_plots_each_curve_against_the_positions_of_the_latest_message():
+    config = LAYOUT["configById"]["Plot!supervision_curves"]
+    assert config["xAxisVal"] == "currentCustom"
+
+    def row(path):
+        """The BrakingCurves field whose samples a path's slice is, all of them."""
+        match = re.fullmatch(rf"{m.BRAKING_CURVES}\.data\[(\d+):(\d+)\]", path)
+        first, last = int(match.group(1)), int(match.group(2))
+        assert first % SAMPLES == 0 and last == first + SAMPLES - 1, path
+        return m.BrakingCurves.names()[first // SAMPLES]
+    assert row(config["xAxisPath"]["value"]) == "position_m"
+    assert [row(s["value"]) for s in config["paths"]] == m.BrakingCurves.names()[1:]
+    tabs = LAYOUT["configById"][LAYOUT["layout"]]["tabs"]
+    assert "Plot!supervision_curves" in panels(next(t for t in tabs if t["title"] == "supervision")["layout"])

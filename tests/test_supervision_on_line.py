@@ -13,7 +13,7 @@ import pytest
 from rclpy.parameter import Parameter
 
 from railderail_monitor.onboard.measured import CRITERIA as MEASURED_CRITERIA
-from railderail_monitor.supervision.curves import INTERVENTION, KMH, SupervisionLimits, target_limit
+from railderail_monitor.supervision.curves import INTERVENTION, KMH, OPEN_END_M, SupervisionLimits, target_limit
 from railderail_monitor.supervision.loop import scenario_targets, simulate_supervised
 from railderail_monitor.supervision.on_line import (HUNTING_CRITERIA, WIND_SITE_REACH_M, OnLineSupervision,
                                                     live_rules)
@@ -214,6 +214,11 @@ def test_the_live_inputs_move_the_targets(run):
     (step,) = supervision.on_states(0.05, 10, 105.0, 300 * KMH)
     assert step.status[m.SupervisionStatus.level] == INTERVENTION and step.brake == pytest.approx(hunting.v_target)
     assert supervision.setup()["live"]["hunting"] is True
+    # its braking curves, sent at once (a new target): the target without an end drawn OPEN_END_M past the front
+    positions = step.curves[m.BrakingCurves.position_m]
+    front = step.status[m.SupervisionStatus.front_m]
+    assert positions[0] == front and positions[-1] == front + OPEN_END_M and np.all(np.isfinite(positions))
+    assert np.all(step.curves[m.BrakingCurves.permitted_kmh] == pytest.approx(hunting.v_target / KMH))
 
 
 def test_the_node_s_live_input_parameters_and_hunting_alerts(run, tmp_path, node_of):

@@ -2,13 +2,17 @@
 commands the emergency brake on /railderail/brake_command, the simulator node brakes on it and the run that
 derails without the supervisor (the batch core, the same scenario) ends at the end of the line; in the odometer
 mode (the simulator's odometer messages only, with their error) it brakes where the batch path's odometer
-mode does, earlier than on ground truth."""
+mode does, earlier than on ground truth. The recording of the closed loop holds the braking curves the monitor
+sent (/railderail/braking_curves), and reads them back."""
 import json
 import sys
 
+import numpy as np
 import pytest
 
-from railderail_monitor.supervision.curves import KMH, SupervisionLimits
+from railderail_monitor.recording.recorder import recorded_counts
+from railderail_monitor.recording.replay import read_recording
+from railderail_monitor.supervision.curves import KMH, SAMPLES, SupervisionLimits
 from railderail_monitor.supervision.loop import scenario_targets
 from railderail_sim.ros import interface as m
 from railderail_sim.ros.node import PARAMETERS, build_scenario
@@ -37,20 +41,25 @@ def _survey(path):
 class BrakeListener(Listener):
     def __init__(self):
         super().__init__()
-        self.brakes, self.statuses, self.setups = [], [], []
+        self.brakes, self.statuses, self.setups, self.curves = [], [], [], []
         self.node.create_subscription(m.BrakeCommand, m.BRAKE, self.brakes.append, m.BRAKE_QOS)
+        self.node.create_subscription(m.TOPICS[m.BRAKING_CURVES][1], m.BRAKING_CURVES, self.curves.append,
+                                      m.SENSOR_SUBSCRIBER)
         self.node.create_subscription(m.TOPICS[m.SUPERVISION_STATUS][1], m.SUPERVISION_STATUS,
                                       lambda msg: self.statuses.append(m.supervision_status_dict(msg)),
                                       m.SENSOR_SUBSCRIBER)
         self.node.create_subscription(m.TOPICS[m.SUPERVISION][1], m.SUPERVISION, self.setups.append, m.LATCHED)
 
 
-def _run(spawn, read_until, survey, brake=True, signals="ground_truth"):
+def _run(spawn, read_until, survey, brake=True, signals="ground_truth", record=None):
     listener = BrakeListener()
     try:
+        recorder = spawn([PY, "-m", "railderail_monitor.recording.recorder", str(record)]) if record else None
         monitor = spawn([PY, "-m", "railderail_monitor.node", "--ros-args", "-p", f"supervision:={survey}",
                          "-p", f"supervision_brake:={str(brake).lower()}", "-p", f"supervision_signals:={signals}"])
         read_until(monitor, "monitoring", timeout=60)
+        if recorder is not None:
+            read_until(recorder, "recording", timeout=60)
         sensors = {"sensors": "shipped"} if signals == "odometer" else {}
         simulator = spawn([PY, "-m", "railderail_sim.ros.node", "--ros-args"]
                           + [a for k, v in {**RUN, **sensors}.items() for a in ("-p", f"{k}:={v}")])
@@ -58,6 +67,8 @@ def _run(spawn, read_until, survey, brake=True, signals="ground_truth"):
         assert listener.spin_until(lambda: listener.final is not None, 30)
         listener.spin_for(1.0)
         stop(monitor)
+        if recorder is not None:
+            assert stop(recorder, timeout=60) == 0
         return listener, simulator.stderr.read()
     finally:
         listener.close()
@@ -71,7 +82,7 @@ def test_the_supervisor_brakes_the_simulator_and_prevents_the_derailment(spawn, 
     assert watched.derailment is not None and watched.brakes == []
     levels = [a["severity"] for a in watched.alerts if a["criterion"] == "speed_supervision"]
     assert levels == [0, 1, 2]                                  # indication, warning, intervention
-    closed, log = _run(spawn, read_until, tmp_path / "survey.json")
+    closed, log = _run(spawn, read_until, tmp_path / "survey.json", record=tmp_path / "closed.mcap")
     assert closed.derailment is None
     assert closed.final.state == m.msgs.VehicleStatus.STATE_FINISHED
     (brake,) = closed.brakes
@@ -80,6 +91,15 @@ def test_the_supervisor_brakes_the_simulator_and_prevents_the_derailment(spawn, 
     assert "EMERGENCY BRAKE" in log
     # the braked run reached the curve at its target speed: the final status's speed is the release speed
     assert closed.final.speed == pytest.approx(target.speed_limit_m_s, abs=0.05)
+    # the braking curves to the target, about once a simulated second, recorded and read back as sent
+    assert len(closed.curves) >= 10
+    assert recorded_counts(tmp_path / "closed.mcap")[m.BRAKING_CURVES] == len(closed.curves)
+    recorded = [d for topic, _, _, _, d in read_recording(tmp_path / "closed.mcap").messages
+                if topic == m.BRAKING_CURVES]
+    first = m.braking_curves_dict(recorded[0])
+    assert np.array_equal(first["ebi_kmh"], m.braking_curves_dict(closed.curves[0])["ebi_kmh"], equal_nan=True)
+    assert first["position_m"].size == SAMPLES and first["position_m"][-1] == pytest.approx(target.end_m)
+    assert first["permitted_kmh"][-1] == pytest.approx(target.speed_limit_m_s / KMH)
 
 
 @pytest.mark.timeout(900)

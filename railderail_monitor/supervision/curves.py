@@ -12,6 +12,8 @@ of SUBSET-026, OSRD's and an open ETCS on-board, and the reference sheet), C one
 from dataclasses import dataclass, field, fields
 import math
 
+import numpy as np
+
 from railderail_sim.ranges import check_range
 from railderail_sim.supervision.margin import SafetyMargin
 
@@ -20,6 +22,16 @@ EBI_MARGIN = SafetyMargin()
 KMH = 1.0 / 3.6
 NONE, INDICATION, WARNING, INTERVENTION = 0, 1, 2, 3
 LEVELS = ("none", "indication", "warning", "intervention")
+# the curves of a target a planning area draws (TargetCurves.along), the emergency brake's first
+CURVES = ("ebd", "ebi", "sbi", "warning", "permitted", "indication")
+# a planning area's samples: from the front to the target's start (closer together towards it: the curves bend
+# there), then over the target; the speeds each curve's locations are taken at, besides those where it bends
+# (inverted by interpolation between them: 60 over 255-450 km/h give the curve's speed within 0.01 km/h,
+# tests/test_supervision_views.py)
+APPROACH_SAMPLES, TARGET_SAMPLES, CURVE_SPEEDS = 100, 20, 60
+SAMPLES = APPROACH_SAMPLES + 1 + TARGET_SAMPLES          # along() gives this many
+# m of a target without an end (the hunting target runs to the end of the line) drawn past its start or the front
+OPEN_END_M = 2000.0
 
 
 def _c(value, unit, meaning, source, sure):
@@ -167,6 +179,54 @@ class TargetCurves:
         sbi = ebi - v * self.t_bs
         permitted = sbi - v * self.t_driver
         return permitted - v * self.t_indication, permitted, sbi - v * self.t_warning, sbi, ebi
+
+    def along(self, front, top):
+        """The curves (CURVES) as a planning area draws them, from the front (m) to the target's end (an open
+        one's OPEN_END_M past its start or the front): the positions (m) and each curve's speed there (m/s,
+        {name: array}), NaN above `top` (m/s). Before the target a curve's speed at a position is the highest
+        at which a train there is not beyond it (its locations inverted, no speed error; the target's speed, or
+        the EBD's foot, where the curve has reached it); from the target's start its ceiling (permitted and
+        indication the target's speed). The target's start comes twice, the approach's end and the target's
+        start, so that the step is drawn upright."""
+        start, end = self.target.start_m, self.target.end_m
+        u = np.linspace(0.0, 1.0, APPROACH_SAMPLES + 1)
+        before = front < start
+        approach = start - (start - front) * (1.0 - u) ** 2 if before else np.full(u.size, front)
+        approach[0] = front                 # the train's own place, not a rounding of it
+        inside = np.linspace(max(start, front), min(end, max(start, front) + OPEN_END_M), TARGET_SAMPLES)
+        warning, sbi, ebi = self.ceiling
+        ceilings = dict(ebd=self.v_foot, ebi=ebi, sbi=sbi, warning=warning, permitted=self.v_target,
+                        indication=self.v_target)
+        speeds = {}
+        for name, located in self._located(top).items():
+            if before and located is not None:
+                low, v, x = located          # x rising, v falling
+                head = np.interp(approach, x, v, left=math.nan, right=low)
+            else:
+                head = np.full(approach.size, ceilings[name] if not before else math.nan)
+            speeds[name] = np.concatenate([head, np.full(inside.size, ceilings[name])])
+            speeds[name][speeds[name] > top] = math.nan
+        return np.concatenate([approach, inside]), speeds
+
+    def _located(self, top):
+        """{curve: (its lowest speed, speeds falling, its locations rising)} over CURVE_SPEEDS speeds from top
+        (m/s) down to its lowest (the EBD's foot, the others' the target's speed); None where top is not above."""
+        out = dict.fromkeys(CURVES)
+        if top > self.v_foot:
+            v = self._speeds(top, self.v_foot)
+            out["ebd"] = (self.v_foot, v, np.array([self.ebd(s) for s in v]))
+        if top > self.v_target:
+            v = self._speeds(top, self.v_target)
+            # locations() gives (indication, permitted, warning, SBI, EBI): CURVES' others reversed
+            x = np.array([self.locations(s) for s in v])
+            out.update({name: (self.v_target, v, x[:, 5 - k]) for k, name in enumerate(CURVES) if k})
+        return out
+
+    def _speeds(self, top, low):
+        """CURVE_SPEEDS speeds (m/s) falling from top to low, and the ones where the curves bend (the EBD's foot,
+        the edges of the deceleration's bands), so that between two the curves are smooth."""
+        bends = [v for v in (self.v_foot, *(lo for lo, _, _ in self.pieces)) if low < v < top]
+        return np.unique(np.concatenate([np.linspace(top, low, CURVE_SPEEDS), bends]))[::-1]
 
     def level(self, front, v, speed_error=0.0):
         """The supervision level (NONE..INTERVENTION) of a train whose front is at `front` (m) at speed v (m/s)."""

@@ -18,13 +18,18 @@ bogie-instability rules (`HUNTING_CRITERIA`) raise an alert, a friction estimate
 Levels on the Alert message: INDICATION -> SEVERITY_INFO, WARNING -> SEVERITY_WARNING, INTERVENTION ->
 SEVERITY_CRITICAL. The Alert's value is the speed (m/s) and its threshold the target's speed limit (m/s); its
 message gives the margin (km/h) and the time to the last braking point (s). Every step also gives a
-SupervisionStatus row (railderail_sim.ros.interface) for the driver's planning area of the views.
+SupervisionStatus row (railderail_sim.ros.interface) for the driver's planning area of the views, and, when
+the target to brake for changes (another, or its curves rebuilt by a live input) and once per simulated second
+(CURVES_PERIOD_S) otherwise, its braking curves along the line (`braking_curve_rows`, interface.BrakingCurves:
+what the node publishes on /railderail/braking_curves and the Rerun planning area draws).
 """
 from dataclasses import dataclass, replace
 import math
 
+import numpy as np
+
 from railderail_sim.parameters import vehicle_parameters
-from railderail_sim.ros.interface import SupervisionStatus
+from railderail_sim.ros.interface import BrakingCurves, SupervisionStatus
 from railderail_sim.supervision.braking import BrakingModel
 
 from ..warning.alerts import AlertRecord
@@ -41,6 +46,35 @@ HUNTING_CRITERIA = ("bogie_rms", "bogie_peak", "bids_peak_count", "bids_peak_cou
 # m: how far either side of a wind site on straight track its wind is taken to blow (one on a curve covers the
 # curve's extent). A modelling choice: no source read gives an anemometer's reach.
 WIND_SITE_REACH_M = 1000.0
+# s of simulated time: the braking curves are sent again at least this often while their target stays (a
+# planning area needs no more: at 300 km/h the front moves 83 m, against the kilometres a curve spans; at every
+# sample they would cost each step about 0.4 ms more)
+CURVES_PERIOD_S = 1.0
+# km/h: a planning area's top is the multiple of this above the highest speed it shows, and one more
+SPEED_STEP_KMH = 50.0
+
+
+def planning_top_kmh(setup):
+    """The top speed (km/h) of a planning area of what a supervision supervises (`OnLineSupervision.setup()`'s
+    dict): the highest target, permitted or critical derailment speed rounded up to SPEED_STEP_KMH, and one step
+    more; the braking curves are drawn up to it."""
+    speeds = [t["speed_kmh"] for t in setup["targets"]] + [p["speed_kmh"] for p in setup["permitted"]]
+    speeds += [c[k] for c in setup["curves"] for k in ("critical_derailment_speed_kmh", "permitted_speed_kmh")
+               if c.get(k) is not None]
+    return SPEED_STEP_KMH * (math.floor(max(speeds) / SPEED_STEP_KMH) + 2)
+
+
+def braking_curve_rows(curves, front, speed, top_kmh):
+    """The BrakingCurves rows (a float array, fields x samples) of a target's braking curves
+    (curves.TargetCurves.along) from the front (m) on, up to top_kmh, and the train's speed (m/s) at the
+    front: what the monitor node publishes and the Rerun planning area draws."""
+    positions, speeds = curves.along(front, top_kmh * KMH)
+    rows = np.full((BrakingCurves.size(), positions.size), math.nan)
+    rows[BrakingCurves.position_m] = positions
+    rows[BrakingCurves.speed_kmh, 0] = speed / KMH
+    for name, v in speeds.items():
+        rows[BrakingCurves[f"{name}_kmh"]] = v / KMH
+    return rows
 
 
 def alert_text(alert):
@@ -81,13 +115,15 @@ def _stretch(curves, x):
 class Step:
     """What one supervised sample gives: its time (s), the car body's position (m) and the speed (m/s) as
     supervised (the odometer's estimates in that mode), the alerts (AlertRecords), the release speed of a brake
-    to command (m/s) or None, and the SupervisionStatus row."""
+    to command (m/s) or None, the SupervisionStatus row, and the BrakingCurves rows to send (`braking_curve_rows`;
+    no samples once no target is ahead) or None."""
     time_s: float
     position_m: float
     speed_m_s: float
     alerts: list
     brake: float | None
     status: object
+    curves: object = None
 
 
 class OnLineSupervision:
@@ -114,6 +150,8 @@ class OnLineSupervision:
         self.pending = []           # the odometer's (time, speed) samples waiting for the balise
         self.sample, self.front = -1, math.nan
         self.commanded = False
+        self.top_kmh = planning_top_kmh(self.setup())
+        self.curves_sent = (None, -math.inf)      # the target's curves last sent (None: none) and when
 
     # --- the samples -----------------------------------------------------------------------------
     def on_states(self, t, sample, position, speed):
@@ -172,11 +210,24 @@ class OnLineSupervision:
                    for a in sup.alerts[before:]]
         brake = sup.release_speed if level == INTERVENTION and not self.commanded else None
         self.commanded = sup.release_speed is not None
-        return Step(t, position, v, records, brake, self.status(t, front, position_error, v, speed_error, level))
+        status, first = self.status(t, front, position_error, v, speed_error, level)
+        return Step(t, position, v, records, brake, status, self._curves(t, first, front, v))
+
+    def _curves(self, t, first, front, v):
+        """The braking curves to send at this sample (braking_curve_rows) or None: when the target to brake for
+        is another (or its curves were rebuilt), CURVES_PERIOD_S after the last, and once no samples when none is."""
+        shown, when = self.curves_sent
+        if first is shown and (first is None or t - when < CURVES_PERIOD_S - 1e-9):
+            return None
+        self.curves_sent = (first, t)
+        if first is None:
+            return np.empty((BrakingCurves.size(), 0))
+        return braking_curve_rows(first, front, v, self.top_kmh)
 
     def status(self, t, front, position_error, v, speed_error, level):
         """The SupervisionStatus row at one sample (the front estimated, its error, the speed, its error, the
-        level): the target the train must brake for first, or, with none, the lowest in force."""
+        level) and the target's curves (curves.TargetCurves, or None): the target the train must brake for first,
+        or, with none, the lowest in force."""
         ahead = front + position_error
         curves = self.supervisor.curves
         in_force = [c for c in curves if c.target.start_m <= ahead < c.target.end_m]
@@ -195,7 +246,7 @@ class OnLineSupervision:
         return SupervisionStatus.pack(time_s=t, front_m=front, position_error_m=position_error, speed_kmh=v / KMH,
                                       level=level, limit_kmh=limit / KMH, target_start_m=target[0],
                                       target_end_m=target[1], target_speed_kmh=target[2], margin_kmh=target[3],
-                                      time_to_intervention_s=time, braking=float(self.commanded))
+                                      time_to_intervention_s=time, braking=float(self.commanded)), first
 
     # --- the live inputs -------------------------------------------------------------------------
     def inputs(self, **given):
@@ -203,6 +254,7 @@ class OnLineSupervision:
         measured), seen at the front's last position (the line's start before the first sample)."""
         self.supervisor.inputs(replace(self.supervisor.live, **given), self.front if math.isfinite(self.front)
                                else 0.0)
+        self.top_kmh = planning_top_kmh(self.setup())
 
     def on_onboard_alert(self, criterion):
         """A measured monitor's alert of `criterion`: True if it is a hunting alert that starts the hunting target

@@ -2,12 +2,16 @@
 mounts (sensors.sensor_set.MOUNTS) and the Rerun views' groups, colours and on-board levels (rerun_views.py), so that
 the two views show the same, and the measured-mode monitor's estimates (/railderail/onboard_estimates) beside
 the ground truth's wheel loads. The supervision tab is the speed supervision's (the monitor's
-/railderail/supervision_status, interface.SupervisionStatus, and /railderail/supervision): a driver's planning
-area (the speed, the target speed and the limit in force against the front's position along the line), the
-margin and the time to the last braking point, the level and the brake, what it supervises; Foxglove draws only
-what messages carry, so the survey's critical derailment speeds and the braking curves are the Rerun tab's
-alone. `python -m railderail_monitor.views.foxglove` writes both into the layout file (the `run` tab,
-hand-made, is kept). tests/test_foxglove_layout.py checks that the file holds what this gives.
+/railderail/supervision_status, interface.SupervisionStatus, /railderail/braking_curves, interface.BrakingCurves,
+and /railderail/supervision): a driver's planning area (the speed, the target speed and the limit in force
+against the front's position along the line, so far), beside it the braking curves to the target from the
+latest message (the EBD, EBI, SBI, warning, permitted and indication speeds against the front's position, the
+train's speed at its first sample: a Plot of the current message's arrays, each curve a slice of the message's
+data, Foxglove's slices ending at their last index), the margin and the time to the last braking point, the
+level and the brake, what it supervises; Foxglove draws only what messages carry, so the survey's critical
+derailment speeds are the Rerun tab's alone. `python -m railderail_monitor.views.foxglove` writes both tabs
+into the layout file (the `run` tab, hand-made, is kept). tests/test_foxglove_layout.py checks that the file
+holds what this gives.
 """
 from __future__ import annotations
 
@@ -16,13 +20,15 @@ import sys
 from pathlib import Path
 
 from railderail_sim.parameters import VehicleParameters
-from railderail_sim.ros.interface import FORCES, ONBOARD_ESTIMATES, SENSORS_NS, SUPERVISION, SUPERVISION_STATUS
-from railderail_sim.ros.interface import SupervisionStatus
+from railderail_sim.ros.interface import (BRAKING_CURVES, FORCES, ONBOARD_ESTIMATES, SENSORS_NS, SUPERVISION,
+                                          SUPERVISION_STATUS)
+from railderail_sim.ros.interface import BrakingCurves, SupervisionStatus
 from railderail_sim.sensors.sensor_set import MOUNTS
 from railderail_sim.vehicle.layout import RUNNING_GEARS
 
 from ..onboard.estimator import BOGIES
 from ..onboard.measured import GEAR_SIDES, measured_limits
+from ..supervision.curves import SAMPLES
 from .colours import MOUNT_COLORS, RED
 from .planning import COLOURS as PLANNING_COLOURS
 from .sensor_plots import SENSOR_GROUPS, sensor_group, sensor_levels
@@ -158,6 +164,24 @@ SUPERVISION_TITLES = {
     "level": "supervision level (1 indication, 2 warning, 3 intervention) and the emergency brake (1: commanded)"}
 
 
+def _curve(field):
+    """The message path of a BrakingCurves field: its row of SAMPLES, a slice of the data (Foxglove's slices
+    end at their last index, inclusive)."""
+    first = int(BrakingCurves[field]) * SAMPLES
+    return f"{BRAKING_CURVES}.data[{first}:{first + SAMPLES - 1}]"
+
+
+# the braking curves' panel: (BrakingCurves field, label, colour), the train's speed a point at the front
+CURVE_SERIES = (
+    ("speed_kmh", "speed (the train now)", PLANNING_COLOURS["train"]),
+    ("ebd_kmh", "EBD (emergency brake deceleration)", PLANNING_COLOURS["ebd"]),
+    ("ebi_kmh", "EBI (emergency brake intervention)", PLANNING_COLOURS["ebi"]),
+    ("sbi_kmh", "SBI (service brake intervention)", PLANNING_COLOURS["sbi"]),
+    ("warning_kmh", "warning", PLANNING_COLOURS["warning"]),
+    ("permitted_kmh", "permitted (the driver's curve; the target's speed in it)", PLANNING_COLOURS["driver"]),
+    ("indication_kmh", "indication", PLANNING_COLOURS["indication"]))
+
+
 def supervision_panels(style):
     """{panel id: config} of the supervision tab; `style` the run tab's plot settings."""
     panels = {}
@@ -168,6 +192,13 @@ def supervision_panels(style):
     # speed against the front's position: a driver's planning area
     panels["Plot!supervision_planning"].update(xAxisVal="custom", xAxisPath=dict(value=_status("front_m"),
                                                                                   enabled=True))
+    # the braking curves to the target: the latest message's rows against its positions
+    paths = [_series(_curve(field), label, _hex(colour)) for field, label, colour in CURVE_SERIES]
+    paths[0].update(showLine=False, lineSize=4)
+    panels["Plot!supervision_curves"] = {
+        "foxglove.panelTitle": "braking curves to the target (km/h) along the line (the front, m), the latest",
+        "paths": paths, **style, "xAxisVal": "currentCustom", "timeRange": "latest",
+        "xAxisPath": dict(value=_curve("position_m"), enabled=True)}
     panels["RawMessages!supervision"] = {
         "foxglove.panelTitle": "what the supervision supervises (its targets, the survey's curves, live inputs)",
         "topicPath": SUPERVISION, "diffEnabled": False, "diffMethod": "custom", "diffTopicPath": "",
@@ -176,7 +207,8 @@ def supervision_panels(style):
 
 
 def supervision_layout():
-    return dict(first="Plot!supervision_planning",
+    return dict(first=dict(first="Plot!supervision_planning", second="Plot!supervision_curves", direction="row",
+                           splitPercentage=50.0),
                 second=dict(first=dict(first="Plot!supervision_margin", second="Plot!supervision_level",
                                        direction="column", splitPercentage=50.0),
                             second="RawMessages!supervision", direction="row", splitPercentage=70.0),

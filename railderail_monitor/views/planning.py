@@ -7,9 +7,12 @@ Entities (timeline `sim_time`):
   planning/grid, planning/permitted, planning/targets, planning/critical    the area's speed grid and
                   kilometre posts; the civil permitted speed; the targets supervised (the safe speeds, the live
                   inputs' included, drawn again when they move); each curve's critical derailment speed
-  planning/braking     the braking curves to the target the train must brake for: the EBI (the emergency
-                  brake's intervention, the last braking point at each speed) and the permitted speed curve (the
-                  driver's, T_driver ahead of the service brake intervention), without the odometer's speed error
+  planning/braking     the braking curves to the target the train must brake for, from the front on: the EBD
+                  (the emergency brake deceleration curve), the EBI (the emergency brake's intervention, the last
+                  braking point at each speed) and the permitted speed curve (the driver's, T_driver ahead of the
+                  service brake intervention), without the odometer's speed error; drawn again when the target
+                  changes and every CURVES_PERIOD_S, as the monitor node sends them on /railderail/braking_curves
+                  (supervision.on_line.braking_curve_rows, one function for both)
   planning/train, planning/front    the train's speed along the line so far and where its front is now, with
                   its margin and time to the last braking point
   supervision/speed_kmh/{speed,limit,target}, supervision/margin_kmh, supervision/time_to_intervention_s,
@@ -30,12 +33,17 @@ from railderail_sim.ros import interface as m
 from railderail_sim.supervision.braking import BrakingModel
 
 from ..supervision.curves import KMH, LEVELS, SupervisionLimits, Target, TargetCurves
+from ..supervision.on_line import CURVES_PERIOD_S, SPEED_STEP_KMH, braking_curve_rows, planning_top_kmh
 from .plots import plot
 
 X_SCALE = 0.1               # units of the area per metre of track, against one per km/h: 1 km is 100 units
-SPEED_STEP_KMH = 50.0       # the grid's speeds
+# the grid's speed lines are SPEED_STEP_KMH apart (on_line's, which sets the area's top); the braking curves'
+# colours are the Foxglove tab's too
 COLOURS = dict(grid=(90, 90, 90), permitted=(170, 170, 170), targets=(255, 127, 14), critical=(214, 39, 40),
-               ebi=(148, 103, 189), driver=(188, 189, 34), train=(31, 119, 180))
+               ebd=(140, 86, 75), ebi=(148, 103, 189), sbi=(227, 119, 194), warning=(255, 187, 120),
+               driver=(188, 189, 34), indication=(23, 190, 207), train=(31, 119, 180))
+# the braking curves drawn: (BrakingCurves row, colour, label)
+BRAKING = (("ebd_kmh", "ebd", "EBD"), ("ebi_kmh", "ebi", "EBI"), ("permitted_kmh", "driver", "permitted (driver)"))
 SERIES = (("speed", (31, 119, 180)), ("limit", (170, 170, 170)), ("target", (255, 127, 14)))
 
 
@@ -65,15 +73,16 @@ def profile_strip(pieces, end_m):
     return points
 
 
-def braking_curves(braking, limits, start, end, speed_kmh, top_kmh, points=80):
-    """The EBI and the permitted speed curves to a target (start m, end m, speed km/h) as the area's points
-    [(x, y)] on the line, from its speed up to top_kmh: where, at each speed, the emergency brake intervenes and where the
-    driver should have braked (curves.TargetCurves, as the supervisor has them)."""
-    curves = TargetCurves(Target(start, end, speed_kmh * KMH, "").validated(), braking, limits)
-    speeds = np.linspace(speed_kmh, top_kmh, points)
-    # drawn on the line only (from its start, 0 m): a curve at high speed begins kilometres before a target
-    return ([_point(x, v) for x, v in ((curves.ebi(v * KMH), v) for v in speeds) if x >= 0.0],
-            [_point(x, v) for x, v in ((curves.locations(v * KMH)[1], v) for v in speeds) if x >= 0.0])
+def curve_strips(positions, speeds_kmh):
+    """A curve's samples as the area's strips [[(x, y)]], broken where it has no speed (NaN: above the area)."""
+    strips, strip = [], []
+    for x, v in zip(positions, speeds_kmh):
+        if math.isfinite(v):
+            strip.append(_point(x, v))
+        elif strip:
+            strips.append(strip)
+            strip = []
+    return strips + ([strip] if strip else [])
 
 
 class PlanningArea:
@@ -90,6 +99,7 @@ class PlanningArea:
         self.drawn = -math.inf
         self.trace = []
         self.target = None             # (start, end, speed) of the braking curves drawn
+        self.curves, self.curves_drawn = None, -math.inf     # their BrakingCurves rows, and when
 
     def on_setup(self, msg):
         """What the supervision supervises (again when a live input moved its targets): the area's lines from
@@ -101,10 +111,7 @@ class PlanningArea:
         ends = [x for t in s["targets"] for x in (t["start_m"], t["end_m"]) if x is not None]
         ends += [c["end_m"] for c in s["curves"]]
         self.end_m = max(ends)
-        speeds = [t["speed_kmh"] for t in s["targets"]] + [p["speed_kmh"] for p in s["permitted"]]
-        speeds += [c[k] for c in s["curves"] for k in ("critical_derailment_speed_kmh", "permitted_speed_kmh")
-                   if c.get(k) is not None]
-        self.top_kmh = SPEED_STEP_KMH * (math.floor(max(speeds) / SPEED_STEP_KMH) + 2)
+        self.top_kmh = planning_top_kmh(s)
         self.rec.set_time("sim_time", duration=self.time)
         self._grid()
         permitted = ([(p["start_m"], p["end_m"], p["speed_kmh"]) for p in s["permitted"]] or
@@ -163,12 +170,24 @@ class PlanningArea:
         self.rec.log("/planning/front", rr.Points2D([self.trace[-1]], colors=[COLOURS["train"]], labels=[text],
                                                     radii=rr.Radius.ui_points(5.0)))
         target = (d["target_start_m"], d["target_end_m"], d["target_speed_kmh"])
-        if self.braking is not None and math.isfinite(target[0]) and target != self.target:
-            self.target = target
-            self._braking_curves(*target)
+        if self.braking is None:
+            return
+        if not math.isfinite(target[0]):
+            if self.curves is not None:         # no target ahead any more: no curves, as the node sends none
+                self.curves = self.target = None
+                self.rec.log("/planning/braking", rr.Clear(recursive=False))
+        elif target != self.target or d["time_s"] - self.curves_drawn >= CURVES_PERIOD_S - 1e-9:
+            self.target, self.curves_drawn = target, d["time_s"]
+            self._braking_curves(d, *target)
 
-    def _braking_curves(self, start, end, speed_kmh):
-        ebi, driver = braking_curves(self.braking, self.limits, start, end, speed_kmh, self.top_kmh)
-        self.rec.log("/planning/braking", rr.LineStrips2D(
-            [ebi, driver], colors=[COLOURS["ebi"], COLOURS["driver"]], radii=rr.Radius.ui_points(1.5),
-            labels=[f"EBI to {speed_kmh:.0f} km/h at {start / 1000:.2f} km", "permitted (driver)"]))
+    def _braking_curves(self, d, start, end, speed_kmh):
+        curves = TargetCurves(Target(start, end, speed_kmh * KMH, "").validated(), self.braking, self.limits)
+        self.curves = rows = braking_curve_rows(curves, d["front_m"], d["speed_kmh"] * KMH, self.top_kmh)
+        strips, colours, labels = [], [], []
+        for row, colour, label in BRAKING:
+            drawn = curve_strips(rows[m.BrakingCurves.position_m], rows[m.BrakingCurves[row]])
+            strips += drawn
+            colours += [COLOURS[colour]] * len(drawn)
+            labels += [f"{label} to {speed_kmh:.0f} km/h at {start / 1000:.2f} km"] * len(drawn)
+        self.rec.log("/planning/braking", rr.LineStrips2D(strips, colors=colours, labels=labels,
+                                                          radii=rr.Radius.ui_points(1.5)))

@@ -26,8 +26,9 @@ class ViewerNode(Node):
                     m.ALERTS: viewer.on_alert, m.DERAILMENT: viewer.on_derailment,
                     m.FINAL_STATUS: viewer.on_final_status, m.BRAKE: viewer.on_brake,
                     m.SUPERVISION: viewer.on_supervision, m.SUPERVISION_STATUS: viewer.on_supervision_status}
-        for topic, (_, cls, _, qos) in m.TOPICS.items():
-            self.create_subscription(cls, topic, handlers[topic], qos)
+        for topic, handler in handlers.items():     # the braking curves it draws itself (planning.py)
+            _, cls, _, qos = m.TOPICS[topic]
+            self.create_subscription(cls, topic, handler, qos)
         self.create_subscription(m.Alert, m.ONBOARD_ALERTS, viewer.on_onboard_alert, m.ALERT_QOS)
         # every mount's, the air springs' and the odometer's topics: those of a smaller set never publish
         for topic, (_, cls, _, qos) in sm.sensor_topics(default_set()).items():

@@ -22,6 +22,8 @@ railderail_sim never imports railderail_monitor. Topics (all under /railderail/ 
 |                                  |                                  | (what the speed supervision supervises)|
 | /railderail/supervision_status   | std_msgs/Float64MultiArray       | sensor data (SupervisionStatus, each   |
 |                                  |                                  | sample the supervision steps)          |
+| /railderail/braking_curves       | std_msgs/Float64MultiArray       | sensor data (BrakingCurves: the curves |
+|                                  |                                  | to the target, about once a second)    |
 | /clock                           | rosgraph_msgs/Clock              | clock QoS (best effort, depth 1); only |
 |                                  |                                  | when not running at real time          |
 
@@ -34,6 +36,7 @@ transport under load nor a burst before a callback runs loses a sample.
 """
 from __future__ import annotations
 
+import array
 import importlib
 import json
 import math
@@ -81,6 +84,9 @@ BRAKE = f"{NS}/brake_command"
 SUPERVISION = f"{NS}/supervision"
 # the speed supervision at each sample it steps (SupervisionStatus), for the driver's planning area of the views
 SUPERVISION_STATUS = f"{NS}/supervision_status"
+# the braking curves to the target the train must brake for, along the line (BrakingCurves), for a planning area
+# that computes nothing itself (Foxglove's): sent when the target changes and about once a simulated second
+BRAKING_CURVES = f"{NS}/braking_curves"
 CLOCK = "/clock"
 
 # the samples' topics (states, forces, status, the on-board sensors), publishers and subscribers alike. Reliable:
@@ -112,9 +118,10 @@ TOPICS = {
     BRAKE: ("railderail_msgs/msg/BrakeCommand", BrakeCommand, BRAKE_QOS, BRAKE_QOS),
     SUPERVISION: ("std_msgs/msg/String", String, LATCHED, LATCHED),
     SUPERVISION_STATUS: ("std_msgs/msg/Float64MultiArray", Float64MultiArray, SENSOR, SENSOR_SUBSCRIBER),
+    BRAKING_CURVES: ("std_msgs/msg/Float64MultiArray", Float64MultiArray, SENSOR, SENSOR_SUBSCRIBER),
 }
 # of TOPICS, those the monitor publishes (the simulator the others)
-MONITOR_TOPICS = (ALERTS, BRAKE, SUPERVISION, SUPERVISION_STATUS)
+MONITOR_TOPICS = (ALERTS, BRAKE, SUPERVISION, SUPERVISION_STATUS, BRAKING_CURVES)
 CLOCK_TOPIC = ("rosgraph_msgs/msg/Clock", Clock, CLOCK_QOS, CLOCK_QOS)
 ONBOARD_ALERTS_TOPIC = ("railderail_msgs/msg/Alert", Alert, ALERT_QOS, ALERT_QOS)
 ONBOARD_ESTIMATES_TOPIC = ("railderail_msgs/msg/OnboardEstimate", OnboardEstimate, SENSOR, SENSOR_SUBSCRIBER)
@@ -280,6 +287,42 @@ def supervision_status_message(row):
 def supervision_status_dict(message):
     """{field: value} of a SupervisionStatus message."""
     return {name: float(v) for name, v in zip(SupervisionStatus.names(), message.data)}
+
+
+class BrakingCurves(Record):
+    """The braking curves to SupervisionStatus's target (the one the train must brake for) as a driver's planning
+    area draws them: a row of samples along the line per field (speeds in km/h, as the driver reads them), the
+    same number in each; no samples once no target is ahead. From the target's start on, each curve is its
+    ceiling (ETCS's ceiling supervision inside a target); NaN: above the area's top speed. The curves are the
+    supervisor's (railderail_monitor/supervision/curves.py, docs/supervision.md), without the odometer's speed
+    error."""
+    position_m = "m", ("the front along the line: from where it is now (the first sample) to the target's start, "
+                       "closer together towards it, then over the target to its end (its start twice)")
+    speed_kmh = "km/h", "the speed supervised at the first sample (the train now); NaN at the others"
+    ebd_kmh = "km/h", "the emergency brake deceleration curve (EBD), down to the target's speed plus dV_ebi"
+    ebi_kmh = "km/h", "the emergency brake intervention (EBI): the EBD less the brake build-up's run"
+    sbi_kmh = "km/h", "the service brake intervention (SBI): T_bs ahead of the EBI"
+    warning_kmh = "km/h", "the warning: T_warning ahead of the SBI"
+    permitted_kmh = "km/h", "the permitted speed (the driver's curve): T_driver ahead of the SBI"
+    indication_kmh = "km/h", "the indication: T_indication ahead of the permitted speed"
+
+
+def braking_curves_message(rows):
+    """BrakingCurves rows (a float array, fields x samples) as their Float64MultiArray: data row after row, the
+    first dimension labelled with the fields, the second `sample`."""
+    fields, n = rows.shape
+    message = Float64MultiArray()
+    message.layout.dim = [MultiArrayDimension(label=",".join(BrakingCurves.names()), size=fields, stride=fields * n),
+                          MultiArrayDimension(label="sample", size=n, stride=n)]
+    message.data = array.array("d", np.ascontiguousarray(rows, dtype=float).tobytes())
+    return message
+
+
+def braking_curves_dict(message):
+    """{field: array of the samples} of a BrakingCurves message."""
+    n = message.layout.dim[1].size
+    data = np.asarray(message.data, dtype=float)
+    return {name: data[k * n:(k + 1) * n] for k, name in enumerate(BrakingCurves.names())}
 
 
 def supervision_setup_message(setup):
