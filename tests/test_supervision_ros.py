@@ -38,6 +38,17 @@ def _survey(path):
     return target
 
 
+def _spin_until_quiet(listener, count, quiet_s, timeout):
+    """Spin until `count()` has not grown for `quiet_s` seconds, at most `timeout` seconds."""
+    import time
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        before = count()
+        listener.spin_for(quiet_s)
+        if count() == before:
+            return
+
+
 class BrakeListener(Listener):
     def __init__(self):
         super().__init__()
@@ -65,7 +76,8 @@ def _run(spawn, read_until, survey, brake=True, signals="ground_truth", record=N
                           + [a for k, v in {**RUN, **sensors}.items() for a in ("-p", f"{k}:={v}")])
         assert simulator.wait(timeout=400) == 0, simulator.stderr.read()
         assert listener.spin_until(lambda: listener.final is not None, 30)
-        listener.spin_for(1.0)
+        # on a loaded machine the monitor runs behind the simulator: what it sends, until it has sent nothing more
+        _spin_until_quiet(listener, lambda: len(listener.statuses) + len(listener.curves), 3.0, 180.0)
         stop(monitor)
         if recorder is not None:
             assert stop(recorder, timeout=60) == 0
