@@ -40,7 +40,7 @@ import time
 from pathlib import Path
 
 from railderail_sim import jsonout
-from railderail_sim.ros.interface import REAL_TIME_FACTOR_RANGE
+from railderail_sim.ros.node_parameters import REAL_TIME_FACTOR_RANGE
 
 from .recording.recorder import delivery, delivery_text, lost_count, recorded_counts
 from .supervision.demo_loop import SHIPPED_SURVEY, closed_loop_summary, closed_loop_survey, open_loop_run

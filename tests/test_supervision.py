@@ -187,14 +187,14 @@ def test_a_surveys_targets(tmp_path):
 def test_a_whole_survey_is_supervised_as_its_most_restrictive_profile(tmp_path):
     """A survey with its line: the line speed, the civil limits, the curves' and the defects' safe speeds as
     targets, a curve's safe-speed piece with the curve's per-friction limits."""
-    from railderail_sim.methods import survey as sv
+    from railderail_sim.methods.survey_profile import survey_targets
     from test_survey import _hand_built
     data = _hand_built().as_dict()
     data["curves"][0]["safe_speed_by_friction_kmh"] = {"0.2": 250.0, "0.4": 240.0}
     path = tmp_path / "survey.json"
     path.write_text(json.dumps(data))
     targets = targets_of_survey(_read(path), path)
-    assert [(t.start_m, t.end_m, t.speed_limit_m_s, t.reason) for t in targets] == sv.survey_targets(data)
+    assert [(t.start_m, t.end_m, t.speed_limit_m_s, t.reason) for t in targets] == survey_targets(data)
     (curve,) = [t for t in targets if t.limits_by_friction]
     assert (curve.start_m, curve.end_m) == (2000.0, 3000.0)
     assert friction_limit(curve, 0.2) == pytest.approx(250.0 * KMH)

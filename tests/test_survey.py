@@ -12,7 +12,7 @@ import pytest
 from railderail_sim.cli import main
 from railderail_sim.line.data import Curve, Defect, Line
 from railderail_sim.line.file import line_as_dict
-from railderail_sim.methods import survey as sv
+from railderail_sim.methods import survey as sv, survey_profile
 from railderail_sim.methods.progressive_trial import Staircase, progressive_trial
 from railderail_sim.supervision.margin import SafetyMargin
 from railderail_sim.vehicle.simulate import KMH, Scenario
@@ -50,7 +50,7 @@ def _hand_built():
 def test_targets_are_the_most_restrictive_profile(tmp_path):
     _hand_built().save(tmp_path / "survey.json")
     assert sv.SurveyResult.load(tmp_path / "survey.json").as_dict() == _hand_built().as_dict()
-    targets = sv.survey_targets(_hand_built())
+    targets = survey_profile.survey_targets(_hand_built())
     assert [(a, b, round(v / KMH, 9)) for a, b, v, _ in targets] == [
         (0.0, 1000.0, 160.0), (1000.0, 2000.0, 300.0), (2000.0, 3000.0, 240.0), (3000.0, 5475.0, 300.0),
         (5475.0, 5535.0, 150.0), (5535.0, 10000.0, 300.0)]
@@ -58,12 +58,12 @@ def test_targets_are_the_most_restrictive_profile(tmp_path):
     assert reasons[0].startswith("speed limit") and reasons[1] == "line speed"
     assert reasons[2].startswith("curve 0 (R 1200 m): safe speed, margins intact up to 255.0 km/h") and reasons[4].startswith("defect 0 (kink 20 mm)")
     # the JSON form reads back to the same profile
-    assert sv.survey_targets(json.loads(json.dumps(_hand_built().as_dict()))) == targets
+    assert survey_profile.survey_targets(json.loads(json.dumps(_hand_built().as_dict()))) == targets
     old = _hand_built().as_dict()
     del old["curves"][0]["margins_intact_up_to_kmh"]          # a survey of the critical-speed rule's time
     with pytest.raises(ValueError, match="no margins_intact_up_to_kmh .* run the survey again"):
-        sv.survey_targets(old)
-    permitted = sv.permitted_profile(_hand_built())
+        survey_profile.survey_targets(old)
+    permitted = survey_profile.permitted_profile(_hand_built())
     assert [(a, b, round(v / KMH, 9)) for a, b, v in permitted] == [
         (0.0, 1000.0, 160.0), (1000.0, 2000.0, 300.0), (2000.0, 3000.0, 250.0), (3000.0, 10000.0, 300.0)]
 

@@ -45,8 +45,8 @@ from railderail_sim.parameters import VEHICLE_SETS
 from railderail_sim.ranges import check_range
 from railderail_sim.ros import interface as m
 from railderail_sim.ros import sensor_messages as sm
-from railderail_sim.ros.interface import (ALERTS, DERAILMENT, FINAL_STATUS, FORCES, REAL_TIME_FACTOR_RANGE, STATES,
-                                          STATUS)
+from railderail_sim.ros.interface import ALERTS, DERAILMENT, FINAL_STATUS, FORCES, STATES, STATUS
+from railderail_sim.ros.node_parameters import REAL_TIME_FACTOR_RANGE
 
 from ..warning.limits import Limits, default_limits
 from ..warning.monitor import Monitor

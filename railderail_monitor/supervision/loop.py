@@ -70,7 +70,7 @@ def survey_on_track(path, track):
 def targets_of_survey(data, path):
     """The targets of a survey's JSON content `data` (read from `path`, which the errors and reasons name). A
     whole survey (`railderail survey --out`, with its line): the most restrictive speed profile along the
-    line (railderail_sim.methods.survey.survey_targets: the line speed, the civil limits, each curve's
+    line (railderail_sim.methods.survey_profile.survey_targets: the line speed, the civil limits, each curve's
     permitted and safe speed, each defect's safe speed), a curve's safe-speed piece carrying the curve's
     per-friction limits. A survey of curves only (its `curves`, each with `start_m`, `end_m`,
     `safe_speed_kmh`): one target per curve under its safe speed."""
@@ -99,7 +99,7 @@ def profile_targets(data, where):
     """The targets of a whole survey's dict (`railderail survey --json`, with its line): its most restrictive
     profile, a curve's safe-speed piece carrying the curve's per-friction limits; `where` names the survey in
     an error."""
-    from railderail_sim.methods.survey import survey_targets as profile
+    from railderail_sim.methods.survey_profile import survey_targets as profile
     try:
         pieces = profile(data)
     except (KeyError, TypeError, ValueError) as error:

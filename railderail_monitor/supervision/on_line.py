@@ -275,7 +275,7 @@ class OnLineSupervision:
         sup = self.supervisor
         civil = []
         if "line" in self.survey:
-            from railderail_sim.methods.survey import permitted_profile
+            from railderail_sim.methods.survey_profile import permitted_profile
             civil = [dict(start_m=a, end_m=b, speed_kmh=v / KMH) for a, b, v in permitted_profile(self.survey)]
         return dict(
             source=self.source, signals=self.signals, adhesion=sup.braking.adhesion, vehicle_set=self.vehicle_set,

@@ -21,14 +21,14 @@ REGENERATE = "railderail simulator-params --out railderail_sim/config/simulator.
 
 def simulator_parameter_file():
     """The text of the simulator's parameter file: the node's defaults."""
-    from ..ros import interface
+    from ..ros import node_parameters
     from ..ros.node import PARAMETERS
 
     header = ["Parameters of the railderail simulator node (railderail_simulator), each at its default.",
               "A ROS 2 parameter file:  railderail-simulator --ros-args --params-file THIS_FILE.yaml",
               f"Made by `{REGENERATE}` from the node's parameter table (railderail_sim/ros/node.py);",
               "copy it and change the values you need. Read-only parameters cannot change while the node runs."]
-    return interface.parameter_file("railderail_simulator", PARAMETERS, header)
+    return node_parameters.parameter_file("railderail_simulator", PARAMETERS, header)
 
 
 def simulator_params_command(parser: argparse.ArgumentParser):

@@ -13,7 +13,7 @@ def _text(values):
 
 
 def survey_command(parser):
-    from ..methods import survey as sv
+    from ..methods import survey as sv, survey_profile
     from ..parameters import VEHICLE_SETS
     parser.add_argument("line", metavar="LINE.yaml",
                         help="a line file (docs/supervision.md, The line file) or a shipped line's name: table2, "
@@ -83,7 +83,8 @@ def survey_command(parser):
         if args.out:
             result.save(args.out)
         if plot:
-            plotting.survey_figure(result, sv.permitted_profile(result), sv.survey_targets(result), plot)
+            plotting.survey_figure(result, survey_profile.permitted_profile(result),
+                                   survey_profile.survey_targets(result), plot)
         print(jsonout.dumps(result.as_dict(), indent=1) if args.json else _human(result))
     return run
 

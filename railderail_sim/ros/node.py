@@ -27,7 +27,7 @@ from railderail_sim.loads.wind import DIRECTION_RANGE_DEG, GUSTS, WIND_SPEED_RAN
 from railderail_sim.parameters import CANT_RANGE_MM, FRICTION_RANGE, TRACK_MODELS
 from railderail_sim.ros import interface as m
 from railderail_sim.ros import sensor_messages as sm
-from railderail_sim.ros.interface import REAL_TIME_FACTOR_RANGE, ParameterSpec as P
+from railderail_sim.ros.node_parameters import REAL_TIME_FACTOR_RANGE, ParameterSpec as P, declare_parameters
 from railderail_sim.sensors.config import load as load_sensors
 from railderail_sim.sensors.sensor_set import SEED_RANGE
 from railderail_sim.supervision.braking import ADHESIONS, BrakingModel
@@ -136,7 +136,7 @@ def build_scenario(p):
 class SimulatorNode(Node):
     def __init__(self):
         super().__init__("railderail_simulator")
-        self.p = m.declare_parameters(self, PARAMETERS, check=check_rates, apply=self.on_parameters)
+        self.p = declare_parameters(self, PARAMETERS, check=check_rates, apply=self.on_parameters)
         self.scenario = build_scenario(self.p)
         self.sensors = sensor_set(self.p)
         self.get_logger().info(f"railderail simulator: building the model (R = {self.p['radius']:g} m, "
