@@ -34,7 +34,7 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 
 from railderail_sim.parameters import VEHICLE_SETS
 from railderail_sim.ros import interface as m
-from railderail_sim.ros import node_parameters as params
+from railderail_sim.ros.node_parameters import ParameterSpec as P, declare_parameters, parameter_file
 from railderail_sim.ros import sensor_messages as sm
 from railderail_sim.supervision.braking import ADHESIONS
 from railderail_sim.vehicle.layout import RUNNING_GEARS
@@ -53,45 +53,45 @@ from .warning.monitor import Monitor
 # loaded machine: 864 of 17 627 sensor messages)
 SENSOR_BACKLOG = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=30000, reliability=ReliabilityPolicy.RELIABLE,
                             durability=DurabilityPolicy.VOLATILE)
-SIGNALS = params.ParameterSpec("signals", MODES[0], SIGNALS_MEANING, choices=MODES, read_only=True)
+SIGNALS = P("signals", MODES[0], SIGNALS_MEANING, choices=MODES, read_only=True)
 MEASURED_SETUP = [
-    params.ParameterSpec("sensors", "shipped", "the sensor set whose topics it reads (its units and rates): shipped "
-                    "(railderail_sim/config/sensors.yaml) or the path of a sensor file", read_only=True),
-    params.ParameterSpec("vehicle_set", "hs19", "the car: a built-in parameter set (" + ", ".join(VEHICLE_SETS) + ") or "
-                    "the path of a car file (onboard/car.py, config/car-example.yaml): masses and spacings of the "
-                    "estimator, the defaults of the levels", read_only=True),
-    params.ParameterSpec("wind_speed", 0.0, "a steady wind known on board (an anemometer, the line's wind stations, a "
-                    "forecast) whose load on the car body the estimator takes out (onboard.estimator.GivenWind); "
-                    "0: none known", "m/s", (0.0, 60.0), read_only=True),
-    params.ParameterSpec("wind_direction", 90.0, "where that wind comes from, relative to the track: + from the left, "
-                    "0 a head wind", "deg", (-180.0, 180.0), read_only=True)]
+    P("sensors", "shipped", "the sensor set whose topics it reads (its units and rates): shipped "
+      "(railderail_sim/config/sensors.yaml) or the path of a sensor file", read_only=True),
+    P("vehicle_set", "hs19", "the car: a built-in parameter set (" + ", ".join(VEHICLE_SETS) + ") or "
+      "the path of a car file (onboard/car.py, config/car-example.yaml): masses and spacings of the "
+      "estimator, the defaults of the levels", read_only=True),
+    P("wind_speed", 0.0, "a steady wind known on board (an anemometer, the line's wind stations, a "
+      "forecast) whose load on the car body the estimator takes out (onboard.estimator.GivenWind); "
+      "0: none known", "m/s", (0.0, 60.0), read_only=True),
+    P("wind_direction", 90.0, "where that wind comes from, relative to the track: + from the left, "
+      "0 a head wind", "deg", (-180.0, 180.0), read_only=True)]
 
 
 SUPERVISION_SETUP = [
-    params.ParameterSpec("supervision", "", "supervise the speed against a survey's safe speeds (the path of `railderail "
-                    "survey LINE.yaml --json`'s output, docs/supervision.md); empty: no speed supervision",
-                    read_only=True),
-    params.ParameterSpec("supervision_signals", SUPERVISION_SIGNALS[0], "what the speed supervision takes the position "
-                    "and speed from: ground_truth, the wheelset states; odometer, the sensor set's odometer "
-                    "(/railderail/sensors/odometer, with its modelled error) from a balise at its first sample, its "
-                    "confidence interval's max safe front supervised", choices=SUPERVISION_SIGNALS, read_only=True),
-    params.ParameterSpec("supervision_brake", True, "at the supervision's intervention, command the emergency brake on "
-                    "/railderail/brake_command (the simulator obeys it): the loop closed", read_only=True),
-    params.ParameterSpec("supervision_adhesion", "dry", "the braking model's emergency decelerations the supervision "
-                    "plans with: dry rail, or wet (degraded adhesion)", choices=ADHESIONS, read_only=True),
-    params.ParameterSpec("supervision_vehicle_set", "hs19", "the car whose leading wheelset is the train's front",
-                    choices=VEHICLE_SETS, read_only=True),
-    params.ParameterSpec("supervision_wind_speed", math.nan, "live input: the measured wind (an anemometer's reading) "
-                    "against the characteristic wind curve of the survey's wind sites; NaN: none measured",
-                    "m/s", (0.0, 60.0), nan_disables=True),
-    params.ParameterSpec("supervision_friction", math.nan, "live input: the wheel-rail friction estimate that picks a "
-                    "curve's safe speed among the survey's per-friction ones; NaN: none (the lowest)", "-",
-                    (0.0, 1.0), lo_open=True, nan_disables=True),
-    params.ParameterSpec("supervision_nonlinear_critical_speed_kmh", 234.375, "live input hunting: once the measured "
-                    "monitor's bogie-instability rules alert (on /railderail/onboard_alerts), a target under this "
-                    "speed from there to the end of the line; the car's nonlinear critical speed, of the shipped "
-                    "limit-cycle scan (docs/report/report.json, hs19, 10 mm kink: A, own simulation)", "km/h",
-                    (1.0, 1000.0), read_only=True)]
+    P("supervision", "", "supervise the speed against a survey's safe speeds (the path of `railderail "
+      "survey LINE.yaml --json`'s output, docs/supervision.md); empty: no speed supervision",
+      read_only=True),
+    P("supervision_signals", SUPERVISION_SIGNALS[0], "what the speed supervision takes the position "
+      "and speed from: ground_truth, the wheelset states; odometer, the sensor set's odometer "
+      "(/railderail/sensors/odometer, with its modelled error) from a balise at its first sample, its "
+      "confidence interval's max safe front supervised", choices=SUPERVISION_SIGNALS, read_only=True),
+    P("supervision_brake", True, "at the supervision's intervention, command the emergency brake on "
+      "/railderail/brake_command (the simulator obeys it): the loop closed", read_only=True),
+    P("supervision_adhesion", "dry", "the braking model's emergency decelerations the supervision "
+      "plans with: dry rail, or wet (degraded adhesion)", choices=ADHESIONS, read_only=True),
+    P("supervision_vehicle_set", "hs19", "the car whose leading wheelset is the train's front",
+      choices=VEHICLE_SETS, read_only=True),
+    P("supervision_wind_speed", math.nan, "live input: the measured wind (an anemometer's reading) "
+      "against the characteristic wind curve of the survey's wind sites; NaN: none measured",
+      "m/s", (0.0, 60.0), nan_disables=True),
+    P("supervision_friction", math.nan, "live input: the wheel-rail friction estimate that picks a "
+      "curve's safe speed among the survey's per-friction ones; NaN: none (the lowest)", "-",
+      (0.0, 1.0), lo_open=True, nan_disables=True),
+    P("supervision_nonlinear_critical_speed_kmh", 234.375, "live input hunting: once the measured "
+      "monitor's bogie-instability rules alert (on /railderail/onboard_alerts), a target under this "
+      "speed from there to the end of the line; the car's nonlinear critical speed, of the shipped "
+      "limit-cycle scan (docs/report/report.json, hs19, 10 mm kink: A, own simulation)", "km/h",
+      (1.0, 1000.0), read_only=True)]
 # the live inputs' parameters (may change while running) -> LiveInputs' fields
 LIVE_PARAMETERS = {"supervision_wind_speed": "wind_speed_m_s", "supervision_friction": "friction"}
 # the speed supervision's parameter file, beside the thresholds' (config/monitor.yaml, made from a model)
@@ -101,7 +101,7 @@ SUPERVISION_REGENERATE = "python -m railderail_monitor.node --supervision-params
 
 def supervision_parameter_file():
     """The text of the speed supervision's parameter file: SUPERVISION_SETUP at its defaults."""
-    return params.parameter_file(NODE, SUPERVISION_SETUP, [
+    return parameter_file(NODE, SUPERVISION_SETUP, [
         f"Parameters of the railderail monitor node ({NODE}): its speed supervision (docs/supervision.md).",
         "Give it beside the thresholds' file: railderail-monitor --ros-args --params-file monitor.yaml "
         "--params-file THIS_FILE.yaml",
@@ -115,8 +115,8 @@ def parameter_table(defaults):
     metadata, defaults from `defaults`; the limits may change while running."""
     setup = [] if isinstance(defaults, Limits) else MEASURED_SETUP
     return [SIGNALS] + setup + [
-        params.ParameterSpec(f.name, getattr(defaults, f.name), f.metadata["meaning"] + "; " + f.metadata["source"],
-                        f.metadata["unit"], f.metadata["accepted"], f.metadata["lo_open"], f.metadata["nan_disables"])
+        P(f.name, getattr(defaults, f.name), f.metadata["meaning"] + "; " + f.metadata["source"],
+          f.metadata["unit"], f.metadata["accepted"], f.metadata["lo_open"], f.metadata["nan_disables"])
         for f in fields(defaults)]
 
 
@@ -171,13 +171,13 @@ def alert_message(record: AlertRecord, frame_id="track"):
 class MonitorNode(Node):
     def __init__(self):
         super().__init__("railderail_monitor")
-        self.mode = params.declare_parameters(self, [SIGNALS])["signals"]
+        self.mode = declare_parameters(self, [SIGNALS])["signals"]
         if self.mode == "measured":
             self._measured()
             return
-        self.limit_values = params.declare_parameters(self, parameter_table(default_limits())[1:],
-                                                 check=lambda values: Limits(**values).validated(),
-                                                 apply=self.on_limits)
+        self.limit_values = declare_parameters(self, parameter_table(default_limits())[1:],
+                                               check=lambda values: Limits(**values).validated(),
+                                               apply=self.on_limits)
         self.monitor = Monitor(Limits(**self.limit_values))
         self.publisher = self.create_publisher(m.Alert, m.ALERTS, m.ALERT_QOS)
         self.supervision = self._supervision()
@@ -190,7 +190,7 @@ class MonitorNode(Node):
     def _supervision(self):
         """The speed supervision of the `supervision` parameters, or None: its brake command's and its views'
         publishers, the odometer's and the measured monitor's subscriptions."""
-        setup = params.declare_parameters(self, SUPERVISION_SETUP, apply=self.on_live_inputs)
+        setup = declare_parameters(self, SUPERVISION_SETUP, apply=self.on_live_inputs)
         if not setup["supervision"]:
             return None
         from railderail_sim.sensors.config import load as load_sensors
@@ -254,11 +254,11 @@ class MonitorNode(Node):
         from .onboard.estimator import GivenWind
         from .onboard.monitor import MeasuredMonitor
 
-        setup = params.declare_parameters(self, MEASURED_SETUP)
+        setup = declare_parameters(self, MEASURED_SETUP)
         self.sensors = load_sensors(None if setup["sensors"] == "shipped" else setup["sensors"])
         self.vehicle = load_car(setup["vehicle_set"])
         self.rates = me.sample_rates(self.sensors)
-        self.limit_values = params.declare_parameters(
+        self.limit_values = declare_parameters(
             self, parameter_table(me.measured_limits(self.vehicle))[len(MEASURED_SETUP) + 1:],
             check=lambda values: me.MeasuredLimits(**values).validated(), apply=self.on_measured_limits)
         self.estimates = []            # the estimator's (stamps, values) decided by a sensor message
