@@ -73,6 +73,11 @@ def read_until():
     return _read_until
 
 
+# how long a spawned node may take to say it is up: on a machine whose cores are busy (the suite beside a long
+# evaluation) a start-up took over 60 s
+STARTUP_S = 180.0
+
+
 def _read_until(child, text, timeout):
     lines = []
     deadline = time.monotonic() + timeout

@@ -9,6 +9,7 @@ import sys
 import pytest
 from rclpy.serialization import deserialize_message, serialize_message
 
+from conftest import STARTUP_S
 from railderail_sim.ros import node as sim_node
 from railderail_sim.ros import interface as m
 from railderail_sim.ros import sensor_messages as sm
@@ -57,7 +58,7 @@ def _live_run(spawn, read_until, mcap):
         recorder = spawn([PY, "-m", "railderail_monitor.recording.recorder", str(mcap)])
         monitor = spawn([PY, "-m", "railderail_monitor.node", "--ros-args", "-p", "signals:=measured"]
                         + [a for k, v in MEASURED_LEVELS.items() for a in ("-p", f"{k}:={v!r}")])
-        read_until(monitor, "monitoring", timeout=60)
+        read_until(monitor, "monitoring", timeout=STARTUP_S)
         # the recorder takes the monitor's alerts once it has discovered their publisher
         read_until(recorder, f"recording {m.ONBOARD_ALERTS}", timeout=120)     # 60 s was missed once in CI
         assert listener.spin_until(lambda: listener.node.count_subscribers(f"{m.SENSORS_NS}/odometer") >= 1, 30)

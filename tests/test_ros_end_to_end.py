@@ -19,6 +19,7 @@ import rclpy
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.signals import SignalHandlerOptions
 
+from conftest import STARTUP_S
 from railderail_sim.ros import interface as m
 from railderail_monitor.warning.limits import CRITERIA, default_limits
 from railderail_monitor.warning.monitor import alerts_of_run
@@ -89,8 +90,8 @@ def test_nodes_warn_before_the_derailment_and_the_recording_replays_to_the_same_
     try:
         recorder = spawn([PY, "-m", "railderail_monitor.recording.recorder", str(mcap)])
         monitor = spawn([PY, "-m", "railderail_monitor.node"])
-        read_until(recorder, "recording", timeout=60)
-        read_until(monitor, "monitoring", timeout=60)
+        read_until(recorder, "recording", timeout=STARTUP_S)
+        read_until(monitor, "monitoring", timeout=STARTUP_S)
         simulator = spawn(SIMULATOR)
         assert listener.spin_until(lambda: listener.final is not None, timeout=300), \
             f"no final status; simulator stderr: {simulator.stderr.read() if simulator.poll() is not None else ''}"
@@ -134,7 +135,7 @@ def test_nodes_warn_before_the_derailment_and_the_recording_replays_to_the_same_
         # replayed on the topics to a fresh monitor node: the same alerts again
         listener.alerts.clear()
         monitor2 = spawn([PY, "-m", "railderail_monitor.node"])
-        read_until(monitor2, "monitoring", timeout=60)
+        read_until(monitor2, "monitoring", timeout=STARTUP_S)
         replay = spawn([PY, "-m", "railderail_sim.cli", "replay", str(mcap), "--rate", "1",
                         "--wait-for-subscribers", "1"])
         assert replay.wait(timeout=120) == 0, replay.stderr.read()
@@ -185,7 +186,7 @@ def test_every_criterion_alerts_through_the_nodes_as_on_the_simulator_s_own_arra
     listener = Listener()
     try:
         monitor = spawn([PY, "-m", "railderail_monitor.node", "--ros-args", "--params-file", str(params)])
-        read_until(monitor, "monitoring", timeout=60)
+        read_until(monitor, "monitoring", timeout=STARTUP_S)
         # paced at real time (the run takes 72 s): as fast as possible, a monitor on a busy machine falls
         # behind 14000 samples and its queue drops some, and then no comparison can hold
         simulator = spawn([PY, "-m", "railderail_sim.ros.node", "--ros-args", "-p", "real_time_factor:=1.0",

@@ -13,6 +13,7 @@ import pytest
 from rosbags.highlevel import AnyReader
 from rosbags.typesys import Stores, get_typestore
 
+from conftest import STARTUP_S
 from railderail_sim.cli import main
 from railderail_sim.parameters import GRAVITY
 from railderail_sim.parameters import vehicle_parameters
@@ -69,7 +70,7 @@ def assert_as_simulate(messages, sensors, npz):
 def test_the_simulator_publishes_the_sensors_on_standard_messages_that_rosbags_decodes(spawn, read_until, tmp_path):
     folder = tmp_path / "bag"
     recorder = spawn([PY, "-m", "railderail_monitor.recording.recorder", "--bag-dir", str(folder)])
-    read_until(recorder, "recording", timeout=60)
+    read_until(recorder, "recording", timeout=STARTUP_S)
     simulator = spawn(SIMULATOR)
     # the recorder's process held still for 1.5 s mid-run, as on a busy machine a process waits for a core: with
     # best-effort topics the transport lost about a tenth of what was sent meanwhile; reliable ones send it again

@@ -10,6 +10,7 @@ import sys
 import numpy as np
 import pytest
 
+from conftest import STARTUP_S
 from railderail_monitor.recording.recorder import recorded_counts
 from railderail_monitor.recording.replay import read_recording
 from railderail_monitor.supervision.curves import KMH, SAMPLES, SupervisionLimits
@@ -68,9 +69,9 @@ def _run(spawn, read_until, survey, brake=True, signals="ground_truth", record=N
         recorder = spawn([PY, "-m", "railderail_monitor.recording.recorder", str(record)]) if record else None
         monitor = spawn([PY, "-m", "railderail_monitor.node", "--ros-args", "-p", f"supervision:={survey}",
                          "-p", f"supervision_brake:={str(brake).lower()}", "-p", f"supervision_signals:={signals}"])
-        read_until(monitor, "monitoring", timeout=60)
+        read_until(monitor, "monitoring", timeout=STARTUP_S)
         if recorder is not None:
-            read_until(recorder, "recording", timeout=60)
+            read_until(recorder, "recording", timeout=STARTUP_S)
         sensors = {"sensors": "shipped"} if signals == "odometer" else {}
         simulator = spawn([PY, "-m", "railderail_sim.ros.node", "--ros-args"]
                           + [a for k, v in {**RUN, **sensors}.items() for a in ("-p", f"{k}:={v}")])

@@ -7,6 +7,7 @@ from pathlib import Path
 import pytest
 from rerun.chunk import RrdReader
 
+from conftest import STARTUP_S
 from railderail_monitor.recording.recorder import record_run
 from railderail_monitor.recording.replay import read_recording, write_rrd
 from railderail_sim.cli import main
@@ -83,7 +84,7 @@ def test_live_viewer_node_writes_rrd(spawn, read_until, tmp_path):
     """The viewer node (`railderail view --rrd`), headless, over a short live run."""
     out = tmp_path / "live.rrd"
     viewer = spawn([sys.executable, "-m", "railderail_sim.cli", "view", "--rrd", str(out)])
-    read_until(viewer, "showing /railderail in Rerun", timeout=60)
+    read_until(viewer, "showing /railderail in Rerun", timeout=STARTUP_S)
     simulator = spawn([sys.executable, "-m", "railderail_sim.ros.node", "--ros-args", "-p", "speed_mode:=constant",
                        "-p", "speed_kmh:=310.0", "-p", "real_time_factor:=0.0", "-p", "wait_for_subscribers:=1"])
     assert simulator.wait(timeout=300) == 0         # a cold numba compile included
