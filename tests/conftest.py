@@ -73,21 +73,28 @@ def read_until():
     return _read_until
 
 
-# how long a spawned node may take to say it is up: on a machine whose cores are busy (the suite beside a long
-# evaluation) a start-up took over 60 s
+# how long a spawned node may take to say it is up, on a machine whose cores are busy (the suite beside a long
+# evaluation)
 STARTUP_S = 180.0
 
 
 def _read_until(child, text, timeout):
     lines = []
     deadline = time.monotonic() + timeout
+    fd = child.stderr.fileno()
     with selectors.DefaultSelector() as selector:
-        selector.register(child.stderr, selectors.EVENT_READ)
+        selector.register(fd, selectors.EVENT_READ)
         while not any(text in line for line in lines):
-            remaining = deadline - time.monotonic()
-            assert remaining > 0, f"no {text!r} within {timeout} s; stderr so far: {lines}"
-            if selector.select(remaining):
-                line = child.stderr.readline()
-                assert line, f"exited ({child.wait()}) before printing {text!r}; stderr: {lines}"
-                lines.append(line)
+            line = b""
+            # byte by byte from the pipe itself: a buffered readline would take the lines after this one into
+            # its buffer, where the selector no longer sees them (a node's "monitoring" line was lost so)
+            while not line.endswith(b"\n"):
+                remaining = deadline - time.monotonic()
+                so_far = lines + [line.decode(errors="replace")]
+                assert remaining > 0, f"no {text!r} within {timeout} s; stderr so far: {so_far}"
+                if selector.select(remaining):
+                    byte = os.read(fd, 1)
+                    assert byte, f"exited ({child.wait()}) before printing {text!r}; stderr: {lines}"
+                    line += byte
+            lines.append(line.decode(errors="replace"))
     return lines
