@@ -181,9 +181,9 @@ def surveys(entries, cache=None, workers=None, scheduler=None, progress=True):
     from railderail_sim.line.file import line_from_dict
     from railderail_sim.methods.parallel import run_all
     from railderail_sim.methods.survey import COST, cases, survey
-    keys = needed(entries)
-    lines = {key: line_from_dict(json.loads(key)["line"]) for key in keys}
-    settings = {key: survey_settings(json.loads(key)["friction"], json.loads(key)["vehicle_set"]) for key in keys}
+    keys = {key: json.loads(key) for key in needed(entries)}
+    lines = {key: line_from_dict(data["line"]) for key, data in keys.items()}
+    settings = {key: survey_settings(data["friction"], data["vehicle_set"]) for key, data in keys.items()}
     jobs = [(key, item) for key in keys for item in cases(lines[key], settings[key])]
     with tempfile.TemporaryDirectory() as scratch:
         folder = str(Path(cache or scratch, "survey"))
