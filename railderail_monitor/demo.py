@@ -130,7 +130,7 @@ def simulator_parameters(args):
     scenario (--catalogue, --scenario, --seed), or the closed loop's over-speed approach (--closed-loop)."""
     run = {"publish_rate": float(args.rate), "real_time_factor": float(args.real_time_factor),
            "contact_model": args.contact_model, "wait_for_subscribers": SUBSCRIBERS,
-           **({} if args.no_sensors else {"sensors": "shipped"})}
+           **({} if args.no_sensors else {"sensors": "shipped", "wait_for_sensor_subscribers": SENSOR_SUBSCRIBERS})}
     if args.closed_loop:
         if args.scenario is not None or args.catalogue is not None:
             raise ValueError("--closed-loop runs its own over-speed approach: give it without --catalogue")
@@ -180,6 +180,7 @@ def ros_args(parameters):
 
 
 SUBSCRIBERS = 3          # the simulator starts once the monitor, the recorder and the demo's listener subscribe
+SENSOR_SUBSCRIBERS = 2   # and, with the sensors, the measured-mode monitor and the recorder to every sensor topic
 
 
 class Listener:

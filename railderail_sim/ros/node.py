@@ -81,6 +81,8 @@ PARAMETERS = (
       "publishes /clock", "", REAL_TIME_FACTOR_RANGE),
     P("wait_for_subscribers", 0, "start the run once wheelset_states and contact_forces have this many "
       "subscribers", "", (0, 100), read_only=True),
+    P("wait_for_sensor_subscribers", 0, "with sensors, start the run only once every sensor topic has this many "
+      "subscribers too (a measured-mode monitor reads no states or forces)", "", (0, 100), read_only=True),
     P("exit_when_done", True, "exit when the run stops (else keep the latched topics up until Ctrl-C)",
       read_only=True),
     P("linger_s", 1.0, "time the node stays up after the run stops, so that late subscribers get the final "
@@ -158,8 +160,9 @@ class SimulatorNode(Node):
             self.sensor_stream = SensorStream(self.sensors, self.scenario, self.sim.model, self.sim.speed_table)
             self.sensor_messages = sm.SensorConverter(self.sensors, self.p["publish_rate"],
                                                       self.scenario.vehicle.rolling_radius)
+            self.sensor_topics = sm.sensor_topics(self.sensors)
             self.pubs.update({topic: self.create_publisher(cls, topic, qos)
-                              for topic, (_, cls, qos, _) in sm.sensor_topics(self.sensors).items()})
+                              for topic, (_, cls, qos, _) in self.sensor_topics.items()})
             self.sensor_queue = []      # (stamp, topic, message) not yet due: a sample's latency after its instant
         self.braking, self.brakes = BrakingModel(adhesion=self.p["adhesion"]).validated(), []
         if self.p["brake_on_command"]:
@@ -174,7 +177,8 @@ class SimulatorNode(Node):
         self.pace_start = self.pace_sample = None   # wall clock and sample the pacing counts from
         self.last_arrays, self.last_index = None, 0
         self.timer = None
-        waiting = self.p["wait_for_subscribers"] > 0
+        waiting = self.p["wait_for_subscribers"] > 0 or (self.sensors is not None
+                                                         and self.p["wait_for_sensor_subscribers"] > 0)
         self.get_logger().info(f"ready: {self.p['publish_rate']:g} Hz of simulated time, {self.pace_text()}"
                                + (f"; waiting for {self.p['wait_for_subscribers']} subscribers" if waiting else ""))
         if waiting:
@@ -244,6 +248,9 @@ class SimulatorNode(Node):
     def _subscribers_ready(self):
         need = self.p["wait_for_subscribers"]
         if min(self.pubs[t].get_subscription_count() for t in (m.STATES, m.FORCES)) < need:
+            return False
+        if self.sensors is not None and min(self.pubs[t].get_subscription_count() for t in self.sensor_topics) \
+                < self.p["wait_for_sensor_subscribers"]:
             return False
         if self.settle_until is None:          # let the subscribers' side of the discovery settle too
             self.settle_until = time.monotonic() + 0.5
