@@ -9,8 +9,8 @@ import json
 import numpy as np
 import pytest
 
-from railderail_monitor.supervision.curves import KMH, SupervisionLimits
-from railderail_monitor.supervision.loop import Controller, scenario_targets, watching
+from railderail_monitor.supervision.curves import KMH, SupervisionLimits, Target
+from railderail_monitor.supervision.loop import Controller, curve_extent, scenario_targets, watching
 from railderail_monitor.supervision.supervisor import Supervisor
 from railderail_sim.cli import main
 from railderail_sim.sensors import config as sensor_config
@@ -85,6 +85,28 @@ def test_a_run_inside_its_braking_distance_says_so_and_brakes_at_once(capsys):
     assert out["lowest_speed_kmh"] < 320.0 and set(out) >= {"status", "derailment", "brake_commands"}
     assert main(["simulate", "--closed-loop"]) == 2
     assert "need --supervision" in capsys.readouterr().err
+
+
+def test_a_stop_target_brakes_to_a_stand_before_it():
+    # a target of 0 (a stop: the survey kept no margin at any speed it tried): the brake runs the train down to
+    # the simulator's slowest speed and the run ends where the braking model stops it, before the target's
+    # start as the EBD places it (its foot, dV_ebi at 0, lets the front reach the start at 7.5 km/h; the brake
+    # comes at the first row past the EBI, up to one output period late)
+    sc = replace(SCENARIO, speed_table=scenario(speed_kmh=200.0).speed_table)
+    start, end = curve_extent(sc.track)
+    controller = Controller(Supervisor([Target(start, end, 0.0, "stop").validated()], BRAKING, LIMITS))
+    run = run_closed_loop(sc, controller, BRAKING)
+    (command,) = run.commands
+    assert command.release_speed_m_s == 0.0 and run.result.derailment is None
+    stand = command.position_m + BRAKING.braking_distance(command.speed_m_s, 0.0)
+    assert run.stopped_at_m == stand and run.result.position[-1] == pytest.approx(stand, abs=0.1)
+    assert run.result.speed[-1] == pytest.approx(30 * KMH)
+    front = stand + sc.vehicle.bogie_semi_distance + sc.vehicle.wheelbase_semi
+    assert 0.0 < front - start < BRAKING.deceleration_distance(7.5 * KMH, 0.0) + command.speed_m_s / sc.output_rate
+    # the speed beyond the lowest simulated is the braking model's down to it
+    s = run.result.position
+    expected = np.maximum([BRAKING.speed_after(command.speed_m_s, x - command.position_m) for x in s], 30 * KMH)
+    assert np.max(np.abs(run.result.speed[s >= command.position_m] - expected[s >= command.position_m])) < 1e-3
 
 
 @pytest.mark.slow

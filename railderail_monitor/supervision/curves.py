@@ -118,8 +118,9 @@ class Target:
     def validated(self):
         if not (self.start_m < self.end_m):
             raise ValueError(f"target {self.reason!r}: start {self.start_m:g} m is not before its end {self.end_m:g} m")
-        check_range(f"target {self.reason!r} speed limit", self.speed_limit_m_s / KMH, 0.0, 1000.0, "km/h",
-                    lo_open=True)
+        # 0: a stop before the target (ETCS's end of authority), where the survey found no speed that keeps the
+        # margins
+        check_range(f"target {self.reason!r} speed limit", self.speed_limit_m_s / KMH, 0.0, 1000.0, "km/h")
         return self
 
 

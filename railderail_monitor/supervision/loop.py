@@ -199,7 +199,7 @@ def simulate_supervised(args, sc):
                signals="odometer" if args.odometer else "ground_truth",
                brake_commands=[dict(time_s=c.time_s, position_m=c.position_m, speed_kmh=c.speed_m_s / KMH,
                                     release_speed_kmh=c.release_speed_m_s / KMH) for c in commands],
-               lowest_speed_kmh=controller.lowest_speed / KMH,
+               lowest_speed_kmh=controller.lowest_speed / KMH, stopped_at_m=run.stopped_at_m,
                started_inside_braking_distance=inside,
                alerts=[a.as_dict() for a in supervisor.alerts],
                targets=[dict(start_m=t.start_m, end_m=t.end_m, speed_limit_kmh=t.speed_limit_m_s / KMH,
@@ -222,4 +222,7 @@ def simulate_supervised(args, sc):
         lines.append(f"emergency brake              t = {c.time_s:.2f} s at {c.position_m:.1f} m, "
                      f"{c.speed_m_s / KMH:.1f} km/h, held down to {c.release_speed_m_s / KMH:.1f} km/h")
     lines.append(f"lowest speed                 {controller.lowest_speed / KMH:.1f} km/h")
+    if run.stopped_at_m is not None:
+        lines.append(f"stopped at                   {run.stopped_at_m:.1f} m (the car body; braked to a stop: the run "
+                     "ends there)")
     return out, "\n".join(lines)

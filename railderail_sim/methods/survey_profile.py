@@ -24,6 +24,15 @@ def permitted_profile(result):
     return out
 
 
+def _stop(name, row):
+    """The reason of a stop target (safe speed 0): a curve's or defect's row whose margins no speed tried kept."""
+    if row["safe_speed_kmh"] > 0.0:
+        return ""
+    broken = row["first_broken"]
+    return (f"{name}: stop before it, no speed tried kept the margins ({broken['margin']} at "
+            f"{broken['speed_kmh']:.1f} km/h, the survey's lowest)")
+
+
 def survey_targets(result):
     """The most restrictive speed profile along the line: [(start m, end m, speed limit m/s, reason)] in order,
     covering the line: the lowest at each place of the line speed, the civil speed limits, each curve's
@@ -39,13 +48,15 @@ def survey_targets(result):
         name = f"curve {c['index']} (R {c['radius_m']:g} m)"
         limits.append((c["start_m"], c["end_m"], c["permitted_speed_kmh"], f"{name}: permitted speed"))
         limits.append((c["start_m"], c["end_m"], c["safe_speed_kmh"],
-                       f"{name}: safe speed, margins intact up to {c['margins_intact_up_to_kmh']:.1f} km/h less "
-                       f"dV_ebi (critical derailment speed {c['critical_derailment_speed_kmh']:.1f} km/h"
+                       _stop(name, c) or f"{name}: safe speed, margins intact up to "
+                       f"{c['margins_intact_up_to_kmh']:.1f} km/h less dV_ebi (critical derailment speed "
+                       f"{c['critical_derailment_speed_kmh']:.1f} km/h"
                        + ("" if c["derailed"] else ", no derailment up to it") + ")"))
     for d in result.defects:
+        name = f"defect {d['index']} ({d['kind']} {d['size_mm']:g} mm)"
         limits.append((max(0.0, d["position_m"] - RULES.defect_guard_m),
                        min(line.length_m, d["end_m"] + RULES.defect_guard_m), d["safe_speed_kmh"],
-                       f"defect {d['index']} ({d['kind']} {d['size_mm']:g} mm): safe speed, margins intact up to "
+                       _stop(name, d) or f"{name}: safe speed, margins intact up to "
                        f"{d['margins_intact_up_to_kmh']:.1f} km/h less dV_ebi"))
     edges = sorted({x for a, b, _, _ in limits for x in (a, b)})
     profile = []

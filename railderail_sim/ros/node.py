@@ -31,7 +31,7 @@ from railderail_sim.ros.node_parameters import REAL_TIME_FACTOR_RANGE, Parameter
 from railderail_sim.sensors.config import load as load_sensors
 from railderail_sim.sensors.sensor_set import SEED_RANGE
 from railderail_sim.supervision.braking import ADHESIONS, BrakingModel
-from railderail_sim.supervision.closed_loop import BrakeCommand, braked_table
+from railderail_sim.supervision.closed_loop import BrakeCommand, apply_brake
 from railderail_sim.track.irregularity import SEEDS, resolve
 from railderail_sim.track.spectra import SPECTRA
 from railderail_sim.vehicle.assemble import FAULT_NAMES, NORMAL_MODELS
@@ -230,7 +230,7 @@ class SimulatorNode(Node):
                                       f"is not below the speed {speed * 3.6:.1f} km/h")
             return
         command = BrakeCommand(float(a["time"][i]), position, speed, float(msg.release_speed))
-        self.sim.speed_table = braked_table(self.sim.speed_table, command, self.braking)
+        apply_brake(self.sim, command, self.braking)
         if self.sensor_stream is not None:
             self.sensor_stream.speed_table = self.sim.speed_table
         self.brakes.append(command)

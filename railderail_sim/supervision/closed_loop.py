@@ -37,35 +37,58 @@ class BrakeCommand:
 
 def braked_table(table, command, braking):
     """The speed table (rows s m, v m/s) with everything from the command on replaced by the braking model's
-    curve from it down to the release speed."""
+    curve from it down to the release speed (`floor_of`)."""
     keep = table[table[:, 0] < command.position_m]
-    return np.ascontiguousarray(np.vstack([keep, braking.speed_table(command.position_m, command.speed_m_s,
-                                                                     command.release_speed_m_s)]))
+    s0, v0, v1 = command.position_m, command.speed_m_s, floor_of(command)
+    # a train already at the simulator's slowest speed holds it (to a stop's stopping point)
+    braked = braking.speed_table(s0, v0, v1) if v1 < v0 else np.array([[s0, v0], [s0 + 1.0, v0]])
+    return np.ascontiguousarray(np.vstack([keep, braked]))
+
+
+def apply_brake(sim, command, braking):
+    """Brake a Simulation on `command` (`braked_table`); for a stop, the run ends at the stopping point (the car
+    body's position, m, returned; None for a brake to a speed)."""
+    sim.speed_table = braked_table(sim.speed_table, command, braking)
+    if command.release_speed_m_s != 0.0:
+        return None
+    stop = command.position_m + braking.braking_distance(command.speed_m_s, 0.0)
+    sim.control = sim.control._replace(s_end=min(sim.control.s_end, stop))
+    return stop
 
 
 @dataclass
 class ClosedLoopRun:
-    """A closed-loop run: its Result (its scenario carrying the speed table as braked), every brake command."""
+    """A closed-loop run: its Result (its scenario carrying the speed table as braked), every brake command,
+    and where a brake to a stop ends the run (the car body's position, m; None without one)."""
     result: Result
     commands: list
+    stopped_at_m: float = None
+
+
+def floor_of(command):
+    """The release speed (m/s) the simulator brakes down to: the command's, but not below the slowest speed the
+    simulator runs (SPEED_RANGE_KMH: held there, faster than the train would be); a stop (release speed 0: an
+    end of authority, where the survey found no speed that keeps the margins) is held there up to the
+    stopping point, where the run ends (`apply_brake`)."""
+    return max(command.release_speed_m_s, min(SPEED_RANGE_KMH[0] * KMH, command.speed_m_s))
 
 
 def run_closed_loop(sc, controller, braking, chunk_s=CHUNK_S, progress=None):
     """Run a scenario in chunks of chunk_s; after each, `controller(sim, rows)` sees the new output rows and
     returns a BrakeCommand or None. A command is applied unless a brake is still on (the speed above its
-    release speed); the run goes on to its end (or derailment) at the braked speeds."""
+    release speed); the run goes on to its end (or derailment) at the braked speeds, or, braked to a stop, to
+    the stopping point (`floor_of`: the last metres at the simulator's slowest speed, faster than the train
+    would be)."""
     braking = braking.validated()
     check_range("supervision chunk", chunk_s, 1.0 / sc.output_rate, braking.buildup_s - MAX_STEP, "s", hi_open=True)
     sim = Simulation(sc)
-    parts, commands, release_at = [], [], -np.inf
+    parts, commands, release_at, stopped_at, end = [], [], -np.inf, None, sim.control.s_end
     while sim.status == itg.RUNNING:
         rows = sim.advance(chunk_s)
         parts.append(rows)
         command = controller(sim, rows)
         if command is not None and command.position_m >= release_at:
-            check_range("release speed", command.release_speed_m_s / KMH, SPEED_RANGE_KMH[0], command.speed_m_s / KMH,
-                        "km/h")
-            sim.speed_table = braked_table(sim.speed_table, command, braking)
+            stopped_at = apply_brake(sim, command, braking)
             release_at = sim.speed_table[-2, 0]
             commands.append(command)
         if progress is not None:
@@ -73,4 +96,5 @@ def run_closed_loop(sc, controller, braking, chunk_s=CHUNK_S, progress=None):
     rows = np.concatenate(parts) if parts else np.zeros((0, N_OUT))
     result = Result(rows=rows, scenario=replace(sc, speed_table=sim.speed_table), status=STATUS[sim.status],
                     derailment=sim.derailment(), flange_height=sim.model.flange_height)
-    return ClosedLoopRun(result=result, commands=commands)
+    return ClosedLoopRun(result=result, commands=commands,
+                         stopped_at_m=stopped_at if stopped_at is not None and stopped_at < end else None)
