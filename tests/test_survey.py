@@ -178,6 +178,20 @@ def test_highest_intact_bisects_to_the_first_broken_margin():
     assert broken["margins_intact_up_to_kmh"] == 0.0
 
 
+def test_highest_intact_tries_the_floor_before_it_gives_a_stop():
+    """Where the lowest speed breaks a margin, the floor is tried: kept, the bisection runs between them; broken
+    too, the answer is 0 (a stop); a curve's search (`lo_assumed`) the same."""
+    for assumed in (False, True):
+        def run(v):
+            return sv.Judged(v <= 44.2, "" if v <= 44.2 else "flange_climb")
+        m = sv.highest_intact(run, 60.0, 450.0, 1.0, lo_assumed=assumed, floor=30.0)
+        assert 43.2 <= m["margins_intact_up_to_kmh"] <= 44.2 and m["first_broken"]["margin"] == "flange_climb"
+        assert 44.2 < m["first_broken"]["speed_kmh"] <= m["margins_intact_up_to_kmh"] + 1.0
+        stop = sv.highest_intact(lambda v: sv.Judged(False, "derailment"), 60.0, 450.0, 1.0, lo_assumed=assumed,
+                                 floor=30.0)
+        assert stop["margins_intact_up_to_kmh"] == 0.0 and stop["first_broken"]["speed_kmh"] == 30.0
+
+
 def test_highest_intact_takes_the_lowest_speed_as_intact_until_it_must_run_it():
     """A curve's search (`lo_assumed`) does not run its lowest speed while a faster one keeps every margin, and
     gives what the search that runs it gives; where no faster speed keeps them it runs it, and gives 0 if it

@@ -20,7 +20,8 @@ to supervise the car against its own limits rather than against fixed civil ones
   limit does not. The sensitivity to the margin
   (none, twice dV_ebi, 10 % of the speed) is in every curve's row.
 - Each known defect: the highest constant speed at which the car passes it with every margin intact, by the
-  same bisection over `margins_low_kmh` .. the staircase's top. The margins are the simulator's own,
+  same bisection over `margins_low_kmh` .. the staircase's top (for both, where `margins_low_kmh` breaks a
+  margin, down to the simulator's slowest speed before the answer is 0: a stop). The margins are the simulator's own,
   judged on the run's output rows while the car-body centre is within `defect_window_m` of the defect (over a
   curve's extent for a curve): no derailment (the core's geometric check) anywhere on the run; Q/P of every
   wheel, its mean over 1.524 m (49 CFR 213.333's 5 ft), below Nadal's limit at the profile pair's largest
@@ -74,8 +75,10 @@ class SurveyRules:
                                        "within a few hundred metres (its body modes are about 1 Hz), and the "
                                        "runs near the critical speed derail in the transition or early in the arc")
     margins_low_kmh: float = parameter(60.0, "km/h", "a modelling choice", "-",
-                                       "the lowest speed a defect or a curve is tried at for its margins; below "
-                                       "it the safe speed is 0")
+                                       "the lowest speed a defect or a curve is tried at for its margins; where "
+                                       "it breaks one, the simulator's slowest speed (30 km/h) is tried, and the "
+                                       "bisection runs between them; the safe speed is 0 (a stop) only where "
+                                       "that breaks one too")
     defect_window_m: float = parameter(150.0, "m", "a modelling choice", "-",
                                        "the car-body centre's distance before and after the defect over which "
                                        "its margins are judged (the car is 25 m long; the wheelsets' response "
@@ -179,7 +182,8 @@ def curve_case(line: Line, index, base: Scenario, settings: Settings, vehicle_se
         # steps (they do not depend on the output instants), its derailment checked at instants curve_run's has
         known[row["critical_derailment_speed_kmh"]] = Judged(False, "derailment")
     margins = highest_intact(functools.partial(curve_run, sc), RULES.margins_low_kmh,
-                             row["critical_derailment_speed_kmh"], settings.tolerance_kmh, known, lo_assumed=True)
+                             row["critical_derailment_speed_kmh"], settings.tolerance_kmh, known, lo_assumed=True,
+                             floor=SPEED_RANGE_KMH[0])
     return dict(row, margins_intact_up_to_kmh=margins["margins_intact_up_to_kmh"],
                 first_broken=margins["first_broken"], runs=row["runs"] + margins["runs"])
 
@@ -346,14 +350,15 @@ def curve_run(sc: Scenario, speed_kmh):
                               end_position=hi), lo, hi)
 
 
-def highest_intact(run, lo, hi, tolerance_kmh, known=None, lo_assumed=False):
+def highest_intact(run, lo, hi, tolerance_kmh, known=None, lo_assumed=False, floor=None):
     """The highest speed (km/h) in [lo, hi] at which `run(speed_kmh)` (a MarginsRun) keeps every margin, by
     bisection (a margin broken at a speed is taken as broken above it too): {margins_intact_up_to_kmh (0 when
     broken at lo), first_broken (the lowest speed tried that broke a margin, and which: its whole run's), runs
     (the speeds tried)}. `known`: {speed: Judged} for speeds whose outcome is known without a run.
     `lo_assumed`: lo is not run first but taken as intact, by the bisection's own assumption read downwards,
     once a faster speed keeps every margin, and run only if none does (a curve's; not a defect's, whose margins,
-    a twist's, may be hardest to keep at low speed)."""
+    a twist's, may be hardest to keep at low speed). `floor`: where lo breaks a margin, this slower speed is
+    tried before the answer is 0, and the bisection runs between them if it keeps every margin."""
     known = known or {}
     tried = {}
     bottom = lo
@@ -363,15 +368,24 @@ def highest_intact(run, lo, hi, tolerance_kmh, known=None, lo_assumed=False):
             tried[v] = known[v] if v in known else run(v)
         return tried[v].intact()
 
-    if passes(hi):
-        intact = hi
-    elif not lo_assumed and not passes(lo):
-        intact = 0.0
-    else:
+    def bisect(lo, hi):
+        """The highest speed within the tolerance below hi (broken) from lo (intact or assumed so)."""
         while hi - lo > tolerance_kmh:
             mid = 0.5 * (lo + hi)
             lo, hi = (mid, hi) if passes(mid) else (lo, mid)
-        intact = lo if lo > bottom or passes(bottom) else 0.0
+        return lo
+
+    def below(top):
+        """The answer when `top` breaks a margin: the floor's bisection, or 0."""
+        return bisect(floor, top) if floor is not None and floor < top and passes(floor) else 0.0
+
+    if passes(hi):
+        intact = hi
+    elif not lo_assumed and not passes(lo):
+        intact = below(lo)
+    else:
+        lo = bisect(lo, hi)
+        intact = lo if lo > bottom or passes(bottom) else below(bottom)
     broken = sorted(v for v, r in tried.items() if not r.intact())
     # only the lowest broken run is simulated to its end, for which margin its whole run breaks
     return dict(margins_intact_up_to_kmh=intact,
@@ -383,7 +397,8 @@ def defect_case(line: Line, index, base: Scenario, settings: Settings, vehicle_s
     """The highest speed (km/h) with every margin intact over one defect in one case (`highest_intact`)."""
     return dict(vehicle_set=vehicle_set, friction=friction,
                 **highest_intact(functools.partial(defect_run, line, index, base, vehicle_set, friction),
-                                 RULES.margins_low_kmh, settings.top_kmh, settings.tolerance_kmh))
+                                 RULES.margins_low_kmh, settings.top_kmh, settings.tolerance_kmh,
+                                 floor=SPEED_RANGE_KMH[0]))
 
 
 def wind_site_case(line: Line, index, base: Scenario, settings: Settings, speed_kmh):
