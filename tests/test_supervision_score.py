@@ -156,14 +156,18 @@ def test_runs_on_curves_of_one_shape_share_one_survey_placed_on_each_run_s_own_l
         assert placed["line"]["length_m"] == line.length_m
 
 
-def test_a_defect_the_car_cannot_pass_even_slowly_is_supervised_at_the_lowest_speed_the_loop_can_brake_to():
+def test_a_defect_the_car_cannot_pass_even_slowly_stays_a_stop_named_by_the_margin_it_broke():
     from railderail_monitor.evaluation import catalogue
-    from railderail_sim.parameters import SPEED_RANGE_KMH
+    from railderail_sim.methods.survey_profile import _stop
     entry = catalogue.Entry(name="kink", family="defect", radius_m=800.0, speed_kmh=160.0,
                             defect=("kink", 0.05, 10.0, 700.0, 0.0))
     line = ss.run_line(entry, 1)
+    stop = dict(safe_speed_kmh=0.0, first_broken=dict(speed_kmh=30.0, margin="derailment"))
     survey = dict(line=dict(name="x", length_m=0.0, file={}), curves=[dict(safe_speed_kmh=242.5)],
-                  defects=[dict(safe_speed_kmh=0.0), dict(safe_speed_kmh=72.3)])
+                  defects=[stop, dict(safe_speed_kmh=72.3)])
     placed = ss.placed(survey, line)
-    assert [d["safe_speed_kmh"] for d in placed["defects"]] == [SPEED_RANGE_KMH[0], 72.3]
+    assert [d["safe_speed_kmh"] for d in placed["defects"]] == [0.0, 72.3]
     assert placed["curves"][0]["safe_speed_kmh"] == 242.5
+    assert _stop("defect 0", stop) == ("defect 0: stop before it, no speed tried kept the margins (derailment at "
+                                       "30.0 km/h, the survey's lowest)")
+    assert _stop("defect 1", placed["defects"][1]) == ""

@@ -101,18 +101,13 @@ def surveyed_line(line):
 
 
 def placed(survey, line):
-    """A survey of `surveyed_line(line)` put on the run's own line: its line data and each curve's extent; a
-    safe speed below the simulator's lowest speed (a defect whose margins break even at the survey's lowest
-    speed has 0: its cure is a stop) raised to that speed, the lowest the closed loop can brake to
-    (`parameters.SPEED_RANGE_KMH`; the supervisor has no end of authority to stop at)."""
+    """A survey of `surveyed_line(line)` put on the run's own line: its line data and each curve's extent. A
+    safe speed of 0 (a curve or defect whose margins break even at the simulator's slowest speed) stays a stop
+    (docs/supervision.md, "A stop")."""
     from railderail_sim.line.file import line_as_dict
-    from railderail_sim.parameters import SPEED_RANGE_KMH
-
-    def crawl(rows):
-        return [dict(row, safe_speed_kmh=max(row["safe_speed_kmh"], SPEED_RANGE_KMH[0])) for row in rows]
     curves = [dict(row, start_m=c.start_m, end_m=c.end_m) for row, c in zip(survey["curves"], line.curves)]
     return dict(survey, line=dict(survey["line"], name=line.name, length_m=line.length_m, file=line_as_dict(line)),
-                curves=crawl(curves), defects=crawl(survey["defects"]))
+                curves=curves)
 
 
 def survey_key(line, friction, vehicle_set="hs19"):
