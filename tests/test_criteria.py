@@ -195,18 +195,20 @@ def feed(monitor, a, order):
     return found
 
 
-def test_a_sample_s_rail_side_does_not_depend_on_the_order_its_messages_come_in():
+def test_a_sample_s_alerts_do_not_depend_on_the_order_its_messages_come_in():
     """Issue 43: live, a sample's states and forces come in any order against the other samples' (a CI run had
     the live alert at sample 650 with no rail side where the replay said inner). Each alert names its rail from
     its own sample's curvature, whatever came before it: here the curve turns the other way at every sample, so
-    a rail side taken from any other sample is wrong. The attack angle is held, so that the climb distance (the
-    latest states before the forces) is the same in every order; the alerts are then the batch's, field for
-    field."""
+    a rail side taken from any other sample is wrong; and the climb distance of a sample's forces waits for the
+    attack angles of the sample before it, which change at every sample here, so that any other pairing moves
+    its alerts. The alerts are the batch's, field for field."""
     a = synthetic_run()
     n = len(a["time"])
     a["curvature"] = np.where(np.arange(n) % 2 == 0, 1e-3, -1e-3)
-    a["attack_angle"][:, 0] = 0.07
+    a["attack_angle"][:, 0] = np.where(np.arange(n) % 3 == 0, 0.07, 0.002)
+    a["derailment_coefficient"][100:160, 1] = 1.2          # over Nadal's limit: the climb distance grows
     batch = alerts_of_run(a, default_limits())
+    assert sum(x.criterion == "flange_climb_distance" for x in batch) >= 2
     assert all(x.rail_side == (rail_side(x.wheel_side, a["curvature"][x.sample]) if x.wheel_side else "")
                for x in batch)
     assert {x.rail_side for x in batch if x.wheel_side} == {"inner", "outer"} and len(batch) > 8

@@ -4,6 +4,7 @@ the same alerts by construction."""
 from __future__ import annotations
 
 import collections
+import math
 
 import numpy as np
 
@@ -12,6 +13,9 @@ from .alerts import AlertRecord, describe
 from .climb_distance import ClimbDistance
 from .limits import BOGIE_PLACES, CRITERIA, SIDES, TIMED, Limits, debounce, default_limits
 from .quantities import SlidingMean, front_attack_angle, rail_side, running_gear_unloading, unloading_ratio
+
+# samples whose forces wait at most for the states before them (1.28 s at 200 Hz; the attack angles kept as long)
+WAITING = 256
 
 
 class Monitor:
@@ -33,7 +37,9 @@ class Monitor:
             held = debounce(criterion, limits)
             self.channels[criterion] = [(sev, thr, [Detector(thr, held, r, rm) for _ in range(count)])
                                         for sev, thr in limits.levels(criterion)]
-        self.attack_angles = collections.deque(maxlen=256)    # (sample, 4 attack angles), arrival order
+        self.attack_angles = collections.deque(maxlen=WAITING)    # (sample, 4 attack angles), arrival order
+        self.states_upto = -math.inf           # the latest sample whose states came
+        self.climb_waiting = collections.deque()   # (t, sample, position, speed, curvature, Y/Q) for the climb
         self.qp_mean = SlidingMean(limits.sliding_mean_m, 8)
         self.climb = ClimbDistance(limits.climb_nadal_limit, limits.climb_distance_scale,
                                    limits.climb_attack_angle_scale)
@@ -63,9 +69,24 @@ class Monitor:
         """Attack angle (4 wheelsets, rad) and wheel lift (8 wheels, m) of one sample, with its place, speed
         and track curvature (1/m, + left)."""
         self.attack_angles.append((int(sample), np.asarray(attack_angle, dtype=float)))
+        self.states_upto = max(self.states_upto, int(sample))
         at = (t, sample, position, speed, curvature)
         return (self._check("attack_angle", [front_attack_angle(attack_angle)], *at)
-                + self._check("wheel_lift", wheel_lift, *at))
+                + self._check("wheel_lift", wheel_lift, *at) + self._climb())
+
+    def _climb(self):
+        """The climb distance of each sample whose forces wait for the states of the sample before it (its
+        attack angles, `climb_distance_ratio`'s pairing), in the order the forces came: once those states
+        came (each topic comes in its own order), or once WAITING samples wait (states lost: the latest
+        before it, 0 if none)."""
+        alerts = []
+        while self.climb_waiting and (self.climb_waiting[0][1] - 1 <= self.states_upto
+                                      or len(self.climb_waiting) > WAITING):
+            t, sample, position, speed, curvature, qp = self.climb_waiting.popleft()
+            attack = self._before(self.attack_angles, sample, np.zeros(4))
+            alerts += self._check("flange_climb_distance", self.climb.update(qp, attack, position), t, sample,
+                                  position, speed, curvature)
+        return alerts
 
     def on_forces(self, t, sample, position, speed, curvature, derailment_coefficient, vertical_force):
         """Y/Q (8 wheels) and vertical forces Q (8 wheels, N) of one sample, with its place, speed and track
@@ -77,9 +98,11 @@ class Monitor:
                 + self._check("derailment_coefficient_mean", self.qp_mean.update(derailment_coefficient, position), *at)
                 + self._check("wheel_unloading", unloading, *at)
                 + self._check("running_gear_unloading", running_gear_unloading(unloading), *at)
-                + self._check("flange_climb_distance", self.climb.update(
-                    derailment_coefficient, self._before(self.attack_angles, int(sample), np.zeros(4)), position),
-                    *at))
+                + self._waiting_climb(at, derailment_coefficient))
+
+    def _waiting_climb(self, at, derailment_coefficient):
+        self.climb_waiting.append((*at, np.asarray(derailment_coefficient, dtype=float)))
+        return self._climb()
 
 
 def alerts_of_run(arrays, limits: Limits = None):
