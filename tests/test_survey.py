@@ -180,7 +180,10 @@ def test_highest_intact_bisects_to_the_first_broken_margin():
 
 def test_highest_intact_tries_the_floor_before_it_gives_a_stop():
     """Where the lowest speed breaks a margin, the floor is tried: kept, the bisection runs between them; broken
-    too, the answer is 0 (a stop); a curve's search (`lo_assumed`) the same."""
+    too, the answer is 0 (a stop); a curve's search (`lo_assumed`) the same. The survey's floor is the slowest
+    speed the simulator runs, below the margins' lowest."""
+    from railderail_sim.parameters import SPEED_RANGE_KMH
+    assert sv.MARGINS_FLOOR_KMH == SPEED_RANGE_KMH[0] < sv.RULES.margins_low_kmh
     for assumed in (False, True):
         def run(v):
             return sv.Judged(v <= 44.2, "" if v <= 44.2 else "flange_climb")

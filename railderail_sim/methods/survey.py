@@ -55,6 +55,7 @@ from ..line.data import Line
 from ..line.file import line_as_dict, line_from_dict
 from ..loads.wind import Wind
 from ..parameters import FRICTION_RANGE, VEHICLE_SETS, parameter, vehicle_parameters
+from ..parameters import SPEED_RANGE_KMH as SIMULATED_KMH
 from ..ranges import check_range
 from ..supervision.margin import SafetyMargin
 from ..vehicle.simulate import KMH, Scenario, constant_speed, output_arrays, run_in_pieces, straight_track
@@ -102,6 +103,8 @@ class SurveyRules:
 
 RULES = SurveyRules()
 MARGIN = SafetyMargin()
+# km/h: where margins_low_kmh breaks a margin, the speed tried before a stop: the slowest the simulator runs
+MARGINS_FLOOR_KMH = SIMULATED_KMH[0]
 
 
 @dataclass(frozen=True)
@@ -183,7 +186,7 @@ def curve_case(line: Line, index, base: Scenario, settings: Settings, vehicle_se
         known[row["critical_derailment_speed_kmh"]] = Judged(False, "derailment")
     margins = highest_intact(functools.partial(curve_run, sc), RULES.margins_low_kmh,
                              row["critical_derailment_speed_kmh"], settings.tolerance_kmh, known, lo_assumed=True,
-                             floor=SPEED_RANGE_KMH[0])
+                             floor=MARGINS_FLOOR_KMH)
     return dict(row, margins_intact_up_to_kmh=margins["margins_intact_up_to_kmh"],
                 first_broken=margins["first_broken"], runs=row["runs"] + margins["runs"])
 
@@ -398,7 +401,7 @@ def defect_case(line: Line, index, base: Scenario, settings: Settings, vehicle_s
     return dict(vehicle_set=vehicle_set, friction=friction,
                 **highest_intact(functools.partial(defect_run, line, index, base, vehicle_set, friction),
                                  RULES.margins_low_kmh, settings.top_kmh, settings.tolerance_kmh,
-                                 floor=SPEED_RANGE_KMH[0]))
+                                 floor=MARGINS_FLOOR_KMH))
 
 
 def wind_site_case(line: Line, index, base: Scenario, settings: Settings, speed_kmh):
