@@ -88,7 +88,8 @@ def run_closed_loop(sc, controller, braking, chunk_s=CHUNK_S, progress=None):
         parts.append(rows)
         command = controller(sim, rows)
         if command is not None and command.position_m >= release_at:
-            stopped_at = apply_brake(sim, command, braking)
+            stop = apply_brake(sim, command, braking)
+            stopped_at = stopped_at if stop is None else stop
             release_at = sim.speed_table[-2, 0]
             commands.append(command)
         if progress is not None:
