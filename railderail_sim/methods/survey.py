@@ -54,8 +54,7 @@ from .. import jsonout
 from ..line.data import Line
 from ..line.file import line_as_dict, line_from_dict
 from ..loads.wind import Wind
-from ..parameters import FRICTION_RANGE, VEHICLE_SETS, parameter, vehicle_parameters
-from ..parameters import SPEED_RANGE_KMH as SIMULATED_KMH
+from ..parameters import FRICTION_RANGE, SPEED_RANGE_KMH as SIMULATED_KMH, VEHICLE_SETS, parameter, vehicle_parameters
 from ..ranges import check_range
 from ..supervision.margin import SafetyMargin
 from ..vehicle.simulate import KMH, Scenario, constant_speed, output_arrays, run_in_pieces, straight_track
