@@ -177,10 +177,11 @@ class SimulatorNode(Node):
         self.pace_start = self.pace_sample = None   # wall clock and sample the pacing counts from
         self.last_arrays, self.last_index = None, 0
         self.timer = None
-        waiting = self.p["wait_for_subscribers"] > 0 or (self.sensors is not None
-                                                         and self.p["wait_for_sensor_subscribers"] > 0)
+        on_sensors = self.p["wait_for_sensor_subscribers"] if self.sensors is not None else 0
+        waiting = self.p["wait_for_subscribers"] > 0 or on_sensors > 0
         self.get_logger().info(f"ready: {self.p['publish_rate']:g} Hz of simulated time, {self.pace_text()}"
-                               + (f"; waiting for {self.p['wait_for_subscribers']} subscribers" if waiting else ""))
+                               + (f"; waiting for {self.p['wait_for_subscribers']} subscribers" if waiting else "")
+                               + (f" and {on_sensors} on every sensor topic" if on_sensors else ""))
         if waiting:
             self.wait_timer = self.create_timer(0.05, self.wait_for_subscribers)
         else:
@@ -249,8 +250,8 @@ class SimulatorNode(Node):
         need = self.p["wait_for_subscribers"]
         if min(self.pubs[t].get_subscription_count() for t in (m.STATES, m.FORCES)) < need:
             return False
-        if self.sensors is not None and min(self.pubs[t].get_subscription_count() for t in self.sensor_topics) \
-                < self.p["wait_for_sensor_subscribers"]:
+        if self.sensors is not None and min(self.pubs[t].get_subscription_count()
+                                            for t in self.sensor_topics) < self.p["wait_for_sensor_subscribers"]:
             return False
         if self.settle_until is None:          # let the subscribers' side of the discovery settle too
             self.settle_until = time.monotonic() + 0.5
