@@ -10,13 +10,13 @@ import numpy as np
 import pytest
 
 from railderail_monitor.supervision.curves import KMH, SupervisionLimits, Target
-from railderail_monitor.supervision.loop import Controller, curve_extent, scenario_targets, watching
+from railderail_monitor.supervision.loop import Controller, scenario_targets, watching
 from railderail_monitor.supervision.supervisor import Supervisor
 from railderail_sim.cli import main
 from railderail_sim.sensors import config as sensor_config
 from railderail_sim.supervision.braking import BrakingModel
 from railderail_sim.supervision.closed_loop import BrakeCommand, braked_table, run_closed_loop
-from railderail_sim.vehicle.simulate import scenario, simulate
+from railderail_sim.vehicle.simulate import curve_extent, scenario, simulate
 
 LIMITS = SupervisionLimits()
 BRAKING = BrakingModel()

@@ -21,17 +21,11 @@ from railderail_sim.sensors.sensor_set import ODOMETER, SensorSet
 from railderail_sim.supervision.braking import BrakingModel
 from railderail_sim.supervision.closed_loop import BrakeCommand, run_closed_loop
 from railderail_sim.vehicle.layout import WHEELSETS, BodyTable, OutputRow
-from railderail_sim.vehicle.simulate import output_arrays
+from railderail_sim.vehicle.simulate import curve_extent, output_arrays
 
 from .curves import INTERVENTION, KMH, SupervisionLimits, Target, target_limit
 from .odometry import Odometry
 from .supervisor import LiveInputs, Supervisor
-
-
-def curve_extent(track):
-    """(start, end) m of a scenario's curve: its entry transition's start to its exit transition's end."""
-    start = track.straight_in
-    return start, start + track.transition_in + track.curve_length + track.transition_out
 
 
 def scenario_targets(track, critical_speed, limits):

@@ -57,7 +57,8 @@ from ..loads.wind import Wind
 from ..parameters import FRICTION_RANGE, SPEED_RANGE_KMH as SIMULATED_KMH, VEHICLE_SETS, parameter, vehicle_parameters
 from ..ranges import check_range
 from ..supervision.margin import SafetyMargin
-from ..vehicle.simulate import KMH, Scenario, constant_speed, output_arrays, run_in_pieces, straight_track
+from ..vehicle.simulate import (KMH, Scenario, constant_speed, curve_extent, output_arrays, run_in_pieces,
+                                straight_track)
 from .parallel import run_all
 from .progressive_trial import SPEED_RANGE_KMH, Staircase, bisect_constant_speeds, constant_run, progressive_trial
 
@@ -336,12 +337,6 @@ def defect_run(line: Line, index, base: Scenario, vehicle_set, friction, speed_k
                         speed_table=constant_speed(speed_kmh), stop_on_derailment=True, output_rate=200.0,
                         end_position=min(end + RULES.defect_window_m, track.line_length))
     return MarginsRun(sc, at - RULES.defect_window_m, end + RULES.defect_window_m)
-
-
-def curve_extent(track):
-    """(start, end) m of a curve's run's curve, from the start of its entry transition to the end of its exit
-    transition."""
-    return track.straight_in, track.straight_in + track.transition_in + track.curve_length + track.transition_out
 
 
 def curve_run(sc: Scenario, speed_kmh):

@@ -141,6 +141,13 @@ def straight_track(**changes):
     return TrackParameters(radius=math.inf, cant_height=0.0, **changes)
 
 
+def curve_extent(track: TrackParameters):
+    """(start, end) m of a run's curve: from the start of its entry transition to the end of its exit
+    transition."""
+    start = track.straight_in
+    return start, start + track.transition_in + track.curve_length + track.transition_out
+
+
 def curve_middle(track: TrackParameters):
     """Distance along the line of the circular curve's middle (m): where an unplaced gust peaks."""
     return track.straight_in + track.transition_in + 0.5 * track.curve_length
