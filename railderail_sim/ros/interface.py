@@ -37,6 +37,7 @@ transport under load nor a burst before a callback runs loses a sample.
 from __future__ import annotations
 
 import array
+import contextlib
 import importlib
 import json
 import signal
@@ -368,13 +369,47 @@ def run_report(log_text):
 
 SPIN_PERIOD_S = 0.1       # the longest a node waits for work before it looks at Ctrl-C again
 
+# run_node's Ctrl-C and SIGTERM: None, raised at once as KeyboardInterrupt (run_node's handler outside a hold);
+# False, held (`_held_signals`): noted here, not raised; True, one came while held
+_held = None
+
+
+def _interrupt(signum, frame):
+    global _held
+    if _held is None:
+        raise KeyboardInterrupt
+    _held = True
+
+
+@contextlib.contextmanager
+def _held_signals():
+    """Ctrl-C and SIGTERM (run_node's handler) noted, not raised, inside the block; one that came is raised as
+    KeyboardInterrupt when the block ends. Raised in a Python callback of rclpy's events executor, a
+    KeyboardInterrupt leaves its C++ side inconsistent: one that landed while it took the node's entities in
+    (the first entities' callbacks registered, the set not yet recorded) made its destructor abort the process
+    (SIGABRT, "Destroying callback manager with callbacks remaining": the monitor in CI; 3 Ctrl-Cs in 60 just
+    after the start on two busy cores)."""
+    global _held
+    if _held is not None:           # already held: the outer block raises
+        yield
+        return
+    _held = False
+    try:
+        yield
+    finally:
+        came, _held = _held, None
+    if came:
+        raise KeyboardInterrupt
+
 
 def spin_until(executor, until=None):
     """Spin until `until()` is true (default: until Ctrl-C), waiting at most SPIN_PERIOD_S at a time:
     without rclpy's signal handlers (`run_node`) a wait is not woken by a signal, so a Ctrl-C is taken
-    at the next period."""
-    while until is None or not until():
-        executor.spin_once(timeout_sec=SPIN_PERIOD_S)
+    at the next period. Under run_node a Ctrl-C or SIGTERM is held while the executor runs and raised
+    (KeyboardInterrupt) between two spins, never inside the executor."""
+    with _held_signals():
+        while _held is not True and (until is None or not until()):
+            executor.spin_once(timeout_sec=SPIN_PERIOD_S)
 
 
 def events_executor(context=None):
@@ -382,13 +417,10 @@ def events_executor(context=None):
     the single-threaded executor's 120 (an empty callback on sensor_msgs/Imu, measured here), for a node
     that takes thousands of messages a second (the measured-mode monitor: the shipped sensors send about
     3800 a second at real time). Not the recorder's: with its timers, a Ctrl-C left it spinning (13 times in 14 on
-    2026-12-06; before the signals were held while it was built, it aborted, SIGABRT)."""
+    2026-12-06; before the signals were held while it was built, it aborted, SIGABRT). A KeyboardInterrupt must not
+    be raised inside it (`_held_signals`)."""
     from rclpy.experimental import EventsExecutor
     return EventsExecutor(context=context)
-
-
-def _interrupt(signum, frame):
-    raise KeyboardInterrupt
 
 
 def run_node(prog, make_node, args=None, spin=None, executor_class=SingleThreadedExecutor):
@@ -406,9 +438,17 @@ def run_node(prog, make_node, args=None, spin=None, executor_class=SingleThreade
     Signals are Python's, not rclpy's: rclpy's handlers shut the context down from a thread of their
     own while the node may still be using it, which made a Ctrl-C at start end in "rcl_shutdown already
     called" or a segmentation fault (CI, twice); here Ctrl-C and SIGTERM raise KeyboardInterrupt in the
-    main thread, between callbacks (`spin_until` waits in short periods), and the context is shut down there."""
+    main thread, and the context is shut down there. They are raised at once while the node is built (a
+    Ctrl-C then ends the process without the node's summary); from then on they are held while the executor
+    is made and takes the node in and while `spin_until` runs it (taken between two spins, at most
+    SPIN_PERIOD_S later: never inside rclpy's events executor, `_held_signals`), and ignored while the
+    executor, the node and the context are torn down (a second Ctrl-C does not cut that short: a
+    KeyboardInterrupt in the executor's shutdown would leave the node undestroyed)."""
+    global _held
     rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
-    previous = signal.signal(signal.SIGTERM, _interrupt)
+    # SIGINT only where Python raises KeyboardInterrupt for it (not where it is ignored: a background job's)
+    signals = [signal.SIGTERM] + [signal.SIGINT] * (signal.getsignal(signal.SIGINT) is signal.default_int_handler)
+    previous = {signum: signal.signal(signum, _interrupt) for signum in signals}
     executor = node = None
     try:  # from here on, Ctrl-C (KeyboardInterrupt) or SIGTERM ends the node cleanly
         try:
@@ -420,12 +460,14 @@ def run_node(prog, make_node, args=None, spin=None, executor_class=SingleThreade
             print(f"{prog}: error: {error}", file=sys.stderr)
             return 1
         # the executor made after the node and Ctrl-C held while it takes the node in: with rclpy's events
-        # executor made first, one Ctrl-C in ten just after the start aborted the process (SIGABRT); none
-        # of 42 so
+        # executor made first, one Ctrl-C in ten just after the start aborted the process (SIGABRT); none of 42
+        # tries so (2026-12-04, with the signals blocked in this thread). Not enough alone: the executor takes the
+        # node's entities in at its first spin, where Ctrl-C is held too (`spin_until`)
         held = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
         try:
-            executor = executor_class()
-            executor.add_node(node)
+            with _held_signals():
+                executor = executor_class()
+                executor.add_node(node)
         finally:
             signal.pthread_sigmask(signal.SIG_SETMASK, held)
         if spin is None:
@@ -435,12 +477,19 @@ def run_node(prog, make_node, args=None, spin=None, executor_class=SingleThreade
     except (KeyboardInterrupt, ExternalShutdownException):
         return 0
     finally:
-        if executor is not None:
-            executor.shutdown()
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
-        signal.signal(signal.SIGTERM, previous)
+        _held = False      # a signal from here on is noted and dropped: the teardown is not interrupted
+        try:
+            if executor is not None:
+                executor.shutdown()
+                # dropped here, while the node and the context still exist, not when run_node's frame goes
+                executor = None
+            if node is not None:
+                node.destroy_node()
+            rclpy.try_shutdown()
+        finally:
+            for signum, handler in previous.items():
+                signal.signal(signum, handler)
+            _held = None
 
 
 __all__ = ["msgs", "TOPICS", "RowConverter", "derailment_message", "alert_dict", "derailment_dict", "run_node",
