@@ -8,8 +8,9 @@ For each interpenetration patch found by `geometry.find_patches`:
   - creepages from the velocity of the wheel material point at the contact (translation, rotation and
     spin of the wheelset, the rail being fixed): longitudinal and lateral along the contact plane,
     spin about the contact normal, each divided by the forward speed;
-  - creep forces by the selected law (`creep.creep_forces`) on the Hertz ellipse (or the discrete
-    patch's equivalent ellipse).
+  - creep forces by the selected law (`creep.creep_law`, as `creep.creep_forces` with Kalker's coefficients
+    from the model's table, `creep.tabulated_coefficients`) on the Hertz ellipse (or the discrete patch's
+    equivalent ellipse).
 The force and its moment about the wheelset centre are returned in the wheelset's track axes.
 
 Only the left wheel is written out; `wheel_forces` mirrors the pose for the right wheel.
@@ -28,7 +29,7 @@ import numpy as np
 from ..jit import core
 from ..record import Record
 from . import geometry as geo
-from .creep import creep_forces
+from .creep import creep_law, tabulated_coefficients
 from .hertz import hertz_shape
 from . import kik_piotrowski as kp
 from .kik_piotrowski import DiscretePatch
@@ -177,7 +178,11 @@ def wheel_forces(cg, cp, side, pose, motion, scratch, cand, tracked, rec):
         xi_x = vx / speed
         xi_y = (vy * tY + vz * tZ) / speed
         phi_s = (wy * nY + wz * nZ) / speed
-        fx, ft, mz = creep_forces(model, xi_x, xi_y, phi_s, a_eq, b_eq, normal, mu, shear, nu)
+        if a_eq > 0.0 and b_eq > 0.0:      # Kalker's coefficients from the model's table (creep.py)
+            C11, C22, C23, C33 = tabulated_coefficients(cp, a_eq, b_eq)
+            fx, ft, mz = creep_law(model, xi_x, xi_y, phi_s, a_eq, b_eq, normal, mu, shear, C11, C22, C23, C33)
+        else:
+            fx, ft, mz = 0.0, 0.0, 0.0
         if record:
             row = patches[k]
             row[Patch.normal_force] = normal
