@@ -183,3 +183,17 @@ def test_trace_line_gap_is_the_wheel_surfaces_lowest_point_at_large_yaw(cg_lm, y
     inside = (Y > rail_y[0]) & (Y < rail_y[-1])
     g_brute = np.min(np.where(inside, Z - np.interp(Y, rail_y, rz), np.inf))
     assert g_trace == pytest.approx(g_brute, abs=1e-6)
+
+
+def test_small_angle_sin_cos_within_an_ulp_of_libm():
+    """`wheelset.sin_cos` (the wheel's roll and yaw): its Taylor polynomials within one rounding of libm's
+    sin and cos up to SMALL_ANGLE, libm's own values beyond."""
+    from railderail_sim.contact import wheelset as ws
+    rng = np.random.default_rng(5)
+    xs = np.concatenate([np.linspace(-ws.SMALL_ANGLE, ws.SMALL_ANGLE, 20001), rng.uniform(-0.05, 0.05, 20000),
+                         [0.0, -0.0, 1e-300, 1e-9, ws.SMALL_ANGLE, -ws.SMALL_ANGLE]])
+    for x in xs:
+        s, c = ws.sin_cos(float(x))
+        assert abs(s - math.sin(x)) <= np.spacing(abs(math.sin(x))) and abs(c - math.cos(x)) <= np.spacing(1.0) / 2
+    for x in (0.0500001, -0.07, 0.3, -1.2, 3.0):
+        assert ws.sin_cos(x) == (math.sin(x), math.cos(x))

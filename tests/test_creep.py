@@ -105,6 +105,44 @@ def test_nu_interpolation_between_columns():
         cr.kalker_coefficients(0.0, 0.3)
 
 
+TABLE_RTOL = 1e-14        # the tabulated coefficients' bound against the direct function: rounding only
+
+
+def _tabulated_error(cp, nu, ratios):
+    """Largest relative difference per coefficient of `tabulated_coefficients(cp, ...)` from
+    `kalker_coefficients(a/b, nu)` over the ratios a/b (b = 7 mm, a Hertz patch's size)."""
+    worst = np.zeros(4)
+    for r in ratios:
+        b = 7.0e-3
+        got = np.array(cr.tabulated_coefficients(cp, r * b, b))
+        want = np.array(cr.kalker_coefficients(r * b / b, nu))
+        worst = np.maximum(worst, np.abs(got / want - 1.0))
+    return worst
+
+
+def test_the_model_table_is_kalker_coefficients_to_rounding():
+    """The model's table (`ContactConstants.kalker`, written by `contact_array` at its Poisson ratio) gives
+    `kalker_coefficients` within TABLE_RTOL over a/b 0.05-20 (the table's segments are a/b 0.1-10, beyond
+    them the direct function is called) at every Poisson ratio; a table built with another nu does not."""
+    from railderail_sim.contact.layout import ContactConstants
+    from railderail_sim.parameters import ContactParameters
+    from railderail_sim.vehicle.assemble import contact_array
+    ratios = np.concatenate([np.exp(np.linspace(math.log(0.05), math.log(20.0), 4001)),
+                             [0.1, 1.0, 10.0, 1 / 30, 30.0, 0.1 * (1 + 1e-15), 10.0 * (1 - 1e-15)],
+                             np.arange(1, 19) / 10.0, 1.0 / (2.0 - np.arange(10, 20) / 10.0)])
+    for nu in (0.0, 0.1, 0.25, 0.28, 0.3, 0.45, 0.5):
+        cp = contact_array(ContactParameters(poisson_ratio=nu))
+        assert cp[ContactConstants.poisson_ratio] == nu
+        worst = _tabulated_error(cp, nu, ratios)
+        assert np.all(worst <= TABLE_RTOL), (nu, worst)
+    # the table is the model's own: one built at another nu than the model's is off by far more than the bound
+    cp = contact_array(ContactParameters(poisson_ratio=NU))
+    cp[ContactConstants.kalker.columns] = cr.kalker_table(0.27).ravel()
+    assert np.min(_tabulated_error(cp, NU, [0.5, 2.7, 9.0])) > 1e-4
+    with pytest.raises(ValueError):
+        cr.kalker_table(0.6)
+
+
 # --------------------------------------------------------------------------- creep laws
 
 def test_linear_theory_sign_convention():

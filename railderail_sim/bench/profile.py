@@ -18,7 +18,8 @@ contact candidates its last full search left. Parts:
                                    stages and the last stage call them
     contact_table_us               of which the contact search: the table lookup (`table.table_patches`) or
                                    the online search where the pose leaves the table
-    creep_law_us                   of which the creep law (`creep.creep_forces`) on the loaded patches
+    creep_law_us                   of which the creep law (`creep.creep_law` with Kalker's coefficients from
+                                   the model's table) on the loaded patches
     elastic_track_us               the eight rails' accelerations (`track.elastic.rail_accelerations`; 0 on
                                    rigid track, where they are not called)
     aerodynamics_us                `loads.aerodynamics.aerodynamic_load` (returns at once in still air)
@@ -164,12 +165,15 @@ def _wheels_loop(n, x, model, kin, v, buffers, tracked, forces, search_only):
 
 
 @_njit
-def _creep_loop(n, rows, model_id, mu, shear, nu):
+def _creep_loop(n, rows, cp, model_id, mu, shear):
+    """The creep law on the patch rows as `wheelset.wheel_forces` calls it (Kalker's coefficients from cp's table)."""
     acc = 0.0
     for _ in range(n):
         for r in range(rows.shape[0]):
-            fx, fy, mz = creep.creep_forces(model_id, rows[r, 0], rows[r, 1], rows[r, 2], rows[r, 3], rows[r, 4],
-                                            rows[r, 5], mu, shear, nu)
+            a, b = rows[r, 3], rows[r, 4]
+            C11, C22, C23, C33 = creep.tabulated_coefficients(cp, a, b)
+            fx, fy, mz = creep.creep_law(model_id, rows[r, 0], rows[r, 1], rows[r, 2], a, b, rows[r, 5], mu, shear,
+                                         C11, C22, C23, C33)
             acc += fx + fy + mz
     return acc
 
@@ -395,9 +399,8 @@ def profile_case(sc, window_s=WINDOW_S):
         - t["wheel_on_rail_us"]
     rows = _creep_rows(sim)
     cp = arrays.cp
-    law = (int(cp[ContactConstants.creep_model]), cp[ContactConstants.friction], cp[ContactConstants.shear_modulus],
-           cp[ContactConstants.poisson_ratio])
-    t["creep_law_us"] = min_us(lambda n: _creep_loop(n, rows, *law))
+    law = (int(cp[ContactConstants.creep_model]), cp[ContactConstants.friction], cp[ContactConstants.shear_modulus])
+    t["creep_law_us"] = min_us(lambda n: _creep_loop(n, rows, cp, *law))
     out["loaded_patches"] = len(rows)
     elastic = arrays.support[ElasticTrack.elastic] > 0.5            # rigid track: not called
     t["elastic_track_us"] = min_us(lambda n: _elastic_loop(n, x, arrays.support)) if elastic else 0.0

@@ -44,6 +44,23 @@ routine; its column was entered from the standard published table (Kalker 1990, 
 second independent transcription at hand, and is checked only against the asymptote
 pi^2/(16(1-nu)g) and for smoothness (single source; it only enters the spin moment Mz).
 
+Kalker's coefficients tabulated per model (``kalker_table``, ``tabulated_coefficients``)
+-----------------------------------------------------------------------------------------
+The vehicle core calls the creep law on every loaded patch of every right-hand side, and
+``kalker_coefficients`` was most of the law's time (the nu weights, two divisions for a/b and b/a, four
+interpolations each with its own division, the branches and the range checks). Poisson's ratio is a model
+parameter, so the model building (``vehicle.assemble.contact_array``) writes ``kalker_table(nu)`` into the
+contact constants cp (``ContactConstants.kalker``): on each of Table E3's 18 segments of u (0.1 to 1.9, the
+same u as above) and for each coefficient, the interpolation above at that nu is the ratio of a cubic and
+a quadratic in the segment's fraction f, C = P(f)/Q(f) (P = c0 c1 c2, Q = w0 c1 c2 + w1 c0 c2 + w2 c0 c1
+with c_j linear in f), so the table holds P's and Q's coefficients (``KalkerPiece``) and
+``tabulated_coefficients(cp, a, b)`` is *the same function*, not an approximation of it: its only error is
+rounding (largest relative difference to ``kalker_coefficients`` over a/b = 0.1-10, nu = 0-0.5: below
+1e-14, ``tests/test_creep.py``). Outside the table's segments (a/b < 0.1 or > 10, the asymptotic
+continuation with its logarithms and powers; the core's runs meet a/b 0.47-9.3) it calls
+``kalker_coefficients``. ``creep_law`` is ``creep_forces`` given the coefficients. The direct function
+stays for FASTSIM, Kik-Piotrowski and the methods, which call it once per patch, not per right-hand side.
+
 Saturated laws (creep_forces model ids)
 ---------------------------------------
 * ``LINEAR`` (0): the linear theory above, no friction limit.
@@ -72,8 +89,9 @@ import math
 
 import numpy as np
 
-from ..jit import core
+from ..jit import core, core_inline
 from .fastsim import NX_DEFAULT, NY_DEFAULT, fastsim_forces
+from .layout import KALKER_SEGMENTS, ContactConstants, KalkerPiece
 
 LINEAR = 0
 SHEN_HEDRICK_ELKINS = 1
@@ -217,6 +235,66 @@ def kalker_coefficients(a_over_b, nu):
             _table_at(KALKER_C23, row, frac, w), _table_at(KALKER_C33, row, frac, w))
 
 
+def kalker_table(nu):
+    """Kalker's coefficients at Poisson's ratio nu as the exact rational pieces of `tabulated_coefficients`:
+    an array (KALKER_SEGMENTS, 4, KalkerPiece.size()) for `ContactConstants.kalker` (module docstring).
+
+    Plain float arithmetic (no transcendental function), so the same on every CPU.
+    """
+    if not (0.0 <= nu <= 0.5):
+        raise ValueError("kalker_table: nu must be within [0, 0.5]")
+    w0, w1, w2 = 8.0 * (nu - 0.25) * (nu - 0.5), -16.0 * nu * (nu - 0.5), 8.0 * nu * (nu - 0.25)    # _nu_weights
+    out = np.zeros((KALKER_SEGMENTS, 4, KalkerPiece.size()))
+    for c, tab in enumerate((KALKER_C11, KALKER_C22, KALKER_C23, KALKER_C33)):
+        for row in range(KALKER_SEGMENTS):
+            t0, t1, t2 = (float(v) for v in tab[row])
+            d0, d1, d2 = (float(tab[row + 1, j] - tab[row, j]) for j in range(3))   # c_j = t_j + f d_j (_table_at)
+            piece = out[row, c]
+            num, den = KalkerPiece.numerator, KalkerPiece.denominator
+            piece[num + 0] = t0 * t1 * t2
+            piece[num + 1] = d0 * t1 * t2 + t0 * d1 * t2 + t0 * t1 * d2
+            piece[num + 2] = d0 * d1 * t2 + d0 * t1 * d2 + t0 * d1 * d2
+            piece[num + 3] = d0 * d1 * d2
+            piece[den + 0] = w0 * t1 * t2 + w1 * t0 * t2 + w2 * t0 * t1
+            piece[den + 1] = w0 * (d1 * t2 + t1 * d2) + w1 * (d0 * t2 + t0 * d2) + w2 * (d0 * t1 + t0 * d1)
+            piece[den + 2] = w0 * d1 * d2 + w1 * d0 * d2 + w2 * d0 * d1
+    return out
+
+
+_PIECE = KalkerPiece.size()
+
+
+@core_inline
+def _piece(cp, o, f):
+    """P(f) / Q(f) of the KalkerPiece at cp[o:] (Horner)."""
+    n = KalkerPiece.numerator
+    d = KalkerPiece.denominator
+    return ((cp[o + n] + f * (cp[o + n + 1] + f * (cp[o + n + 2] + f * cp[o + n + 3])))
+            / (cp[o + d] + f * (cp[o + d + 1] + f * cp[o + d + 2])))
+
+
+@core_inline
+def tabulated_coefficients(cp, a, b):
+    """Kalker's (C11, C22, C23, C33) for semi-axes a (along x), b > 0 from the contact constants' table
+    (`ContactConstants.kalker`, at their Poisson ratio): `kalker_coefficients(a / b, nu)` to rounding, with
+    one division and no branch on nu (module docstring); outside Table E3 (a/b < 0.1 or > 10) that function.
+
+    Hand-written in the core: it runs on every loaded patch of every right-hand side (inlined into
+    `wheelset.wheel_forces`, which passes cp on).
+    """
+    if a <= b:
+        u = a / b
+    else:
+        u = 2.0 - b / a
+    if not (u >= 0.1 and u <= 1.9):
+        return kalker_coefficients(a / b, cp[ContactConstants.poisson_ratio])
+    v = (u - 0.1) * 10.0
+    row = min(int(v), KALKER_SEGMENTS - 1)
+    f = v - row
+    o = ContactConstants.kalker + 4 * _PIECE * row
+    return _piece(cp, o, f), _piece(cp, o + _PIECE, f), _piece(cp, o + 2 * _PIECE, f), _piece(cp, o + 3 * _PIECE, f)
+
+
 @core
 def linear_forces(xi_x, xi_y, phi, a, b, G, C11, C22, C23, C33):
     """Kalker's linear theory (Fx, Fy, Mz) on the wheel for given coefficients (no friction cap)."""
@@ -304,6 +382,13 @@ def creep_forces(model_id, xi_x, xi_y, phi, a, b, N, mu, G, nu):
     if not (N > 0.0) or not (a > 0.0) or not (b > 0.0):
         return 0.0, 0.0, 0.0
     C11, C22, C23, C33 = kalker_coefficients(a / b, nu)
+    return creep_law(model_id, xi_x, xi_y, phi, a, b, N, mu, G, C11, C22, C23, C33)
+
+
+@core
+def creep_law(model_id, xi_x, xi_y, phi, a, b, N, mu, G, C11, C22, C23, C33):
+    """`creep_forces` given Kalker's coefficients (`kalker_coefficients`, `tabulated_coefficients`) for a/b;
+    N, a and b > 0."""
     if model_id == LINEAR:
         return linear_forces(xi_x, xi_y, phi, a, b, G, C11, C22, C23, C33)
     if model_id == SHEN_HEDRICK_ELKINS:

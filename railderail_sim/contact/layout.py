@@ -8,6 +8,8 @@ from ..record import Record
 
 MAX_PATCHES = 3                      # contact patches of one wheel at most
 MAX_CANDIDATES = 6                   # contact minima followed within a step at most
+KALKER_SEGMENTS = 18                 # segments of Kalker's Table E3 between its rows u = 0.1, 0.2, ..., 1.9
+                                     # (creep.KALKER_C11 and the others: 19 rows)
 
 
 class GeometryHeader(Record):
@@ -93,6 +95,13 @@ class Candidates(Record):
 CANDIDATES_SIZE = Candidates.size()
 
 
+class KalkerPiece(Record):
+    """One of Kalker's coefficients (C11, C22, C23 or C33) on one segment of Table E3 at the model's Poisson
+    ratio, exactly: C = P(f) / Q(f), f in [0, 1] the fraction of the segment (`creep.kalker_table`)."""
+    numerator = "-", "P's coefficients of f^0, f^1, f^2, f^3", (4,)
+    denominator = "-", "Q's coefficients of f^0, f^1, f^2", (3,)
+
+
 class ContactConstants(Record):
     """The contact constants array cp."""
     youngs_modulus = "Pa", "Young's modulus E of wheel and rail"
@@ -105,6 +114,8 @@ class ContactConstants(Record):
     normal_model = "-", "NORMAL_HERTZ or NORMAL_DISCRETE"
     creep_model = "-", "creep law, one of creep.LINEAR, SHEN_HEDRICK_ELKINS, POLACH, FASTSIM"
     qp_min_load = "N", "vertical load below which Q/P is not evaluated (an unloaded wheel's ratio means nothing)"
+    kalker = ("-", "Kalker's C11, C22, C23, C33 on each segment of Table E3 at poisson_ratio (`creep.kalker_table`)",
+              (KALKER_SEGMENTS, 4), KalkerPiece)
 
 
 C_SIZE = ContactConstants.size()

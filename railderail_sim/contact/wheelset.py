@@ -8,8 +8,9 @@ For each interpenetration patch found by `geometry.find_patches`:
   - creepages from the velocity of the wheel material point at the contact (translation, rotation and
     spin of the wheelset, the rail being fixed): longitudinal and lateral along the contact plane,
     spin about the contact normal, each divided by the forward speed;
-  - creep forces by the selected law (`creep.creep_forces`) on the Hertz ellipse (or the discrete
-    patch's equivalent ellipse).
+  - creep forces by the selected law (`creep.creep_law`, as `creep.creep_forces` with Kalker's coefficients
+    from the model's table, `creep.tabulated_coefficients`) on the Hertz ellipse (or the discrete patch's
+    equivalent ellipse).
 The force and its moment about the wheelset centre are returned in the wheelset's track axes.
 
 Only the left wheel is written out; `wheel_forces` mirrors the pose for the right wheel.
@@ -25,10 +26,10 @@ import math
 
 import numpy as np
 
-from ..jit import core
+from ..jit import core, core_inline
 from ..record import Record
 from . import geometry as geo
-from .creep import creep_forces
+from .creep import creep_law, tabulated_coefficients
 from .hertz import hertz_shape
 from . import kik_piotrowski as kp
 from .kik_piotrowski import DiscretePatch
@@ -37,6 +38,7 @@ from .layout import (MAX_PATCHES, P_COLS, WP_SIZE, Candidates, ContactConstants,
                      Wheel, WheelPatch)
 
 NORMAL_HERTZ, NORMAL_DISCRETE = 0, 1
+SMALL_ANGLE = 0.05    # rad; `sin_cos` by its Taylor polynomials up to here (within an ulp of libm's), libm beyond
 KP_MIN_STRIPS = 24    # strips across a Kik-Piotrowski patch at least (a flange patch spans 4-6 grid points)
 
 
@@ -66,6 +68,23 @@ def contact_scratch(cg):
 def candidates(count=1):
     """Candidate lists (`Candidates`) of `count` wheels."""
     return np.zeros((count, Candidates.size()))
+
+
+@core_inline
+def sin_cos(x):
+    """(sin x, cos x). For |x| <= SMALL_ANGLE (a wheelset's roll and yaw relative to its rails: a few mrad) by
+    the Taylor polynomials to x^7 and x^8, whose truncation (x^9/9!, x^10/10!) is below 2e-17 relative there:
+    they differ from libm's sin and cos by at most one rounding (tests/test_contact_geometry.py); libm beyond.
+
+    Hand-written in the core: a libm sin and cos cost about 16 ns per pair, the polynomials 2 ns, and
+    `wheel_forces` needs two pairs per wheel and right-hand side.
+    """
+    if abs(x) <= SMALL_ANGLE:
+        x2 = x * x
+        s = x + x * x2 * (-1.0 / 6.0 + x2 * (1.0 / 120.0 + x2 * (-1.0 / 5040.0)))
+        c = 1.0 + x2 * (-0.5 + x2 * (1.0 / 24.0 + x2 * (-1.0 / 720.0 + x2 * (1.0 / 40320.0))))
+        return s, c
+    return math.sin(x), math.cos(x)
 
 
 @core
@@ -98,10 +117,8 @@ def wheel_forces(cg, cp, side, pose, motion, scratch, cand, tracked, rec):
         else:
             count, gmin = geo.find_patches(cg, y, z, phi, psi, gap, ys, patches, cand)
     r0 = cg[GeometryHeader.nominal_radius]
-    cphi = math.cos(phi)
-    sphi = math.sin(phi)
-    cpsi = math.cos(psi)
-    spsi = math.sin(psi)
+    sphi, cphi = sin_cos(phi)
+    spsi, cpsi = sin_cos(psi)
     # axle direction (track axes) and total angular velocity of the wheel
     ax_x = -spsi * cphi
     ax_y = cpsi * cphi
@@ -115,6 +132,9 @@ def wheel_forces(cg, cp, side, pose, motion, scratch, cand, tracked, rec):
     mu = cp[ContactConstants.friction]
     chi = cp[ContactConstants.contact_damping]
     model = int(cp[ContactConstants.creep_model])
+    discrete = int(cp[ContactConstants.normal_model]) == NORMAL_DISCRETE
+    inv_speed = 1.0 / speed
+    inv_estar_cbrt = 1.0 / cp[ContactConstants.combined_modulus_cbrt]
     fy_tot = 0.0
     fz_tot = 0.0
     fx_tot = 0.0
@@ -149,7 +169,6 @@ def wheel_forces(cg, cp, side, pose, motion, scratch, cand, tracked, rec):
         vy = vy0 + wz * rx - wx * rz
         vz = vz0 + wx * ry - wy * rx
         approach_rate = -(vy * nY + vz * nZ)
-        discrete = int(cp[ContactConstants.normal_model]) == NORMAL_DISCRETE
         if discrete:
             n_el, a, b, a_eq, b_eq = _discrete_normal(cg, (y, z, phi, psi), int(patches[k, Patch.grid_index]),
                                                       patches[k, Patch.gap], cd, scratch,
@@ -157,8 +176,8 @@ def wheel_forces(cg, cp, side, pose, motion, scratch, cand, tracked, rec):
         if not discrete or record:
             shape = Patch.hertz_shape
             if patches[k, shape + HertzShape.stiffness] > 0.0:     # from the contact table, at E* = 1 Pa
-                ac = patches[k, shape + HertzShape.a_coefficient] / cp[ContactConstants.combined_modulus_cbrt]
-                bc = patches[k, shape + HertzShape.b_coefficient] / cp[ContactConstants.combined_modulus_cbrt]
+                ac = patches[k, shape + HertzShape.a_coefficient] * inv_estar_cbrt
+                bc = patches[k, shape + HertzShape.b_coefficient] * inv_estar_cbrt
                 stiff = patches[k, shape + HertzShape.stiffness] * estar
             else:
                 ac, bc, stiff = hertz_shape(patches[k, Patch.curvature_a], patches[k, Patch.curvature_b], estar)
@@ -174,10 +193,14 @@ def wheel_forces(cg, cp, side, pose, motion, scratch, cand, tracked, rec):
         normal = n_el * (1.0 + chi * approach_rate)
         if normal <= 0.0:
             continue
-        xi_x = vx / speed
-        xi_y = (vy * tY + vz * tZ) / speed
-        phi_s = (wy * nY + wz * nZ) / speed
-        fx, ft, mz = creep_forces(model, xi_x, xi_y, phi_s, a_eq, b_eq, normal, mu, shear, nu)
+        xi_x = vx * inv_speed
+        xi_y = (vy * tY + vz * tZ) * inv_speed
+        phi_s = (wy * nY + wz * nZ) * inv_speed
+        if a_eq > 0.0 and b_eq > 0.0:      # Kalker's coefficients from the model's table (creep.py)
+            C11, C22, C23, C33 = tabulated_coefficients(cp, a_eq, b_eq)
+            fx, ft, mz = creep_law(model, xi_x, xi_y, phi_s, a_eq, b_eq, normal, mu, shear, C11, C22, C23, C33)
+        else:
+            fx, ft, mz = 0.0, 0.0, 0.0
         if record:
             row = patches[k]
             row[Patch.normal_force] = normal

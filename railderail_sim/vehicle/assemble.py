@@ -335,7 +335,8 @@ def contact_array(contact: ContactParameters, static_wheel_load=0.0):
                                  friction=contact.friction_coefficient, contact_damping=contact.contact_damping,
                                  normal_model=NORMAL_MODELS[contact.normal_model],
                                  creep_model=CREEP_MODELS[contact.creep_model],
-                                 qp_min_load=contact.derailment_coefficient_min_load * static_wheel_load)
+                                 qp_min_load=contact.derailment_coefficient_min_load * static_wheel_load,
+                                 kalker=creep.kalker_table(nu))
 
 
 def vehicle_array(vp: VehicleParameters, cg, lift_tolerance):
