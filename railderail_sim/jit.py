@@ -15,8 +15,38 @@ the time loop's) and constant arrays live at module level. Views and slices of a
 the caller holds the memory.
 `_nrt` is numba's own option (`numba.core.options.DefaultOptions`), marked private by its underscore:
 setup.py bounds numba to the releases it is checked on.
+
+The on-disk cache. numba checks a cached function against its own source file's time stamp only, not
+against the callees it compiled in from other modules nor the record layouts it took as constants: after
+an edit of `creep.py`, `dynamics.rhs` kept running the old creep law from its cache. So the cache lives in
+a folder of its own per version of the core's sources (`sources_key`: every module the compiled code is
+made of or takes constants from), under the user's cache folder (`~/.cache/railderail/numba/<key>`, about
+10 MB each; older ones may be deleted), unless NUMBA_CACHE_DIR says where.
 """
+import hashlib
+import os
+from pathlib import Path
+
 import numba
+
+# the packages and modules of railderail_sim that the compiled core is made of or takes constants from (the
+# layers above it, cli, ros, methods and the like, hold no compiled function)
+CORE_SOURCES = ("contact", "loads", "sensors", "track", "vehicle")
+
+
+def sources_key():
+    """16 hex digits of SHA-256 over the core's sources (CORE_SOURCES and the package's own modules)."""
+    here = Path(__file__).parent
+    digest = hashlib.sha256()
+    for path in sorted(here.glob("*.py")) + [p for d in CORE_SOURCES for p in sorted((here / d).rglob("*.py"))]:
+        digest.update(path.relative_to(here).as_posix().encode())
+        digest.update(path.read_bytes())
+    return digest.hexdigest()[:16]
+
+
+if not os.environ.get("NUMBA_CACHE_DIR"):
+    numba.config.CACHE_DIR = str(Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+                                 / "railderail" / "numba" / sources_key())
 
 OPTIONS = dict(_nrt=False)     # also for the benchmarks' timing loops, so they call the core as the model does
 core = numba.njit(cache=True, **OPTIONS)
