@@ -73,11 +73,12 @@ def measured_alarms(results, row_time, sweep):
     return out
 
 
-def measured_results(sensors, sim, arrays):
+def measured_results(sensors, sim, arrays, ideal=None):
     """`measured.evaluate` of a run seen through a sensor set, the monitor switched on after the simulation's
-    start-up (`sensors.measure.START_UP_S`: a train in service never sees it)."""
+    start-up (`sensors.measure.START_UP_S`: a train in service never sees it); `ideal` the run's ideal
+    readings (`sensors.measure.ideal_readings`) when already known."""
     from railderail_sim.sensors.measure import START_UP_S, after, run_signals
-    seen = after(run_signals(sensors, sim, arrays), START_UP_S)
+    seen = after(run_signals(sensors, sim, arrays, ideal), START_UP_S)
     if any(len(v) < 2 for k, v in seen.items() if k.endswith("_time")):
         return {}           # a run ending before every sensor has given the monitor two samples: nothing said
     return measured.evaluate(seen, sim.scenario.vehicle, shipped_measured_limits(), measured.sample_rates(sensors))
@@ -135,12 +136,16 @@ def score_run(arrays, found, limits, rules, measured_found=None, beyond=None):
     return out
 
 
-def sensor_sensitivity_run(sensors, sim, arrays, found, rules, variants=SENSOR_VARIANTS[1:], beyond=None):
+def sensor_sensitivity_run(sensors, sim, arrays, found, rules, variants=SENSOR_VARIANTS[1:], beyond=None,
+                           ideal=None):
     """{variant name: {criterion: [its row at the shipped level]}} at the window of the recommendation: the
     measured criteria of one run seen through each of `variants` (by default SENSOR_VARIANTS but the first,
-    the shipped set, scored with the run itself), over the same rows: no re-simulation."""
+    the shipped set, scored with the run itself), over the same rows: no re-simulation, and the ideal
+    readings (`ideal`, or computed here) shared by the variants, whose mounts are the set's."""
+    from railderail_sim.sensors.measure import ideal_readings
     shipped = lambda criterion: [shipped_level(criterion)]
-    return {variant_name(v): scores(measured_alarms(measured_results(sensor_variant(sensors, v), sim, arrays),
+    ideal = ideal_readings(sensors, sim, arrays) if ideal is None else ideal
+    return {variant_name(v): scores(measured_alarms(measured_results(sensor_variant(sensors, v), sim, arrays, ideal),
                                                     arrays["time"], shipped), arrays, found, rules.window_s, beyond)
             for v in variants}
 
@@ -158,6 +163,7 @@ def run_one(item, cache=None, surveys=None):
     from dataclasses import replace
 
     from railderail_sim.sensors.config import load as load_sensors
+    from railderail_sim.sensors.measure import ideal_readings
     from railderail_sim.vehicle.simulate import run_to_stop
 
     started = time.process_time()
@@ -174,7 +180,8 @@ def run_one(item, cache=None, surveys=None):
     deficiency = cant_deficiency(arrays, sc.track.rail_spacing)
     s, t = arrays["position"], arrays["time"]
     sensors = replace(load_sensors(), seed=seed)          # the shipped sensor set, its noise from the run's seed
-    sensed = measured_results(sensors, sim, arrays)
+    ideal = ideal_readings(sensors, sim, arrays)
+    sensed = measured_results(sensors, sim, arrays, ideal)
     result = dict(scenario=entry.name, family=entry.family, seed=seed, part=entry.part_of(seed), line=line,
                   expected_mechanism=entry.mechanism, expect_derailment=entry.expect_derailment,
                   derailed=event is not None, diverged=error, derailment=None if event is None else dict(
@@ -188,7 +195,7 @@ def run_one(item, cache=None, surveys=None):
                   | {c: float(np.max(np.nan_to_num(m.value, nan=0.0), initial=0.0)) for c, m in sensed.items()},
                   windows=score_run(arrays, found, limits, rules, sensed, beyond))
     scored = time.process_time()
-    result["sensor_variants"] = (sensor_sensitivity_run(sensors, sim, arrays, found, rules, beyond=beyond)
+    result["sensor_variants"] = (sensor_sensitivity_run(sensors, sim, arrays, found, rules, beyond=beyond, ideal=ideal)
                                  if result["part"] == "test" else None)
     varied = time.process_time()
     result["supervision"] = supervision_of_run(entry, seed, sc, sim, arrays, found, rules, beyond, surveys)

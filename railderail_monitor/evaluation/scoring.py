@@ -81,10 +81,12 @@ def in_alarm(values, position, threshold, held, rearm_fraction, rearm_m, clock=N
     return mask
 
 
-def episode_start(alarm, k):
-    """The first sample of the alarm episode of one channel (n,) bool that is on at sample k."""
-    off = np.flatnonzero(~alarm[:k + 1])
-    return int(off[-1]) + 1 if len(off) else 0
+def episode_start(alarm, k, opening=0):
+    """The first sample of the alarm episode of one channel (n,) bool that is on at sample k, or `opening` if
+    the episode started before it (only the samples from `opening` on are searched: a run is long, a window
+    short)."""
+    off = np.flatnonzero(~alarm[opening:k + 1])
+    return opening + int(off[-1]) + 1 if len(off) else opening
 
 
 def score(alarms, places, arrays, found, window_s, label):
@@ -100,12 +102,13 @@ def score(alarms, places, arrays, found, window_s, label):
         k = int(np.searchsorted(t, h["time_s"], "left")) - 1       # the hazard's last sample before its time
         opening = int(np.searchsorted(t, h["time_s"] - window_of(h, window_s), "left"))
         starts = []
+        lasting = slice(int(np.searchsorted(t, h["time_s"], "left")), int(np.searchsorted(t, h["end_s"], "right")))
         for c in matching:
             if k >= 0 and alarms[c, k]:
-                first = max(episode_start(alarms[c], k), opening)
+                first = episode_start(alarms[c], k, opening)
                 true[c, first:k + 1] = True
                 starts.append(first)
-            true[c] |= alarms[c] & (t >= h["time_s"]) & (t <= h["end_s"])
+            true[c, lasting] |= alarms[c, lasting]
         warnings.append((float(h["time_s"] - t[min(starts)]), float(v[min(starts)])) if starts else None)
     false = np.any(alarms & ~true, axis=0)
     normal = label == NORMAL

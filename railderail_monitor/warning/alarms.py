@@ -77,12 +77,12 @@ def alarm_intervals(values, position, threshold, debounce=2.0, rearm_fraction=0.
     n = len(v)
 
     def first_after(indices, i):
-        k = np.searchsorted(indices, i)
+        k = indices.searchsorted(i)
         return int(indices[k]) if k < len(indices) else n
 
     def held(coordinate, start, end, length):
         """The first sample in [start, end) whose coordinate is `length` past the start's, else end."""
-        k = int(np.searchsorted(coordinate[start:end], coordinate[start] + length)) + start
+        k = int(coordinate[start:end].searchsorted(coordinate[start] + length)) + start
         k = max(k - 1, start)                  # the exact comparison decides, not the sum's rounding
         while k < end and not coordinate[k] - coordinate[start] >= length:
             k += 1

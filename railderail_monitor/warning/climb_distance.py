@@ -65,10 +65,12 @@ def climb_distance(qp, position, nadal):
     q = np.asarray(qp, dtype=float)
     step = np.diff(np.asarray(position, dtype=float), prepend=float(position[0]))
     out = np.zeros_like(q)
-    run = np.zeros(q.shape[1:])
-    for i in range(len(q)):               # a running sum that restarts: one pass, as the monitor does it
-        run = np.where(q[i] >= nadal, run + step[i], 0.0)
-        out[i] = run
+    for wheel in range(q.shape[1]):
+        # a running sum that restarts: over each stretch at or above the limit the steps accumulated one by
+        # one from 0 (np.cumsum adds in order), as the monitor's running sum does it sample by sample
+        edges = np.flatnonzero(np.diff(np.concatenate(([False], q[:, wheel] >= nadal, [False])).astype(np.int8)))
+        for a, b in zip(edges[::2], edges[1::2]):
+            out[a:b, wheel] = np.cumsum(step[a:b])
     return out
 
 
