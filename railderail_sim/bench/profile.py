@@ -4,7 +4,10 @@ takes the steps it takes (docs/performance.md).
 No Python profiler sees inside compiled numba code, so each part of `dynamics.rhs` is timed in isolation: a
 numba loop calls that part's own core function n times at one state (n chosen for about TARGET_S per
 run; the minimum of REPEATS runs). The state is the run's own after WINDOW_S of simulated time, with the
-contact candidates its last full search left. Parts:
+contact candidates its last full search left. Every time is CPU time (`time.process_time`) and the best of
+REPEATS runs, the window's run as the parts' loops: integrator_us is the difference of the two, and one
+run's wall time against the parts' best made it read anything from -10 to 30 us per step with the load of
+the shared machine (docs/performance.md, "The stepper's share"). Parts:
 
     rhs_full_us, rhs_tracked_us    the whole right-hand side, with the full contact search (the step's last
                                    stage) and with the tracked one (its five inner stages)
@@ -23,10 +26,14 @@ contact candidates its last full search left. Parts:
     elastic_track_us               the eight rails' accelerations (`track.elastic.rail_accelerations`; 0 on
                                    rigid track, where they are not called)
     aerodynamics_us                `loads.aerodynamics.aerodynamic_load` (returns at once in still air)
-    step_us                        wall time per integration step of the window's run (accepted + rejected)
+    step_us                        CPU time per integration step of the window's run (accepted + rejected),
+                                   the best of REPEATS runs
     integrator_us                  step_us less the five tracked and one full right-hand sides of a step:
                                    the stage sums, the error norm, the output rows (each with one more
                                    full right-hand side at its interpolated state) and the checks
+    output_row_us                  one output row (`integrator._row_at`: its full right-hand side at the
+                                   row's state, the row's fill and the derailment check)
+    output_rows_us                 the output rows' share of a step: output_row_us x rows per step
 
 Steps: accepted and rejected per simulated second over the window; the floor that the largest step
 (`simulate.MAX_STEP`) sets (the steps run past the output instants: dense output); the
@@ -65,7 +72,7 @@ from ..track.layout import N_RAIL_DOF, ElasticTrack, RailDof
 from ..vehicle import dynamics as dyn
 from ..vehicle import integrator as itg
 from ..vehicle.dynamics import Kinematics
-from ..vehicle.layout import BOGIES, BodyTable, Dof, N_BODY, N_DOF, N_STATE, State, Vector, WHEELSETS
+from ..vehicle.layout import BOGIES, BodyTable, Dof, N_BODY, N_DOF, N_OUT, N_STATE, State, Vector, WHEELSETS
 from ..vehicle.simulate import MAX_STEP, Simulation, scenario
 
 REPEATS = 3
@@ -93,6 +100,14 @@ def _rhs_loop(n, x, dx, model, sp, buffers, tracked):
     acc = 0.0
     for _ in range(n):
         acc += dyn.rhs(x, dx, model, sp, buffers, tracked)
+    return acc
+
+
+@_njit
+def _row_loop(n, row, t, x, dx, model, sp, work):
+    acc = 0.0
+    for _ in range(n):
+        acc += itg._row_at(row, t, x, dx, model, sp, work)[1]
     return acc
 
 
@@ -199,37 +214,38 @@ def _aero_loop(n, aero, s, v):
 
 
 def min_us(fn):
-    """Minimum over REPEATS of fn(n) / n in microseconds, n chosen for about TARGET_S per run."""
+    """Minimum over REPEATS of fn(n) / n in microseconds of CPU time, n chosen for about TARGET_S per run."""
     fn(1)
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     fn(10)
-    dt = max(time.perf_counter() - t0, 1e-7) / 10
+    dt = max(time.process_time() - t0, 1e-7) / 10
     n = max(10, int(math.ceil(TARGET_S / dt)))
     times = []
     for _ in range(REPEATS):
-        t0 = time.perf_counter()
+        t0 = time.process_time()
         fn(n)
-        times.append((time.perf_counter() - t0) / n)
+        times.append((time.process_time() - t0) / n)
     return min(times) * 1e6
 
 
 # ---------------------------------------------------------------------------------------- the profile
 def _window(sc, window_s):
-    """A Simulation run for window_s (or to its end): (simulation, wall s, simulated s)."""
+    """A Simulation run for window_s (or to its end): (simulation, wall s, CPU s, simulated s, accepted,
+    rejected)."""
     sim = Simulation(sc)
     sim.advance(0.01)                                       # compile or load the cache outside the timing
     t_start = sim.t
     steps0 = sim.steps
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     while sim.status == itg.RUNNING and sim.t < window_s - 1e-9:
         sim.advance(min(1.0, window_s - sim.t))
-    wall = time.perf_counter() - t0
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     accepted, rejected = (a - b for a, b in zip(sim.steps, steps0))
-    return sim, wall, sim.t - t_start, accepted, rejected
+    return sim, wall, cpu, sim.t - t_start, accepted, rejected
 
 
 def _steps_per_s(sc, window_s):
-    _, _, simulated, accepted, rejected = _window(sc, window_s)
+    _, _, _, simulated, accepted, rejected = _window(sc, window_s)
     return (accepted + rejected) / simulated
 
 
@@ -369,8 +385,12 @@ def _creep_rows(sim):
 
 def profile_case(sc, window_s=WINDOW_S):
     """The profile of one run (module docstring): {key: value}."""
-    sim, wall, simulated, accepted, rejected = _window(sc, window_s)
-    out = {"simulated_s": simulated, "wall_s": wall, "real_time_factor": simulated / wall,
+    # the window's run timed as the parts are: the best of REPEATS (the runs are the same, step for step)
+    runs = [_window(sc, window_s) for _ in range(REPEATS)]
+    sim, _, _, simulated, accepted, rejected = runs[-1]
+    wall, cpu = min(r[1] for r in runs), min(r[2] for r in runs)
+    out = {"simulated_s": simulated, "wall_s": wall, "real_time_factor": simulated / wall, "cpu_s": cpu,
+           "real_time_factor_cpu": simulated / cpu,
            "accepted_per_s": accepted / simulated, "rejected_per_s": rejected / simulated,
            "step_floor_per_s": 1.0 / MAX_STEP,
            "mean_step_ms": 1e3 * simulated / accepted}
@@ -405,8 +425,13 @@ def profile_case(sc, window_s=WINDOW_S):
     elastic = arrays.support[ElasticTrack.elastic] > 0.5            # rigid track: not called
     t["elastic_track_us"] = min_us(lambda n: _elastic_loop(n, x, arrays.support)) if elastic else 0.0
     t["aerodynamics_us"] = min_us(lambda n: _aero_loop(n, arrays.aero, x[State.s], v))
-    t["step_us"] = 1e6 * wall / (accepted + rejected)
+    work = itg.workspace(arrays.cg)                       # the row's own buffers: the run's stay untouched
+    work.out_contact[:] = sim.work.last_contact
+    row = np.zeros(N_OUT)
+    t["output_row_us"] = min_us(lambda n: _row_loop(n, row, sim.t, x, dx, arrays, sp, work))
+    t["step_us"] = 1e6 * cpu / (accepted + rejected)
     t["integrator_us"] = t["step_us"] - 5.0 * t["rhs_tracked_us"] - t["rhs_full_us"]
+    t["output_rows_us"] = t["output_row_us"] * sc.output_rate * simulated / (accepted + rejected)
     out.update(t)
     # why this many steps
     looser = replace(sc, atol=sc.atol * TOLERANCE_FACTOR, rtol=sc.rtol * TOLERANCE_FACTOR)
