@@ -263,22 +263,9 @@ def _discrete_normal(cg, pose, jm, gmin, cos_angle, scratch, youngs, nu):
     j0, j1 = geo.wheel_range(cg, trace)
     if j1 - j0 < 3 or not (gmin < 0.0):
         return 0.0, 0.0, 0.0, 0.0, 0.0
-    jm = geo.local_minimum(cg, trace, min(max(jm, j0), j1 - 1), j0, j1, 1, gap, ys)
     eps = kp.EPS_DEFAULT
     edge = (1.0 - eps) * gmin               # the vertical gap at the KP patch's edge
-    if not (gap[jm] < edge):
-        return 0.0, 0.0, 0.0, 0.0, 0.0
-    # the deepest point: the parabola's vertex through jm and its neighbours; its curvature gives the
-    # stride of the walk to the edges (about KP_WALK coarse points to a parabolic gap's edge)
-    t = 0.0
-    stride = 1
-    if jm > j0 and jm < j1 - 1:
-        den = gap[jm - 1] - 2.0 * gap[jm] + gap[jm + 1]
-        if den > 0.0:
-            t = min(0.5, max(-0.5, 0.5 * (gap[jm - 1] - gap[jm + 1]) / den))
-            stride = min(max(int(math.sqrt(2.0 * (edge - gmin) / den) / KP_WALK), 1), KP_MAX_STRIDE)
-    um = jm + t
-    ua, fa, ub, fb, span = _kp_extent(cg, trace, jm, j0, j1, stride, edge, gap, kpbuf)
+    ua, fa, ub, fb, um, span = _kp_extent(cg, trace, min(max(jm, j0), j1 - 1), j0, j1, edge, gap, kpbuf)
     m = KP_STRIPS
     du = (ub - ua) / m
     if not (du > 0.0 and span > 0.0):
@@ -332,15 +319,20 @@ def _trace_gap(cg, u, nw, nr, wy0, dw, lw, r0, ry0, inv_dr, y, zc, cphi, sphi, c
 
 
 @core
-def _kp_extent(cg, trace, jm, j0, j1, stride, edge, gap, strips):
-    """The KP patch's edges and strips (`_discrete_normal`): walking from its deepest grid point jm to each
-    side within [j0, j1), the grid coordinate where the vertical gap reaches `edge` (linear interpolation
-    between the two grid points around it; f = 0 there), or the top of a ridge (the last grid point before
-    the gap falls again) or the range's end (f > 0 there). The walk takes `stride` grid points at a time
-    and looks at the grid points in between only where the gap crossed `edge` or fell (the gap's ridges are
-    millimetres wide, the stride at most KP_MAX_STRIDE grid points). Then the strips' f (times 1, the
-    caller scales it) and radii at fixed fractions of the extent into `strips`. Returns (ua, fa, ub, fb,
-    the tangent Y span of the strips' centres)."""
+def _kp_extent(cg, trace, jm, j0, j1, edge, gap, strips):
+    """The KP patch's deepest point, edges and strips (`_discrete_normal`), from its deepest grid point jm
+    (to within a step or two) within the wheel's grid range [j0, j1) and the vertical gap at the edge.
+
+    The deepest point: the grid's local minimum reached downhill from jm, refined by the parabola through
+    it and its neighbours. Walking from it to each side, the edge is the grid coordinate where the vertical
+    gap reaches `edge` (linear interpolation between the two grid points around it; f = 0 there), or the
+    top of a ridge (the last grid point before the gap falls again) or the range's end (f > 0 there). The
+    walk takes strides of about a KP_WALK-th of the parabola's half-width (at most KP_MAX_STRIDE grid points:
+    the gap's ridges are millimetres wide) and looks at the grid points in between only where the gap
+    crossed `edge` (by bisection) or fell. Then the strips' edge - gap (the caller scales it to KP's f) and
+    radii at their centres, at fixed fractions of the extent, into `strips`. Returns (ua, fa, ub, fb, the
+    deepest point's grid coordinate, the tangent Y span of the strips' centres); ub = ua if the gap does
+    not reach below `edge`."""
     y, zc, cphi, sphi, cpsi, spsi, an, bn, k1 = trace
     nw = int(cg[GeometryHeader.wheel_points])
     nr = int(cg[GeometryHeader.rail_points])
@@ -350,6 +342,29 @@ def _kp_extent(cg, trace, jm, j0, j1, stride, edge, gap, strips):
     r0 = cg[GeometryHeader.nominal_radius]
     ry0 = cg[GeometryHeader.rail_y0]
     inv_dr = 1.0 / cg[GeometryHeader.rail_step]
+    # the local minimum downhill from jm, and both its neighbours
+    gm = _trace_gap(cg, float(jm), nw, nr, wy0, dw, lw, r0, ry0, inv_dr, y, zc, cphi, sphi, cpsi, spsi, an, bn, k1)[0]
+    gap[jm] = gm
+    for step in (-1, 1):
+        while True:
+            j = jm + step
+            if j < j0 or j >= j1:
+                break
+            g = _trace_gap(cg, float(j), nw, nr, wy0, dw, lw, r0, ry0, inv_dr, y, zc, cphi, sphi, cpsi, spsi, an, bn,
+                           k1)[0]
+            gap[j] = g
+            if not (g < gap[jm]):
+                break
+            jm = j
+    if not (gap[jm] < edge):
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    t = 0.0
+    stride = 1
+    if jm > j0 and jm < j1 - 1:
+        den = gap[jm - 1] - 2.0 * gap[jm] + gap[jm + 1]
+        if den > 0.0:
+            t = min(0.5, max(-0.5, 0.5 * (gap[jm - 1] - gap[jm + 1]) / den))
+            stride = min(max(int(math.sqrt(2.0 * (edge - gap[jm]) / den) / KP_WALK), 1), KP_MAX_STRIDE)
     ua = 0.0
     ub = 0.0
     fa = 0.0
@@ -364,11 +379,11 @@ def _kp_extent(cg, trace, jm, j0, j1, stride, edge, gap, strips):
             if c == prev:
                 u_edge, f_edge = float(prev), edge - gap[prev]
                 break
-            gap[c] = _trace_gap(cg, float(c), nw, nr, wy0, dw, lw, r0, ry0, inv_dr, y, zc, cphi, sphi, cpsi, spsi,
-                                an, bn, k1)[0]
-            if gap[c] >= edge or gap[c] < gap[prev]:
+            gc = _trace_gap(cg, float(c), nw, nr, wy0, dw, lw, r0, ry0, inv_dr, y, zc, cphi, sphi, cpsi, spsi, an, bn,
+                            k1)[0]
+            gap[c] = gc
+            if gc < gap[prev]:              # a fall within (prev, c]: walk to it (or to a crossing before it)
                 j = prev
-                found = False
                 while j != c:
                     if j + step != c:
                         gap[j + step] = _trace_gap(cg, float(j + step), nw, nr, wy0, dw, lw, r0, ry0, inv_dr, y, zc,
@@ -376,15 +391,26 @@ def _kp_extent(cg, trace, jm, j0, j1, stride, edge, gap, strips):
                     g = gap[j + step]
                     if g >= edge:
                         u_edge, f_edge = j + step * (edge - gap[j]) / (g - gap[j]), 0.0
-                        found = True
                         break
                     if g < gap[j]:
                         u_edge, f_edge = float(j), edge - gap[j]
-                        found = True
                         break
                     j += step
-                if found:
-                    break
+                break
+            if gc >= edge:                  # the crossing within (prev, c]: bisection for its grid interval
+                lo = prev
+                hi = c
+                while abs(hi - lo) > 1:
+                    mid = (lo + hi) // 2
+                    g = _trace_gap(cg, float(mid), nw, nr, wy0, dw, lw, r0, ry0, inv_dr, y, zc, cphi, sphi, cpsi,
+                                   spsi, an, bn, k1)[0]
+                    gap[mid] = g
+                    if g >= edge:
+                        hi = mid
+                    else:
+                        lo = mid
+                u_edge, f_edge = lo + step * (edge - gap[lo]) / (gap[hi] - gap[lo]), 0.0
+                break
             prev = c
         if side == 0:
             ua, fa = u_edge, f_edge
@@ -402,4 +428,4 @@ def _kp_extent(cg, trace, jm, j0, j1, stride, edge, gap, strips):
         if i == 0:
             Y_first = Y
         Y_last = Y
-    return ua, fa, ub, fb, abs(Y_last - Y_first)
+    return ua, fa, ub, fb, jm + t, abs(Y_last - Y_first)
