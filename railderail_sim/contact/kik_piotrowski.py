@@ -43,6 +43,10 @@ straight along x). The bodies approach by ``delta`` (rigid normal approach).
    Check: for a sphere on a plane with eps = 0.5 this is Hertz exactly (N = 4/3 E* a^3/R).
 5. Inverse: ``kp_delta_for_force`` finds delta for a total normal load by a safeguarded secant
    iteration on ln N(ln delta) (N ~ delta^1.5), bracketed, ~5-8 evaluations.
+6. The vehicle core's patch (``kp_strip_force``): one patch given as m strips that cover exactly its
+   extent, which the caller places at fixed fractions of it (``wheelset._discrete_normal``: 16 strips),
+   so that the load moves continuously with the edges; the same strip integrals with Euler-Maclaurin
+   end terms for I_S and the area (docs/contact-models.md gives the error against the converged KP).
 
 Tangential problem (``kp_creep_forces``): FASTSIM (``fastsim.fastsim_strip``) strip by strip over
 the KP patch, with the traction bound ``mu p(x, y)`` of the KP pressure (semi-elliptic in x) and
