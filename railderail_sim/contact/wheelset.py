@@ -37,7 +37,7 @@ from .layout import (H_SIZE, MAX_PATCHES, P_COLS, WP_SIZE, Candidates, ContactCo
 
 NORMAL_HERTZ, NORMAL_DISCRETE = 0, 1
 KP_STRIPS = 16        # strips across a Kik-Piotrowski patch, at fixed fractions of its extent (`_discrete_normal`)
-KP_WALK = 6           # coarse steps from a KP patch's deepest point to its edge, about (`_kp_edge`)
+KP_WALK = 6           # coarse steps from a KP patch's deepest point to its edge, about (`_kp_extent`)
 KP_MAX_STRIDE = 8     # grid points (1 mm on the 0.125 mm grid) per coarse step at most
 
 
@@ -258,7 +258,7 @@ def _discrete_normal(cg, pose, jm, gmin, cos_angle, scratch, youngs, nu):
     """
     y, z, phi, psi = pose
     kpbuf = scratch.kpbuf
-    gap, ys = scratch.gap, scratch.ys
+    gap = scratch.gap
     trace = geo.pose_constants(cg, y, z, phi, psi)
     j0, j1 = geo.wheel_range(cg, trace)
     if j1 - j0 < 3 or not (gmin < 0.0):
