@@ -155,7 +155,10 @@ def test_case_halfspace_and_plot(capsys, tmp_path):
     hs, kp = p["halfspace"], p["discrete"]
     assert hs["converged"] and not hs["truncated"]
     assert hs["normal_force_N"] == pytest.approx(p["normal_force_N"], rel=1e-6)
-    assert kp["normal_force_N"] == pytest.approx(p["normal_force_N"], rel=1e-9)
+    # the report's KP patch is KP over the grid's cells of the interpenetration run (the fine picture); the
+    # vehicle core's load, from wheelset.KP_STRIPS strips at fixed fractions of the patch, within 1e-3 of it on
+    # the tread (docs/contact-models.md)
+    assert kp["normal_force_N"] == pytest.approx(p["normal_force_N"], rel=1e-3)
     # the half-space and Kik-Piotrowski patches of the centred tread contact agree within ~25 %
     assert hs["length_m"] == pytest.approx(kp["length_m"], rel=0.25)
     assert hs["width_m"] == pytest.approx(kp["width_m"], rel=0.25)

@@ -21,7 +21,10 @@ Runs: the default scenario (R = 1000 m, 300 km/h, Hertz, rigid smooth track), tw
 part (ERRI B176 high irregularity, seed 1, a 25 m/s crosswind and failed front yaw dampers, on elastic and
 on rigid track), and for the decisions also the default scenario to its derailment, the constant-speed
 runs of the critical speed's bracket (`decision_runs`), a run braking from 200 to 30 km/h
-(`braking_run`) and one at 50 km/h over the line's first 600 m.
+(`braking_run`), one at 50 km/h over the line's first 600 m and the default scenario with the discrete
+(Kik-Piotrowski) normal contact to its derailment. That last run's reference was added alone, computed by the
+core of 8646b13 (the KP patch on the grid's cells, before its strips at fixed fractions of the extent) at the
+reference tolerances; `decisions` writes every run anew.
 
 The files were written on a CPU with numpy's AVX2 (X86_V3) loops; the model building calls libm one value at
 a time where numpy's AVX-512 loops round differently (`railderail_sim.scalarmath`), so they hold on AVX-512
@@ -130,6 +133,8 @@ def decision_runs(bracket):
     for the reference's bracket (safe, derails) of the critical speed in km/h."""
     out = {name: value for name, value in runs().items() if name != "default"}
     out["default_to_derailment"] = (runs()["default"][0], None)
+    # the discrete (Kik-Piotrowski) normal contact: the default scenario to its derailment
+    out["discrete_to_derailment"] = (scenario(radius=1000.0, speed_kmh=300.0, contact_model="discrete"), None)
     out["braking"] = (braking_run(), None)
     # the low speeds alone, where the spin's inertia is raised (the braking run's extremes are its fast part's)
     out["low_speed"] = (replace(scenario(radius=1000.0, speed_kmh=50.0), end_position=600.0), None)
@@ -255,7 +260,8 @@ def test_the_core_gives_the_golden_outputs_bit_for_bit(golden, outputs, name):
 
 
 @pytest.mark.parametrize("name", ["features_elastic", "features_rigid", "default_to_derailment",
-                                  "critical_holds", "critical_derails", "braking", "low_speed"])
+                                  "discrete_to_derailment", "critical_holds", "critical_derails", "braking",
+                                  "low_speed"])
 def test_the_core_decides_as_at_the_reference_tolerances(standard, name):
     sc, duration = decision_runs(standard["critical_bracket_kmh"])[name]
     got = decide(sc, duration)

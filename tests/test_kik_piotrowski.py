@@ -171,3 +171,67 @@ def test_no_contact_and_bad_input():
         kp.kp_normal_force(s, gap, R[:50], 1e-4, E, NU, 0.55)
     with pytest.raises(ValueError):
         kp.kp_normal_force(s, gap, R, 1e-4, E, NU, 1.5)
+
+
+# ---------------------------------------------------------------------------------------- the vehicle core's strips
+STRIP_FORCE_TOLERANCE = 6e-4       # docs/contact-models.md: 5.1e-4 at B/A 3 with 16 strips, 1.3e-4 for the sphere
+STRIP_AREA_TOLERANCE = 1e-4        # 4.2e-5
+
+
+def _strip_patch(ratio, m, eps, delta=1e-4):
+    """kp_strip_force on gap = B y^2 (R_long = 1/(2A)), m strips across the extent of f = eps delta - gap > 0:
+    (N, area, length)."""
+    B = ratio * A_WHEEL
+    w = math.sqrt(eps * delta / B)
+    ds = 2.0 * w / m
+    y = (np.arange(m) + 0.5) * ds
+    f = eps * delta - B * (y - w) ** 2
+    N_, IS, xlmax, area = kp.kp_strip_force(f, np.full(m, 1.0 / (2.0 * A_WHEEL)), m, ds, w, (0.0, 0.0), eps * delta,
+                                            delta, E_STAR, np.zeros(m))
+    return N_, area, 2.0 * xlmax
+
+
+def test_the_vehicle_cores_strips_give_the_converged_kp_patch():
+    """`wheelset.KP_STRIPS` strips at fixed fractions of the patch (`kp_strip_force`): the normal force of a Hertzian
+    gap within STRIP_FORCE_TOLERANCE of Hertz's closed form (eps = 0.5, sphere) and of KP over 8001 grid strips
+    (eps = 0.55, B/A 0.3-3); the area within STRIP_AREA_TOLERANCE, the length exact."""
+    from railderail_sim.contact.wheelset import KP_STRIPS
+    d = 1e-4
+    R = 1.0 / (2.0 * A_WHEEL)
+    a = math.sqrt(R * d)
+    assert _strip_patch(1.0, KP_STRIPS, 0.5, d)[0] == pytest.approx(4.0 / 3.0 * E_STAR * a ** 3 / R,
+                                                                    rel=STRIP_FORCE_TOLERANCE)
+    for ratio in (0.3, 0.5, 1.0, 2.0, 3.0):
+        B = ratio * A_WHEEL
+        s = np.linspace(-1.05, 1.05, 8001) * math.sqrt(d / B)
+        _, _, P, _ = kp.kp_patches(s, B * s * s, np.full(s.size, R), d, E, NU, kp.EPS_DEFAULT)
+        N_, area, length = _strip_patch(ratio, KP_STRIPS, kp.EPS_DEFAULT, d)
+        assert N_ == pytest.approx(P[0]["normal_force"], rel=STRIP_FORCE_TOLERANCE), ratio
+        assert area == pytest.approx(P[0]["area"], rel=STRIP_AREA_TOLERANCE), ratio
+        assert length == pytest.approx(P[0]["length"], rel=1e-9), ratio
+
+
+@pytest.mark.parametrize("y, psi", [(0.0, 0.0), (0.003, 0.0), (0.0065, 0.0), (0.008, 0.005)])
+def test_the_vehicle_cores_kp_force_is_smooth_in_the_approach(y, psi):
+    """The wheel pushed down in 0.05 um steps from 20 to 120 um (tread, flange root, flange with yaw): no jump
+    in the KP normal force, |N_i - (N_i-1 + N_i+1) / 2| / N_i below 2e-5 (measured at most 9.5e-6; the curvature
+    alone gives 2e-7). The strips of the grid's cells with at least 24 across a patch gave 2.6e-5 on the tread
+    and 2.5e-3 on the flange, where the patch's samples jumped with its extent."""
+    from railderail_sim.contact import geometry as geo
+    from railderail_sim.contact import wheelset as ws
+    from railderail_sim.contact.layout import W_SIZE
+    from railderail_sim.parameters import ContactParameters, TrackParameters
+    from railderail_sim.vehicle.assemble import contact_array, contact_geometry
+    c = ContactParameters(normal_model="discrete", contact_damping=0.0)
+    cg = contact_geometry(c, TrackParameters(), 0.46)
+    cp = contact_array(c)
+    scratch = ws.contact_scratch(cg)
+    z0, phi, _, _ = geo.rigid_contact(cg, y, psi, scratch.gap, scratch.ys)
+    forces = []
+    for dz in np.arange(20e-6, 120e-6, 0.05e-6):
+        f = ws.wheel_forces(cg, cp, 0, (y, z0 - dz, phi, psi), (83.3, 0.0, 0.0, 0.0, 0.0, 0.0, 181.0, 83.3), scratch,
+                            ws.candidates()[0], False, np.zeros(W_SIZE))
+        forces.append(math.hypot(f[1], f[2]))
+    N_ = np.array(forces)
+    assert np.all(np.diff(N_) > 0.0)
+    assert np.max(np.abs(N_[1:-1] - 0.5 * (N_[:-2] + N_[2:])) / N_[1:-1]) < 2e-5

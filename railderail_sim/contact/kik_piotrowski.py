@@ -43,6 +43,10 @@ straight along x). The bodies approach by ``delta`` (rigid normal approach).
    Check: for a sphere on a plane with eps = 0.5 this is Hertz exactly (N = 4/3 E* a^3/R).
 5. Inverse: ``kp_delta_for_force`` finds delta for a total normal load by a safeguarded secant
    iteration on ln N(ln delta) (N ~ delta^1.5), bracketed, ~5-8 evaluations.
+6. The vehicle core's patch (``kp_strip_force``): one patch given as m strips that cover exactly its
+   extent, which the caller places at fixed fractions of it (``wheelset._discrete_normal``: 16 strips),
+   so that the load moves continuously with the edges; the same strip integrals with Euler-Maclaurin
+   end terms for I_S and the area (docs/contact-models.md gives the error against the converged KP).
 
 Tangential problem (``kp_creep_forces``): FASTSIM (``fastsim.fastsim_strip``) strip by strip over
 the KP patch, with the traction bound ``mu p(x, y)`` of the KP pressure (semi-elliptic in x) and
@@ -213,6 +217,67 @@ def _run_force(s0, ds, gap, R_long, r0, r1, delta, eps, Estar):
         return 0.0, IS, jm, dk, xl0
     N = math.pi * Estar * dk * IS / IR
     return N, IS, jm, dk, xl0
+
+_SQRT_EDGE = 2.0 * 0.0608875    # -2 zeta(-1/2, 1/2) = -2 (2^-1/2 - 1) zeta(-1/2)
+
+
+@core
+def kp_strip_force(f, R_long, m, ds, y0, f_edges, f0, approach, Estar, xl):
+    """KP normal load of one patch sampled by m strips that cover exactly its extent (allocation-free).
+
+    Strip i is [i ds, (i + 1) ds]; f[i] is the virtual interpenetration eps delta_k - (gap - g_k) and
+    R_long[i] the wheel's longitudinal radius at its centre (i + 0.5) ds; y0 the deepest point in the same
+    coordinate; approach delta_k. Fills xl[:m] with the strips' half-lengths (0 where f <= 0). Unlike
+    `kp_normal`, whose strips are the grid's cells, the strips here move with the patch's edges (the
+    caller places them at fixed fractions of its extent), so the load is continuous in the approach and
+    in the pose at any m; the strip integrals are those of `kp_normal` (`_strip_IR`, the logarithmic
+    singularity integrated exactly within 2.5 strips of y0). Returns (N, IS, xlmax, area).
+    """
+    IS = 0.0
+    IR = 0.0
+    xlmax = 0.0
+    area = 0.0
+    for i in range(m):
+        fi = f[i]
+        if fi <= 0.0:
+            xl[i] = 0.0
+            continue
+        L = math.sqrt(2.0 * R_long[i] * fi)
+        xl[i] = L
+        IS += 0.5 * math.pi * L * L * ds
+        area += 2.0 * L * ds
+        if L > xlmax:
+            xlmax = L
+        e1 = i * ds - y0
+        e2 = e1 + ds
+        IR += _strip_IR(L, e1, e2, abs(e1 + 0.5 * ds) <= 2.5 * ds)
+    # I_S = pi int R f dy: the midpoint sum above with its Euler-Maclaurin end terms, h^2/24 (g'(b) - g'(a)),
+    # the slopes of g = R f at the edges from the parabola through the edge value and the two outer strips
+    # (exact for a parabolic gap: the midpoint sum alone is 1/(2 m^2) high there)
+    if m >= 2:
+        fa, fb = f_edges
+        ga = R_long[0] * fa
+        gb = R_long[m - 1] * fb
+        g0 = R_long[0] * max(f[0], 0.0)
+        g1 = R_long[1] * max(f[1], 0.0)
+        gm = R_long[m - 1] * max(f[m - 1], 0.0)
+        gn = R_long[m - 2] * max(f[m - 2], 0.0)
+        slope_a = -8.0 / 3.0 * ga + 3.0 * g0 - g1 / 3.0          # h g'(a)
+        slope_b = 8.0 / 3.0 * gb - 3.0 * gm + gn / 3.0           # h g'(b)
+        IS += math.pi * ds / 24.0 * (slope_b - slope_a)
+        # the area int 2 x_L dy: x_L ~ sqrt(distance) at an edge where f = 0, where the midpoint sum is high by
+        # -2 zeta(-1/2, 1/2) h sqrt(h dL^2/dy) (Hurwitz's zeta; the slope again from the outer strips)
+        if fa == 0.0:
+            area -= _SQRT_EDGE * ds * math.sqrt(max(3.0 * xl[0] * xl[0] - xl[1] * xl[1] / 3.0, 0.0))
+        if fb == 0.0:
+            area -= _SQRT_EDGE * ds * math.sqrt(max(3.0 * xl[m - 1] * xl[m - 1] - xl[m - 2] * xl[m - 2] / 3.0, 0.0))
+    # the longest strip at the deepest point (between the strips' centres in general)
+    i0 = min(max(int(y0 / ds), 0), m - 1)
+    if f0 > 0.0:
+        xlmax = max(xlmax, math.sqrt(2.0 * R_long[i0] * f0))
+    if IR <= 0.0 or IS <= 0.0:
+        return 0.0, IS, xlmax, area
+    return math.pi * Estar * approach * IS / IR, IS, xlmax, area
 
 
 @core

@@ -30,39 +30,38 @@ from ..jit import core, core_inline
 from ..record import Record
 from . import geometry as geo
 from .creep import creep_law, tabulated_coefficients
-from .hertz import hertz_shape
+from .hertz import combined_modulus, hertz_shape
 from . import kik_piotrowski as kp
-from .kik_piotrowski import DiscretePatch
 from . import table as tab
-from .layout import (MAX_PATCHES, P_COLS, WP_SIZE, Candidates, ContactConstants, GeometryHeader, HertzShape, Patch,
+from .layout import (H_SIZE, MAX_PATCHES, P_COLS, WP_SIZE, Candidates, ContactConstants, GeometryHeader, HertzShape, Patch,
                      Wheel, WheelPatch)
 
 NORMAL_HERTZ, NORMAL_DISCRETE = 0, 1
 SMALL_ANGLE = 0.05    # rad; `sin_cos` by its Taylor polynomials up to here (within an ulp of libm's), libm beyond
-KP_MIN_STRIPS = 24    # strips across a Kik-Piotrowski patch at least (a flange patch spans 4-6 grid points)
+KP_STRIPS = 16        # strips across a Kik-Piotrowski patch, at fixed fractions of its extent (`_discrete_normal`)
+KP_WALK = 6           # coarse steps from a KP patch's deepest point to its edge, about (`_kp_extent`)
+KP_MAX_STRIDE = 8     # grid points (1 mm on the 0.125 mm grid) per coarse step at most
 
 
 
 
 class Strip(Record):
     """Rows of the discrete (Kik-Piotrowski) patch's strip buffer `ContactScratch.kpbuf`."""
-    lateral = "m", "lateral tangent coordinate of the strip"
-    gap = "m", "normal separation from the deepest point"
+    gap = "m", "KP's virtual interpenetration f = eps delta - (gap - gmin) at the strip's centre"
     radius = "m", "the wheel's longitudinal radius in the contact plane"
     half_length = "m", "strip half-length x_L (kik_piotrowski.kp_normal's output)"
 
 
 # buffers of one wheel's contact evaluation (allocated by `contact_scratch`): gap and trace-point Y on the
-# wheel grid, the patch rows, the discrete patch's strips, strip patch ids and its patch row
-ContactScratch = namedtuple("ContactScratch", "gap ys patches kpbuf kpid kprow")
+# wheel grid, the patch rows, the discrete patch's strips
+ContactScratch = namedtuple("ContactScratch", "gap ys patches kpbuf")
 
 
 def contact_scratch(cg):
     """Buffers of `wheel_forces` for the packed geometry cg."""
     nw = int(cg[GeometryHeader.wheel_points])
     return ContactScratch(gap=np.zeros(nw), ys=np.zeros(nw), patches=np.zeros((MAX_PATCHES, P_COLS)),
-                          kpbuf=np.zeros((Strip.size(), nw)), kpid=np.zeros(nw, dtype=np.int64),
-                          kprow=np.zeros((1, DiscretePatch.size())))
+                          kpbuf=np.zeros((Strip.size(), KP_STRIPS)))
 
 
 def candidates(count=1):
@@ -266,42 +265,190 @@ def patch_load(nY, nZ, rx, ry, rz, normal, fx, ft, mz):
 def _discrete_normal(cg, pose, jm, gmin, cos_angle, scratch, youngs, nu):
     """Kik-Piotrowski normal load of one patch from the gap along its extent.
 
-    The patch's extent on the wheel grid (`geometry.run_bounds`, one step wider on each side) is sampled
-    at no fewer than KP_MIN_STRIPS points along the trace line (a flange patch spans only a few grid
-    points); the vertical gap is turned into the normal separation (times cos of the contact angle) on the
-    lateral tangent coordinate (Y / cos), assuming a locally plane contact; the wheel's longitudinal radius
-    in the contact plane is r sqrt(1 + r'^2). Returns (N, a, b, a_eq, b_eq): half the patch's length and
-    width, and the semi-axes of its equivalent ellipse for the creep forces.
+    The patch's edges are found on the wheel grid: walking out from the deepest grid point jm (made a local
+    minimum of the trace-line gap) to where the vertical gap reaches (1 - eps) gmin, i.e. where KP's virtual
+    interpenetration f = eps delta - (gap - gmin) falls to 0 (linear interpolation between the two grid
+    points around it), or to the top of a ridge (beyond it lies the next patch's minimum). The extent is
+    then cut into KP_STRIPS strips at fixed fractions of it, and the gap and the wheel's longitudinal
+    radius in the contact plane (r sqrt(1 + r'^2)) are evaluated at the strips' centres on the trace line:
+    the strips move with the edges, which move continuously with the pose, so the load is continuous (the
+    strips of the grid's cells would enter and leave one at a time). The vertical gap is turned into the
+    normal separation (times cos of the contact angle) on the lateral tangent coordinate (Y / cos), assuming
+    a locally plane contact; the deepest point is the parabola's vertex through jm and its neighbours.
+    `kik_piotrowski.kp_strip_force` integrates the strips (its docstring; the error in docs/contact-models.md).
+    Returns (N, a, b, a_eq, b_eq): half the patch's length and width, and the semi-axes of its equivalent
+    ellipse for the creep forces.
     """
     y, z, phi, psi = pose
-    kpbuf, kprow = scratch.kpbuf, scratch.kprow
-    ja, jb = geo.run_bounds(cg, y, z, phi, psi, jm, scratch.gap, scratch.ys)
-    dw = cg[GeometryHeader.wheel_step]
-    yp0 = cg[GeometryHeader.wheel_y0] + (ja - 1) * dw
-    yp1 = cg[GeometryHeader.wheel_y0] + (jb + 1) * dw
-    n = max(jb - ja + 3, KP_MIN_STRIPS)
-    n = min(n, kpbuf.shape[1])
+    kpbuf = scratch.kpbuf
+    gap = scratch.gap
     trace = geo.pose_constants(cg, y, z, phi, psi)
-    y_first = 0.0
-    y_last = 0.0
-    for i in range(n):
-        yp = yp0 + (yp1 - yp0) * i / (n - 1)
-        X, Y, Z, r, sw, kw = geo._trace_point(cg, trace, yp)
-        zr, _ = geo.rail_height(cg, Y)
-        kpbuf[Strip.gap, i] = (Z - zr - gmin) * cos_angle
-        kpbuf[Strip.radius, i] = r * math.sqrt(1.0 + sw * sw)
-        if i == 0:
-            y_first = Y
-        y_last = Y
-    ds = abs(y_last - y_first) / ((n - 1) * cos_angle)
-    for i in range(n):
-        kpbuf[Strip.lateral, i] = i * ds
-        if kpbuf[Strip.gap, i] < 0.0:
-            kpbuf[Strip.gap, i] = 0.0
-    count = kp.kp_normal(kpbuf[Strip.lateral, :n], kpbuf[Strip.gap, :n], kpbuf[Strip.radius, :n], -gmin * cos_angle,
-                         youngs, nu, kp.EPS_DEFAULT, kpbuf[Strip.half_length, :n], scratch.kpid[:n], kprow)
-    if count == 0:
+    j0, j1 = geo.wheel_range(cg, trace)
+    if j1 - j0 < 3 or not (gmin < 0.0):
         return 0.0, 0.0, 0.0, 0.0, 0.0
-    row = kprow[0]
-    return (row[DiscretePatch.normal_force], 0.5 * row[DiscretePatch.length], 0.5 * row[DiscretePatch.width],
-            row[DiscretePatch.a_eq], row[DiscretePatch.b_eq])
+    eps = kp.EPS_DEFAULT
+    edge = (1.0 - eps) * gmin               # the vertical gap at the KP patch's edge
+    ua, fa, ub, fb, um, span = _kp_extent(cg, trace, min(max(jm, j0), j1 - 1), j0, j1, edge, gap, kpbuf)
+    m = KP_STRIPS
+    du = (ub - ua) / m
+    if not (du > 0.0 and span > 0.0):
+        return 0.0, 0.0, 0.0, 0.0, 0.0
+    for i in range(m):
+        kpbuf[Strip.gap, i] *= cos_angle            # KP's f: eps delta - (gap - gmin), normal to the contact
+    ds = span / ((m - 1) * cos_angle)
+    approach = -gmin * cos_angle
+    N, IS, xlmax, area = kp.kp_strip_force(kpbuf[Strip.gap], kpbuf[Strip.radius], m, ds, (um - ua) / du * ds,
+                                           (fa * cos_angle, fb * cos_angle), eps * approach, approach,
+                                           combined_modulus(youngs, nu, youngs, nu), kpbuf[Strip.half_length])
+    if not (N > 0.0):
+        return 0.0, 0.0, 0.0, 0.0, 0.0
+    width = m * ds
+    ratio = xlmax / (0.5 * width)
+    return N, xlmax, 0.5 * width, math.sqrt(area / math.pi * ratio), math.sqrt(area / (math.pi * ratio))
+
+
+@core_inline
+def _trace_gap(cg, u, nw, nr, wy0, dw, lw, r0, ry0, inv_dr, y, zc, cphi, sphi, cpsi, spsi, an, bn, k1):
+    """Vertical gap, track-frame Y and the wheel's longitudinal radius in the contact plane at continuous
+    wheel grid coordinate u: `geometry._scan` and `geometry._trace_point` in one, scalars in (inlined: a call
+    passing cg and the pose costs as much as the point)."""
+    i = min(max(int(u), 0), nw - 2)
+    t = u - i
+    ow = H_SIZE
+    zw = cg[ow + i] + t * (cg[ow + i + 1] - cg[ow + i])
+    sw = cg[ow + nw + i] + t * (cg[ow + nw + i + 1] - cg[ow + nw + i])
+    r = r0 + zw
+    eta = lw + wy0 + u * dw
+    c = min(1.0, max(-1.0, sw * k1))
+    cb = math.sqrt(1.0 - c * c)
+    rct = r * (an * cb - bn * c)
+    qx = r * (bn * cb + an * c)
+    qy = eta * cphi + rct * sphi
+    qz = eta * sphi - rct * cphi
+    Y = y + spsi * qx + cpsi * qy
+    v = (Y - ry0) * inv_dr
+    if v < 0.0 or v >= nr - 1.0:
+        return geo.NO_RAIL_GAP, Y, r * math.sqrt(1.0 + sw * sw)
+    k = int(v)
+    tr = v - k
+    oz = H_SIZE + 3 * nw
+    osl = oz + nr
+    z0 = cg[oz + k]
+    d = cg[oz + k + 1] - z0
+    m0 = cg[osl + k] / inv_dr
+    m1 = cg[osl + k + 1] / inv_dr
+    zr = z0 + tr * (m0 + tr * (3.0 * d - 2.0 * m0 - m1 + tr * (m0 + m1 - 2.0 * d)))
+    return zc + qz - zr, Y, r * math.sqrt(1.0 + sw * sw)
+
+
+@core
+def _kp_extent(cg, trace, jm, j0, j1, edge, gap, strips):
+    """The KP patch's deepest point, edges and strips (`_discrete_normal`), from its deepest grid point jm
+    (to within a step or two) within the wheel's grid range [j0, j1) and the vertical gap at the edge.
+
+    The deepest point: the grid's local minimum reached downhill from jm, refined by the parabola through
+    it and its neighbours. Walking from it to each side, the edge is the grid coordinate where the vertical
+    gap reaches `edge` (linear interpolation between the two grid points around it; f = 0 there), or the
+    top of a ridge (the last grid point before the gap falls again) or the range's end (f > 0 there). The
+    walk takes strides of about a KP_WALK-th of the parabola's half-width (at most KP_MAX_STRIDE grid points:
+    the gap's ridges are millimetres wide) and looks at the grid points in between only where the gap
+    crossed `edge` (by bisection) or fell. Then the strips' edge - gap (the caller scales it to KP's f) and
+    radii at their centres, at fixed fractions of the extent, into `strips`. Returns (ua, fa, ub, fb, the
+    deepest point's grid coordinate, the tangent Y span of the strips' centres); ub = ua if the gap does
+    not reach below `edge`."""
+    y, zc, cphi, sphi, cpsi, spsi, an, bn, k1 = trace
+    nw = int(cg[GeometryHeader.wheel_points])
+    nr = int(cg[GeometryHeader.rail_points])
+    wy0 = cg[GeometryHeader.wheel_y0]
+    dw = cg[GeometryHeader.wheel_step]
+    lw = cg[GeometryHeader.rolling_circle_distance]
+    r0 = cg[GeometryHeader.nominal_radius]
+    ry0 = cg[GeometryHeader.rail_y0]
+    inv_dr = 1.0 / cg[GeometryHeader.rail_step]
+    # the local minimum downhill from jm, and both its neighbours
+    gm = _trace_gap(cg, float(jm), nw, nr, wy0, dw, lw, r0, ry0, inv_dr, y, zc, cphi, sphi, cpsi, spsi, an, bn, k1)[0]
+    gap[jm] = gm
+    for step in (-1, 1):
+        while True:
+            j = jm + step
+            if j < j0 or j >= j1:
+                break
+            g = _trace_gap(cg, float(j), nw, nr, wy0, dw, lw, r0, ry0, inv_dr, y, zc, cphi, sphi, cpsi, spsi, an, bn,
+                           k1)[0]
+            gap[j] = g
+            if not (g < gap[jm]):
+                break
+            jm = j
+    if not (gap[jm] < edge):
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    t = 0.0
+    stride = 1
+    if jm > j0 and jm < j1 - 1:
+        den = gap[jm - 1] - 2.0 * gap[jm] + gap[jm + 1]
+        if den > 0.0:
+            t = min(0.5, max(-0.5, 0.5 * (gap[jm - 1] - gap[jm + 1]) / den))
+            stride = min(max(int(math.sqrt(2.0 * (edge - gap[jm]) / den) / KP_WALK), 1), KP_MAX_STRIDE)
+    ua = 0.0
+    ub = 0.0
+    fa = 0.0
+    fb = 0.0
+    for side in range(2):
+        step = -1 if side == 0 else 1
+        prev = jm
+        u_edge = float(jm)
+        f_edge = edge - gap[jm]
+        while True:
+            c = min(max(prev + step * stride, j0), j1 - 1)
+            if c == prev:
+                u_edge, f_edge = float(prev), edge - gap[prev]
+                break
+            gc = _trace_gap(cg, float(c), nw, nr, wy0, dw, lw, r0, ry0, inv_dr, y, zc, cphi, sphi, cpsi, spsi, an, bn,
+                            k1)[0]
+            gap[c] = gc
+            if gc < gap[prev]:              # a fall within (prev, c]: walk to it (or to a crossing before it)
+                j = prev
+                while j != c:
+                    if j + step != c:
+                        gap[j + step] = _trace_gap(cg, float(j + step), nw, nr, wy0, dw, lw, r0, ry0, inv_dr, y, zc,
+                                                   cphi, sphi, cpsi, spsi, an, bn, k1)[0]
+                    g = gap[j + step]
+                    if g >= edge:
+                        u_edge, f_edge = j + step * (edge - gap[j]) / (g - gap[j]), 0.0
+                        break
+                    if g < gap[j]:
+                        u_edge, f_edge = float(j), edge - gap[j]
+                        break
+                    j += step
+                break
+            if gc >= edge:                  # the crossing within (prev, c]: bisection for its grid interval
+                lo = prev
+                hi = c
+                while abs(hi - lo) > 1:
+                    mid = (lo + hi) // 2
+                    g = _trace_gap(cg, float(mid), nw, nr, wy0, dw, lw, r0, ry0, inv_dr, y, zc, cphi, sphi, cpsi,
+                                   spsi, an, bn, k1)[0]
+                    gap[mid] = g
+                    if g >= edge:
+                        hi = mid
+                    else:
+                        lo = mid
+                u_edge, f_edge = lo + step * (edge - gap[lo]) / (gap[hi] - gap[lo]), 0.0
+                break
+            prev = c
+        if side == 0:
+            ua, fa = u_edge, f_edge
+        else:
+            ub, fb = u_edge, f_edge
+    m = strips.shape[1]
+    du = (ub - ua) / m
+    Y_first = 0.0
+    Y_last = 0.0
+    for i in range(m):
+        g, Y, R = _trace_gap(cg, ua + (i + 0.5) * du, nw, nr, wy0, dw, lw, r0, ry0, inv_dr, y, zc, cphi, sphi, cpsi,
+                             spsi, an, bn, k1)
+        strips[Strip.gap, i] = edge - g
+        strips[Strip.radius, i] = R
+        if i == 0:
+            Y_first = Y
+        Y_last = Y
+    return ua, fa, ub, fb, jm + t, abs(Y_last - Y_first)

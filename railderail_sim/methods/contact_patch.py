@@ -228,7 +228,8 @@ def _exact_rolling_patch(hsp, creepage, ellipse, normal, E, nu, mu):
 
 def gap_run(cg, pose, jm, gmin, cd, margin=0):
     """Normal gap (m), tangent coordinate s (m, from the deepest grid point, + field side) and wheel
-    longitudinal radius (m) along the patch's interpenetration run, as in `wheelset._discrete_normal`,
+    longitudinal radius (m) along the patch's interpenetration run on the wheel grid (the vehicle core,
+    `wheelset._discrete_normal`, samples the same trace-line gap at KP_STRIPS strips across the KP patch instead),
     and the run's first and last index in them; `margin` extends the run on both sides (for the
     half-space window) up to the next gap maximum."""
     y, z, phi, psi = pose
@@ -254,7 +255,9 @@ def gap_run(cg, pose, jm, gmin, cd, margin=0):
 
 
 def _discrete_patch(cg, pose, jm, gmin, cd, E, nu):
-    """The Kik-Piotrowski patch over the interpenetration run at the patch's normal approach."""
+    """The Kik-Piotrowski patch over the interpenetration run at the patch's normal approach: KP on the grid's
+    cells (`kik_piotrowski.kp_patches`), the fine picture of the patch whose load the vehicle core takes from its
+    strips (within 1e-3 on the tread, docs/contact-models.md)."""
     s, g, R, _, _ = gap_run(cg, pose, jm, gmin, cd)
     xl, _, plist, _ = kp.kp_patches(s - s[0], g, R, -gmin * cd, E, nu, kp.EPS_DEFAULT, 1)
     q = plist[0]
