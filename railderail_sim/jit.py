@@ -56,3 +56,21 @@ core = numba.njit(cache=True, **OPTIONS)
 # (measured), and every call level that passes a dozen arrays costs about as much as a wheel's table
 # lookup, which is why the right wheel's mirroring lives inside `wheelset.wheel_forces`, not in a wrapper.
 core_inline = numba.njit(cache=True, inline="always", **OPTIONS)
+
+
+def compiled_entry(dispatcher, args):
+    """The compiled entry point of `dispatcher` (a `core` function) for the types of `args`, or None if it has not
+    been compiled (nor loaded from the cache) for them yet: calling it skips numba's dispatch, which resolves
+    the type of every argument on each call (for `integrator.advance` and its 45 arrays in nested namedtuples,
+    8.9 us of its 10 us per call: docs/performance.md, "The stepper's share"). The entry point does not check
+    its arguments' types: a caller must call it only with arguments of the same types (same objects, or
+    scalars converted as they were), else through the dispatcher.
+
+    numba API: `numba.typeof` (public, an argument's type as the dispatcher types it), and the dispatcher's
+    `signatures` (the compiled argument types) and `get_overload(signature)` (the entry point), public
+    methods of numba's `Dispatcher` since before 0.60 and unchanged up to 0.68 (setup.py's bounds).
+    """
+    signature = tuple(numba.typeof(a) for a in args)
+    if signature not in dispatcher.signatures:
+        return None
+    return dispatcher.get_overload(signature)

@@ -172,3 +172,47 @@ def test_the_steps_depend_neither_on_the_chunking_nor_on_the_output_rate():
     assert whole.steps[0] > 200 and np.array_equal(rows, parts)
     for other in (chunked, slower):
         assert other.steps == whole.steps and np.array_equal(other.x, whole.x)
+
+
+def test_a_run_in_5_ms_calls_gives_the_rows_of_one_call():
+    """The ROS node's calls (one per 200 Hz period) reuse the last step's derivative and numba's compiled entry
+    point (integrator.advance, Simulation._advance_core): the rows and the state are those of one 1 s call."""
+    sc = scenario(radius=1000.0, speed_kmh=300.0)
+    whole = Simulation(sc)
+    rows = whole.advance(1.0)
+    chunked = Simulation(sc)
+    parts = np.concatenate([chunked.advance(0.005) for _ in range(200)])
+    assert rows.shape[0] == 201 and np.array_equal(rows, parts)
+    assert chunked.steps == whole.steps and np.array_equal(chunked.x, whole.x)
+
+
+def test_the_first_stage_is_evaluated_afresh_when_the_caller_changes_the_state_or_the_speeds():
+    """integrator.advance reuses the first stage's derivative the last call left only while the state, the speed
+    table (replaced, as closed_loop.apply_brake does, changed in place, or of another length) and the contact
+    candidates are as it left them: each time it is the full right-hand side at the state."""
+    from railderail_sim.vehicle import dynamics as dyn, integrator as itg
+    sim = Simulation(scenario(radius=1000.0, speed_kmh=300.0))
+    sim.advance(0.1)
+
+    def start_rate_is_the_rhs():
+        sim.advance(0.0)
+        dx = np.zeros_like(sim.x)
+        dyn.rhs(sim.x.copy(), dx, sim.model.arrays, sim.speed_table.copy(), itg.workspace(sim.model.cg).rhs, False)
+        return np.array_equal(sim.work.stages[0], dx)
+
+    assert start_rate_is_the_rhs()                          # kept from the last step
+    assert sim.work.stepper[itg.Stepper.start_rate_time] == sim.work.stepper[itg.Stepper.time]
+    sim.speed_table = constant_speed(290.0)
+    assert start_rate_is_the_rhs()
+    sim.speed_table[:, 1] *= 1.01
+    assert start_rate_is_the_rhs()
+    sim.speed_table = np.array([[0.0, 80.0], [40.0, 81.0], [80.0, 82.0]])
+    assert start_rate_is_the_rhs()
+    sim.x[30] += 1e-3
+    assert start_rate_is_the_rhs()
+    sim.work.rhs.cands[0, 0] += 1.0                         # the candidates: a search with the stepper's buffers
+    before = sim.work.stages[0].copy()
+    sim.advance(0.0)
+    assert np.array_equal(sim.work.stages[0], before) and start_rate_is_the_rhs()
+    rows = sim.advance(0.05)
+    assert rows.shape[0] == 10 and np.all(np.isfinite(rows))

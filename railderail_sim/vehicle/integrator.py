@@ -72,6 +72,9 @@ class Stepper(Record):
     rejected = "-", "steps rejected"
     time = "s", "the stepper's own time, where the state x is (at or past the last output instant)"
     last_step = "s", "the last accepted step, the one `Workspace.dense` interpolates (0: none yet)"
+    start_rate_time = "s", ("the stepper's time at which the first stage derivative (`Workspace.stages` row 0) was "
+                            "left by the last call, as of `Workspace.seen_state`, `seen_speeds` and `seen_candidates` "
+                            "(NaN: none; `advance` evaluates it afresh)")
 
 
 class Dense(Record):
@@ -105,17 +108,20 @@ LIMIT_SPIN = 1000.0            # rad/s, a wheelset's spin (about 240 rad/s at 40
 # trial state, the contact candidates saved before a step (restored when it is rejected), the Event, the
 # Stepper record and, per wheel, its LastContact; for the output instants: the last step's continuous
 # extension (Dense), the right-hand side's own buffers (the stepper's contact candidates stay untouched)
-# and each wheel's LastContact as of the instant
+# and each wheel's LastContact as of the instant; what the last call left the first stage's derivative at
+# (the state, the speed table and the contact candidates: `advance` reuses it if none has changed)
 Workspace = namedtuple("Workspace", "rhs stages trial cand_save event stepper last_contact dense out_rhs "
-                                    "out_contact")
+                                    "out_contact seen_state seen_speeds seen_candidates")
 # error control and the stopping rules
 StepControl = namedtuple("StepControl", "atol rtol h_min h_max s_end stop_on_derailment")
 
 
-def workspace(cg):
-    """Preallocated buffers of `advance` (reused between calls)."""
+def workspace(cg, speed_rows=2):
+    """Preallocated buffers of `advance` (reused between calls); `speed_rows`: the speed table's rows (a table
+    of another length is compared with `seen_speeds` of its own, `seen_speeds_for`)."""
     stepper = np.zeros(Stepper.size())
     stepper[Stepper.step] = 1e-4
+    stepper[Stepper.start_rate_time] = math.nan
     scratch = ws.contact_scratch(cg)
     buffers = dyn.RhsBuffers(kin=np.zeros((N_BODY, dyn.K_COLS)), contact=scratch,
                              cands=ws.candidates(N_WHEEL), recs=np.zeros((N_WHEEL, W_SIZE)))
@@ -124,7 +130,15 @@ def workspace(cg):
     return Workspace(rhs=buffers, stages=np.zeros((7, N_STATE)), trial=np.zeros(N_STATE),
                      cand_save=ws.candidates(N_WHEEL), event=np.zeros(EV_SIZE), stepper=stepper,
                      last_contact=np.zeros((N_WHEEL, LastContact.size())), dense=np.zeros((Dense.size(), N_STATE)),
-                     out_rhs=out_buffers, out_contact=np.zeros((N_WHEEL, LastContact.size())))
+                     out_rhs=out_buffers, out_contact=np.zeros((N_WHEEL, LastContact.size())),
+                     seen_state=np.zeros(N_STATE), seen_speeds=seen_speeds_for(speed_rows),
+                     seen_candidates=ws.candidates(N_WHEEL))
+
+
+def seen_speeds_for(rows):
+    """A Workspace's `seen_speeds` for a speed table of `rows` rows: NaN, never equal to a table (the first
+    call with it evaluates the first stage afresh)."""
+    return np.full((rows, 2), math.nan)
 
 
 @core
@@ -386,6 +400,66 @@ def _copy_rows(source, target):
 
 @core
 def advance(x, t, duration, out_dt, first_row, model, sp, control, work, out):
+    """Advance the run (`_advance`, whose docstring says how), reusing the first stage's derivative that the
+    last call left if nothing it depends on has changed since (`_start_rate_kept`)."""
+    fresh = not _start_rate_kept(x, sp, work)
+    result = _advance(x, t, duration, out_dt, first_row, model, sp, control, work, out, fresh)
+    _keep_start_rate(x, sp, work)
+    return result
+
+
+@core
+def _start_rate_kept(x, sp, work):
+    """True if the first stage's derivative (`Workspace.stages` row 0) is the right-hand side at x with a full
+    contact search, bit for bit: a call left it (Stepper.start_rate_time is the stepper's time) and the state,
+    the speed table and the contact candidates are those it left (`Workspace.seen_*`). Each call ends with it
+    so: its last accepted step's last stage is that full right-hand side at the new state (FSAL), and the
+    stepper's candidates are that search's (a rejected step restores them); a call without a step keeps the
+    one it started with. A caller that changes the state or the speed table (`closed_loop.apply_brake`), or
+    searches the contact with the stepper's buffers, gets it evaluated afresh. The rest of the right-hand
+    side's inputs (the model's arrays) are a run's constants."""
+    stepper = work.stepper
+    if not stepper[Stepper.start_rate_time] == stepper[Stepper.time]:
+        return False
+    seen = work.seen_state
+    for i in range(x.shape[0]):
+        if not x[i] == seen[i]:
+            return False
+    seen_sp = work.seen_speeds
+    if sp.shape[0] != seen_sp.shape[0] or sp.shape[1] != seen_sp.shape[1]:
+        return False
+    for i in range(sp.shape[0]):
+        for j in range(sp.shape[1]):
+            if not sp[i, j] == seen_sp[i, j]:
+                return False
+    cands, seen_c = work.rhs.cands, work.seen_candidates
+    for i in range(cands.shape[0]):
+        for j in range(cands.shape[1]):
+            if not cands[i, j] == seen_c[i, j]:
+                return False
+    return True
+
+
+@core
+def _keep_start_rate(x, sp, work):
+    """Note what the first stage's derivative is as of (`_start_rate_kept`); not with a speed table of
+    another length than `seen_speeds` (the caller gives one of its length: `seen_speeds_for`)."""
+    stepper = work.stepper
+    seen_sp = work.seen_speeds
+    if sp.shape[0] != seen_sp.shape[0] or sp.shape[1] != seen_sp.shape[1]:
+        stepper[Stepper.start_rate_time] = math.nan
+        return
+    for i in range(sp.shape[0]):
+        for j in range(sp.shape[1]):
+            seen_sp[i, j] = sp[i, j]
+    for i in range(x.shape[0]):
+        work.seen_state[i] = x[i]
+    _copy_rows(work.rhs.cands, work.seen_candidates)
+    stepper[Stepper.start_rate_time] = stepper[Stepper.time]
+
+
+@core
+def _advance(x, t, duration, out_dt, first_row, model, sp, control, work, out, fresh):
     """Advance the run over `duration` s from the output instant t (a multiple of out_dt) with
     Dormand-Prince 5(4), writing a row per output instant.
 
@@ -421,7 +495,10 @@ def advance(x, t, duration, out_dt, first_row, model, sp, control, work, out):
         dense[Dense.state, i] = x[i]
     rows = 0
     k0, k1, k2, k3, k4, k5, k6 = ks[0], ks[1], ks[2], ks[3], ks[4], ks[5], ks[6]
-    dyn.rhs(x, k0, model, sp, buffers, False)
+    if fresh:
+        # the first stage: the right-hand side at x with a full contact search (unless the last call's last
+        # step left it, `advance`)
+        dyn.rhs(x, k0, model, sp, buffers, False)
     # as many output intervals as `out` holds rows for
     n_intervals = min(int(round(duration / out_dt)), out.shape[0] - (1 if first_row else 0))
     h_prop = stepper[Stepper.step]

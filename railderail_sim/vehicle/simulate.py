@@ -9,11 +9,13 @@ simulated time into preallocated buffers; `simulate` is the same stepper run to 
 """
 from dataclasses import dataclass, field
 import math
+import operator
 
 import numpy as np
 
 from .. import jsonout
 from ..atomic import atomic_write
+from ..jit import compiled_entry
 from ..contact.layout import GeometryHeader, Wheel
 from ..loads.wind import Wind, pack_aero
 from ..parameters import (KMH, RADIUS_RANGE, SPEED_RANGE_KMH, AerodynamicParameters, ContactParameters,
@@ -207,7 +209,7 @@ class Simulation:
                                                                  pack_aero(sc.aerodynamics, sc.wind,
                                                                            curve_middle(sc.track)), sc.faults)
         self.speed_table = np.ascontiguousarray(sc.speed_table, dtype=np.float64)
-        self.work = itg.workspace(self.model.cg)
+        self.work = itg.workspace(self.model.cg, len(self.speed_table))
         self.x = np.zeros(N_STATE)
         z0, self.rolling_radius = static_state(self.model)
         State.split(self.x)["positions"][:, Dof.vertical] = z0
@@ -226,6 +228,9 @@ class Simulation:
                                    stop_on_derailment=sc.stop_on_derailment)
         self.status = itg.RUNNING
         self.event = self.work.event
+        # the compiled stepper's entry point and the arguments it was resolved for (`_advance_core`)
+        self._entry = None
+        self._entry_args = ()
 
     @property
     def output_dt(self):
@@ -244,13 +249,31 @@ class Simulation:
         n = int(round(duration / self.output_dt))
         first = self.rows_written == 0
         out = np.zeros((n + 1, N_OUT))
-        status, rows, self.t = itg.advance(self.x, self.t, n * self.output_dt, self.output_dt, first,
-                                           self.model.arrays, self.speed_table, self.control, self.work, out)
+        status, rows, self.t = self._advance_core(n, first, out)
         self.rows_written += rows
         self.status = status
         if status == itg.DIVERGED:
             raise SimulationDiverged(self.divergence_message())
         return out[:rows]
+
+    def _advance_core(self, n, first, out):
+        """`integrator.advance` over n output periods into `out`: through the compiled entry point kept from the
+        last call (`jit.compiled_entry`) while its array and tuple arguments are the same objects (the scalars
+        are converted to the types they had), else through numba's dispatcher, which compiles if need be; a
+        speed table of another length gets a Workspace.seen_speeds of its length first."""
+        if self.speed_table.shape != self.work.seen_speeds.shape:
+            self.work = self.work._replace(seen_speeds=itg.seen_speeds_for(len(self.speed_table)))
+        arrays = self.model.arrays
+        objects = (self.x, self.speed_table, self.control, self.work) + tuple(arrays)
+        args = (self.x, float(self.t), n * self.output_dt, float(self.output_dt), bool(first), arrays,
+                self.speed_table, self.control, self.work, out)
+        if self._entry is not None and all(map(operator.is_, objects, self._entry_args)):
+            return self._entry(*args)
+        self._entry = compiled_entry(itg.advance, args)
+        if self._entry is None:                 # not compiled for these types yet
+            return itg.advance(*args)
+        self._entry_args = objects
+        return self._entry(*args)
 
     def divergence_message(self):
         e = self.event
