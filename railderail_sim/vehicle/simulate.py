@@ -230,7 +230,7 @@ class Simulation:
         self.event = self.work.event
         # the compiled stepper's entry point and the arguments it was resolved for (`_advance_core`)
         self._entry = None
-        self._entry_args = ()
+        self._entry_args = self._model_fields = self._arrays = ()
 
     @property
     def output_dt(self):
@@ -258,21 +258,25 @@ class Simulation:
 
     def _advance_core(self, n, first, out):
         """`integrator.advance` over n output periods into `out`: through the compiled entry point kept from the
-        last call (`jit.compiled_entry`) while its array and tuple arguments are the same objects (the scalars
-        are converted to the types they had), else through numba's dispatcher, which compiles if need be; a
+        last call (`jit.compiled_entry`) while its array and tuple arguments are the same objects (the model's
+        arrays: the model and its fields; the scalars are converted to the types they had), else through numba's dispatcher, which compiles if need be; a
         speed table of another length gets a Workspace.seen_speeds of its length first."""
         if self.speed_table.shape != self.work.seen_speeds.shape:
             self.work = self.work._replace(seen_speeds=itg.seen_speeds_for(len(self.speed_table)))
-        arrays = self.model.arrays
-        objects = (self.x, self.speed_table, self.control, self.work) + tuple(arrays)
+        model = self.model
+        objects = (self.x, self.speed_table, self.control, self.work, model)
+        kept = self._entry_args
+        fixed = (self._entry is not None and all(map(operator.is_, objects, kept))
+                 and all(map(operator.is_, vars(model).values(), self._model_fields)))
+        arrays = self._arrays if fixed else model.arrays
         args = (self.x, float(self.t), n * self.output_dt, float(self.output_dt), bool(first), arrays,
                 self.speed_table, self.control, self.work, out)
-        if self._entry is not None and all(map(operator.is_, objects, self._entry_args)):
+        if fixed:
             return self._entry(*args)
         self._entry = compiled_entry(itg.advance, args)
         if self._entry is None:                 # not compiled for these types yet
             return itg.advance(*args)
-        self._entry_args = objects
+        self._entry_args, self._model_fields, self._arrays = objects, tuple(vars(model).values()), arrays
         return self._entry(*args)
 
     def divergence_message(self):
