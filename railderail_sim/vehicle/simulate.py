@@ -259,25 +259,25 @@ class Simulation:
     def _advance_core(self, n, first, out):
         """`integrator.advance` over n output periods into `out`: through the compiled entry point kept from the
         last call (`jit.compiled_entry`) while its array and tuple arguments are the same objects (the model's
-        arrays: the model and its fields; the scalars are converted to the types they had), else through numba's dispatcher, which compiles if need be; a
-        speed table of another length gets a Workspace.seen_speeds of its length first."""
+        arrays: the model and its fields; the scalars are converted to the types they had), else through
+        numba's dispatcher, which compiles if need be (and is kept if it holds no entry point for the types
+        after the call). A speed table of another length gets a Workspace.seen_speeds of its length first."""
         if self.speed_table.shape != self.work.seen_speeds.shape:
             self.work = self.work._replace(seen_speeds=itg.seen_speeds_for(len(self.speed_table)))
         model = self.model
         objects = (self.x, self.speed_table, self.control, self.work, model)
-        kept = self._entry_args
-        fixed = (self._entry is not None and all(map(operator.is_, objects, kept))
+        fixed = (self._entry is not None and all(map(operator.is_, objects, self._entry_args))
                  and all(map(operator.is_, vars(model).values(), self._model_fields)))
         arrays = self._arrays if fixed else model.arrays
         args = (self.x, float(self.t), n * self.output_dt, float(self.output_dt), bool(first), arrays,
                 self.speed_table, self.control, self.work, out)
         if fixed:
             return self._entry(*args)
-        self._entry = compiled_entry(itg.advance, args)
-        if self._entry is None:                 # not compiled for these types yet
-            return itg.advance(*args)
+        entry = compiled_entry(itg.advance, args)
+        result = (entry or itg.advance)(*args)      # the dispatcher: compiles for these types, or loads them
+        self._entry = entry or compiled_entry(itg.advance, args) or itg.advance
         self._entry_args, self._model_fields, self._arrays = objects, tuple(vars(model).values()), arrays
-        return self._entry(*args)
+        return result
 
     def divergence_message(self):
         e = self.event
