@@ -24,6 +24,7 @@ from ..vehicle.dynamics import K_COLS
 from ..vehicle.layout import CAR_BODY, N_BODY, N_STATE
 from ..vehicle.motion import points_motion
 from ..vehicle.simulate import output_arrays
+from .sections import filter_columns
 from .sensor_set import ODOMETER, SensorSet, misaligned_axes, mount_point
 from .springs import spring_rise
 
@@ -107,7 +108,6 @@ class SensorStream:
             insts += [a.deflection] * n + [a.pressure] * n
             column += 2 * n
         self.instruments = insts
-        cols = np.arange(column)
         self.white = np.array([i.noise_density * np.sqrt(self.fs / 2.0) for i in insts])
         self.walk_step = np.array([i.bias_random_walk / np.sqrt(self.fs) for i in insts])
         self.low = np.array([i.range_low for i in insts])
@@ -129,15 +129,23 @@ class SensorStream:
                 turn = np.eye(width) if m is None else np.kron(np.eye(width // AXES), misaligned_axes(*angles))
                 self.sensing.append((np.arange(u.columns.start, u.columns.stop), scale[:, None] * turn))
         self.walk = np.zeros(column)
-        # the filters, one sosfilt call per distinct design; their states start settled on the first row
-        sampling = {c: u.sampling for u in self.units for c in range(u.columns.start, u.columns.stop)}
-        designs, groups = {}, {}
-        for c in cols:
-            key = (insts[c], sampling[c].sample_rate_hz)
-            if key not in designs:
-                designs[key] = filter_sections(insts[c], sampling[c], self.fs)
-            groups.setdefault(designs[key].tobytes(), (designs[key], []))[1].append(c)
-        self.filters = [(sos, np.array(c), None) for sos, c in groups.values()]
+        # the filters: each channel's sections, padded to the longest cascade, and their steady state per unit
+        # input (the states start settled on the first row)
+        designs, design = {}, []
+        for u in self.units:
+            for c in range(u.columns.start, u.columns.stop):
+                key = (insts[c], u.sampling.sample_rate_hz)
+                if key not in designs:
+                    designs[key] = filter_sections(insts[c], u.sampling, self.fs)
+                design.append(designs[key])
+        depth = max((len(sos) for sos in design), default=0)
+        self.sos = np.zeros((column, depth, 6))
+        self.settled = np.zeros((column, depth, 2))
+        self.sections = np.zeros(column, dtype=np.int64)
+        for c, sos in enumerate(design):
+            self.sos[c, :len(sos)], self.settled[c, :len(sos)] = sos, signal.sosfilt_zi(sos)
+            self.sections[c] = len(sos)
+        self.filter_state = None
         self.odometer = sensors.odometer
         if self.odometer is not None:
             o = self.odometer
@@ -202,11 +210,9 @@ class SensorStream:
         # the sensing element saturates before the filters (a reading beyond the range does not come back
         # within it through the anti-alias filter, as clipping only after it would let it)
         np.minimum(np.maximum(y, self.low, out=y), self.high, out=y)
-        for k, (sos, cols, state) in enumerate(self.filters):
-            if state is None:
-                state = signal.sosfilt_zi(sos)[..., None] * y[0, cols]
-            y[:, cols], state = signal.sosfilt(sos, y[:, cols], axis=0, zi=state)
-            self.filters[k] = (sos, cols, state)
+        if self.filter_state is None:
+            self.filter_state = self.settled * y[0][:, None, None]
+        filter_columns(self.sos, self.sections, y, self.filter_state)
         rows = self.row + np.arange(n)
         y = self.quantised(y, slice(None))
         takes = {}
