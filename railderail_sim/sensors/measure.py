@@ -22,7 +22,7 @@ from scipy import signal
 from ..vehicle.assemble import air_springs, local_point
 from ..vehicle.dynamics import K_COLS
 from ..vehicle.layout import CAR_BODY, N_BODY, N_STATE
-from ..vehicle.motion import points_motion
+from ..vehicle.motion import points_motion_into
 from ..vehicle.simulate import output_arrays
 from .sections import filter_columns
 from .sensor_set import ODOMETER, SensorSet, misaligned_axes, mount_point
@@ -84,13 +84,17 @@ class SensorStream:
         places = [mount_point(m.name, vp) for m in sensors.mounts]
         self.mount_bodies = np.array([int(b) for b, _ in places], dtype=int)
         self.mount_points = np.array([np.add(p, m.offset) for (_, p), m in zip(places, sensors.mounts)]).reshape(-1, 3)
-        column = 0
+        column, self.force_at, self.rate_at = 0, [], []
         for m in sensors.mounts:
             parts = [m.accelerometer] + ([m.gyro] if m.gyro is not None else [])
+            self.force_at.append(column)
+            self.rate_at.append(column + AXES if m.gyro is not None else -1)
             self.units.append(_Unit(m.name, slice(column, column + AXES * len(parts)), m.sampling, sensors.seed,
                                     self.fs))
             insts += [inst for inst in parts for _ in range(AXES)]
             column += AXES * len(parts)
+        # each mount's columns of the channel matrix: its acceleration's, its angular rate's (-1: no gyro)
+        self.force_at, self.rate_at = np.array(self.force_at, dtype=np.int64), np.array(self.rate_at, dtype=np.int64)
         self.springs = None
         if sensors.air_springs is not None:
             if model is None or speed_table is None:
@@ -104,10 +108,11 @@ class SensorStream:
             self.spring_stiffness = np.array([s.vertical_stiffness for s in self.springs])
             self.spring_preload = np.array([s.preload for s in self.springs])
             n = len(self.springs)
+            self.deflection_at, self.pressure_at = slice(column, column + n), slice(column + n, column + 2 * n)
             self.units.append(_Unit("air_springs", slice(column, column + 2 * n), a.sampling, sensors.seed, self.fs))
             insts += [a.deflection] * n + [a.pressure] * n
             column += 2 * n
-        self.instruments = insts
+        self.instruments, self.channels = insts, column
         self.white = np.array([i.noise_density * np.sqrt(self.fs / 2.0) for i in insts])
         self.walk_step = np.array([i.bias_random_walk / np.sqrt(self.fs) for i in insts])
         self.low = np.array([i.range_low for i in insts])
@@ -160,16 +165,14 @@ class SensorStream:
 
     def ideal(self, a):
         """(n, channels) ideal readings of the output arrays `a` (vehicle.simulate.output_arrays)."""
-        n = len(a["time"])
-        parts = []
+        y = np.empty((len(a["time"]), self.channels))
         if len(self.sensors.mounts):
-            force, rate = points_motion(a, self.mount_bodies, self.mount_points)
-            for k, m in enumerate(self.sensors.mounts):
-                parts += [force[:, k]] + ([rate[:, k]] if m.gyro is not None else [])
+            points_motion_into(a, self.mount_bodies, self.mount_points, self.force_at, self.rate_at, y)
         if self.springs is not None:
             deflection, force = self.spring_states(a)
-            parts += [deflection, force / self.sensors.air_springs.effective_area_m2]
-        return np.concatenate(parts, axis=1) if parts else np.zeros((n, 0))
+            y[:, self.deflection_at] = deflection
+            y[:, self.pressure_at] = force / self.sensors.air_springs.effective_area_m2
+        return y
 
     def spring_states(self, a):
         """(deflection (n, 4) m, compression +, elastic force (n, 4) N) of the air springs: the car body's
