@@ -10,10 +10,10 @@ rate, counted from the run's first row), clipped and quantised, stamped with the
 
 Determinism: every mount (and the air springs, the odometer) draws from its own PCG64 generators seeded by
 `SeedSequence(seed, spawn_key=(crc32 of its name,))`, spawned into the white noise with the bias's random
-walk, the constant bias and the lost samples; the draws, the filters (scipy.signal.sosfilt with its state
-carried) and the walk's running sum are the same whatever the chunks, so a run gives the same signals bit
-for bit from the same seed, processed at once or row by row (the simulator node).
-"""
+walk, the constant bias and the lost samples; the draws, the filters (scipy.signal.sosfilt's sections,
+compiled in chain.py, their state carried) and the walk's running sum are the same whatever the chunks, so a
+run gives the same signals bit for bit from the same seed, processed at once or row by row (the simulator
+node)."""
 import zlib
 
 import numpy as np
@@ -24,7 +24,7 @@ from ..vehicle.dynamics import K_COLS
 from ..vehicle.layout import CAR_BODY, N_BODY, N_STATE
 from ..vehicle.motion import points_motion_into
 from ..vehicle.simulate import output_arrays
-from .sections import filter_columns
+from .chain import instrument_chain
 from .sensor_set import ODOMETER, SensorSet, misaligned_axes, mount_point
 from .springs import spring_rise
 
@@ -150,7 +150,14 @@ class SensorStream:
         for c, sos in enumerate(design):
             self.sos[c, :len(sos)], self.settled[c, :len(sos)] = sos, signal.sosfilt_zi(sos)
             self.sections[c] = len(sos)
-        self.filter_state = None
+        self.filter_state, self.settle = np.zeros_like(self.settled), True
+        # each channel's unit (its first channel and width: where its draws are), each unit's signals' channels
+        self.first = np.zeros(column, dtype=np.int64)
+        self.width = np.zeros(column, dtype=np.int64)
+        for u in self.units:
+            self.first[u.columns], self.width[u.columns] = u.columns.start, u.columns.stop - u.columns.start
+        self.signals = [(u, self.unit_signals(u)) for u in self.units]
+        self.draws = self.blocks = None     # the draws' buffer and each unit's block of it, for a chunk's rows
         self.odometer = sensors.odometer
         if self.odometer is not None:
             o = self.odometer
@@ -160,6 +167,16 @@ class SensorStream:
             self.pulse_nominal, self.pulse_true = circumference, circumference * scale
             self.last_count = None
         self.row = 0
+
+    @staticmethod
+    def unit_signals(u):
+        """((signal name, its columns (a slice)), ...) of a unit."""
+        start, stop = u.columns.start, u.columns.stop
+        if u.name == "air_springs":
+            half = (start + stop) // 2
+            return ("deflection", slice(start, half)), ("pressure", slice(half, stop))
+        gyro = (("angular_rate", slice(start + AXES, stop)),) if stop - start > AXES else ()
+        return (("acceleration", slice(start, start + AXES)),) + gyro
 
     # --- the ideal signals ----------------------------------------------------------------------
 
@@ -196,41 +213,30 @@ class SensorStream:
         out = {}
         if n == 0:
             return out
-        y = self.ideal(a) if ideal is None else np.array(ideal)
+        y = self.ideal(a) if ideal is None else np.array(ideal, dtype=np.float64)
         for cols, sensed in self.sensing:
             y[:, cols] = y[:, cols] @ sensed.T
-        y = y + self.constant_bias
-        if self.units:
-            # each unit draws from its own generator; the arithmetic then runs once over all the columns (the
-            # same operations on each element as unit by unit: the same signals, fewer calls per chunk)
-            draws = [u.noise.standard_normal((n, 2 * (u.columns.stop - u.columns.start))) for u in self.units]
-            white = np.concatenate([d[:, :d.shape[1] // 2] for d in draws], axis=1)
-            steps = np.concatenate([d[:, d.shape[1] // 2:] for d in draws], axis=1) * self.walk_step
-            y += white * self.white
-            walk = np.cumsum(np.concatenate([self.walk[None, :], steps]), axis=0)[1:]
-            self.walk = walk[-1].copy()
-            y += walk
-        # the sensing element saturates before the filters (a reading beyond the range does not come back
-        # within it through the anti-alias filter, as clipping only after it would let it)
-        np.minimum(np.maximum(y, self.low, out=y), self.high, out=y)
-        if self.filter_state is None:
-            self.filter_state = self.settled * y[0][:, None, None]
-        filter_columns(self.sos, self.sections, y, self.filter_state)
+        if self.draws is None or len(self.draws) != 2 * n * self.channels:
+            self.draws = np.empty(2 * n * self.channels)
+            self.blocks = [self.draws[2 * n * u.columns.start:2 * n * u.columns.stop].reshape(n, -1)
+                           for u in self.units]
+        for u, block in zip(self.units, self.blocks):
+            u.noise.standard_normal(out=block)      # each unit from its own generator
+        # the sensing element saturates before the filters in the chain (a reading beyond the range does not
+        # come back within it through the anti-alias filter, as clipping only after it would let it)
+        instrument_chain(y, self.constant_bias, self.draws, self.first, self.width, self.white, self.walk_step,
+                         self.walk, self.low, self.high, self.sos, self.sections, self.settled, self.filter_state,
+                         self.settle, self.lsb, self.codes)
+        self.settle = False
         rows = self.row + np.arange(n)
-        y = self.quantised(y, slice(None))
-        takes = {}
-        for u in self.units:
-            if u.every not in takes:
-                takes[u.every] = np.flatnonzero(rows % u.every == 0)
-            take = takes[u.every]
-            time, samples = self.kept(u, a["time"][take] + u.sampling.latency_s, y[take, u.columns])
-            if u.name == "air_springs":
-                half = (u.columns.stop - u.columns.start) // 2
-                out[u.name] = dict(time=time, deflection=samples[:, :half], pressure=samples[:, half:])
-            else:
-                out[u.name] = dict(time=time, acceleration=samples[:, :AXES])
-                if u.columns.stop - u.columns.start > AXES:
-                    out[u.name]["angular_rate"] = samples[:, AXES:]
+        taken = {}
+        for u, signals in self.signals:
+            key = (u.every, u.sampling.latency_s)
+            if key not in taken:
+                take = np.arange((-self.row) % u.every, n, u.every)
+                taken[key] = a["time"][take] + u.sampling.latency_s, y[take]
+            time, samples = self.kept(u, *taken[key])     # the units' samples: views of one array
+            out[u.name] = dict(time=time, **{name: samples[:, cols] for name, cols in signals})
         if self.odometer is not None:
             out[ODOMETER] = self.odometer_samples(a, rows)
         self.row += n
@@ -244,22 +250,6 @@ class SensorStream:
             return taken
         kept = unit.lost.random(len(taken[0])) >= unit.sampling.dropout
         return tuple(x[kept] for x in taken)
-
-    def quantised(self, x, cols):
-        """Readings clipped to each channel's range and rounded to its resolution."""
-        low, lsb = self.low[cols], self.lsb[cols]
-        clipped = np.minimum(np.maximum(x, low), self.high[cols])      # (np.clip is slower on small arrays)
-        if not np.any(lsb):
-            return clipped
-        step = np.where(lsb > 0.0, lsb, 1.0)
-        # in place on one buffer: a whole run's readings are large (a 30 km line at 200 Hz, 10^7 of them)
-        codes = clipped - low
-        codes /= step
-        np.minimum(np.maximum(np.round(codes, out=codes), 0.0, out=codes), self.codes[cols], out=codes)
-        codes *= step
-        codes += low
-        np.copyto(clipped, codes, where=lsb > 0.0)
-        return clipped
 
     def odometer_samples(self, a, rows):
         """The odometer's speed: the pulses counted since its last sample times the nominal pulse length,
