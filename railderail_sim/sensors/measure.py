@@ -107,6 +107,7 @@ class SensorStream:
             self.spring_bogies = np.array([s.bogie for s in self.springs], dtype=np.int64)
             self.spring_stiffness = np.array([s.vertical_stiffness for s in self.springs])
             self.spring_preload = np.array([s.preload for s in self.springs])
+            self.spring_scratch = np.zeros(N_STATE), np.zeros((N_BODY, K_COLS))    # the state, the kinematics
             n = len(self.springs)
             self.deflection_at, self.pressure_at = slice(column, column + n), slice(column + n, column + 2 * n)
             self.units.append(_Unit("air_springs", slice(column, column + 2 * n), a.sampling, sensors.seed, self.fs))
@@ -198,7 +199,7 @@ class SensorStream:
         rise = np.zeros((n, len(self.springs)))
         spring_rise(np.ascontiguousarray(np.reshape(a["body_states"], (n, -1))), np.ascontiguousarray(a["position"]),
                     self.model.bodies, self.model.track, self.speed_table, self.spring_bogies, self.spring_local,
-                    np.zeros(N_STATE), np.zeros((N_BODY, K_COLS)), rise)
+                    *self.spring_scratch, rise)
         return -rise, self.spring_preload - self.spring_stiffness * rise
 
     # --- the sensor models ----------------------------------------------------------------------
@@ -228,7 +229,6 @@ class SensorStream:
                          self.walk, self.low, self.high, self.sos, self.sections, self.settled, self.filter_state,
                          self.settle, self.lsb, self.codes)
         self.settle = False
-        rows = self.row + np.arange(n)
         taken = {}
         for u, signals in self.signals:
             key = (u.every, u.sampling.latency_s)
@@ -238,7 +238,7 @@ class SensorStream:
             time, samples = self.kept(u, *taken[key])     # the units' samples: views of one array
             out[u.name] = dict(time=time, **{name: samples[:, cols] for name, cols in signals})
         if self.odometer is not None:
-            out[ODOMETER] = self.odometer_samples(a, rows)
+            out[ODOMETER] = self.odometer_samples(a)
         self.row += n
         return out
 
@@ -251,18 +251,19 @@ class SensorStream:
         kept = unit.lost.random(len(taken[0])) >= unit.sampling.dropout
         return tuple(x[kept] for x in taken)
 
-    def odometer_samples(self, a, rows):
+    def odometer_samples(self, a):
         """The odometer's speed: the pulses counted since its last sample times the nominal pulse length,
         over the sample period (its first sample one period after the run's start)."""
         u, o = self.odometer_unit, self.odometer
-        counts = np.floor(a["position"] / self.pulse_true)
         if self.last_count is None:
-            self.last_count = counts[0]
-        take = np.flatnonzero((rows % u.every == 0) & (rows > 0))
-        previous = np.concatenate([[self.last_count], counts[take][:-1]])
-        speed = (counts[take] - previous) * self.pulse_nominal * o.sampling.sample_rate_hz
+            self.last_count = np.floor(a["position"][0] / self.pulse_true)
+        first = (-self.row) % u.every
+        take = np.arange(u.every if self.row + first == 0 else first, len(a["time"]), u.every)
+        counts = np.floor(a["position"][take] / self.pulse_true)
+        previous = np.concatenate([[self.last_count], counts[:-1]])
+        speed = (counts - previous) * self.pulse_nominal * o.sampling.sample_rate_hz
         if len(take):
-            self.last_count = counts[take][-1]
+            self.last_count = counts[-1]
         time, speed = self.kept(u, a["time"][take] + o.sampling.latency_s, speed)
         return dict(time=time, speed=speed)
 
