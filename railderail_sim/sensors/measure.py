@@ -157,7 +157,7 @@ class SensorStream:
         self.width = np.zeros(column, dtype=np.int64)
         for u in self.units:
             self.first[u.columns], self.width[u.columns] = u.columns.start, u.columns.stop - u.columns.start
-        self.signals = [(u, self.unit_signals(u)) for u in self.units]
+        self.signals = [(u, (u.every, u.sampling.latency_s), self.unit_signals(u)) for u in self.units]
         self.draws = self.blocks = None     # the draws' buffer and each unit's block of it, for a chunk's rows
         self.odometer = sensors.odometer
         if self.odometer is not None:
@@ -229,14 +229,15 @@ class SensorStream:
                          self.walk, self.low, self.high, self.sos, self.sections, self.settled, self.filter_state,
                          self.settle, self.lsb, self.codes)
         self.settle = False
-        taken = {}
-        for u, signals in self.signals:
-            key = (u.every, u.sampling.latency_s)
+        taken = {}      # the units' samples: views of the readings, the rows of their phase
+        for u, key, signals in self.signals:
             if key not in taken:
-                take = np.arange((-self.row) % u.every, n, u.every)
+                take = slice((-self.row) % u.every, n, u.every)
                 taken[key] = a["time"][take] + u.sampling.latency_s, y[take]
-            time, samples = self.kept(u, *taken[key])     # the units' samples: views of one array
-            out[u.name] = dict(time=time, **{name: samples[:, cols] for name, cols in signals})
+            time, samples = self.kept(u, *taken[key])
+            got = out[u.name] = {"time": time}
+            for name, cols in signals:
+                got[name] = samples[:, cols]
         if self.odometer is not None:
             out[ODOMETER] = self.odometer_samples(a)
         self.row += n
