@@ -10,10 +10,10 @@ rate, counted from the run's first row), clipped and quantised, stamped with the
 
 Determinism: every mount (and the air springs, the odometer) draws from its own PCG64 generators seeded by
 `SeedSequence(seed, spawn_key=(crc32 of its name,))`, spawned into the white noise with the bias's random
-walk, the constant bias and the lost samples; the draws, the filters (scipy.signal.sosfilt with its state
-carried) and the walk's running sum are the same whatever the chunks, so a run gives the same signals bit
-for bit from the same seed, processed at once or row by row (the simulator node).
-"""
+walk, the constant bias and the lost samples; the draws, the filters (scipy.signal.sosfilt's sections,
+compiled in chain.py, their state carried) and the walk's running sum are the same whatever the chunks, so a
+run gives the same signals bit for bit from the same seed, processed at once or row by row (the simulator
+node)."""
 import zlib
 
 import numpy as np
@@ -22,8 +22,9 @@ from scipy import signal
 from ..vehicle.assemble import air_springs, local_point
 from ..vehicle.dynamics import K_COLS
 from ..vehicle.layout import CAR_BODY, N_BODY, N_STATE
-from ..vehicle.motion import points_motion
+from ..vehicle.motion import points_motion_into
 from ..vehicle.simulate import output_arrays
+from .chain import instrument_chain
 from .sensor_set import ODOMETER, SensorSet, misaligned_axes, mount_point
 from .springs import spring_rise
 
@@ -83,13 +84,17 @@ class SensorStream:
         places = [mount_point(m.name, vp) for m in sensors.mounts]
         self.mount_bodies = np.array([int(b) for b, _ in places], dtype=int)
         self.mount_points = np.array([np.add(p, m.offset) for (_, p), m in zip(places, sensors.mounts)]).reshape(-1, 3)
-        column = 0
+        column, self.force_at, self.rate_at = 0, [], []
         for m in sensors.mounts:
             parts = [m.accelerometer] + ([m.gyro] if m.gyro is not None else [])
+            self.force_at.append(column)
+            self.rate_at.append(column + AXES if m.gyro is not None else -1)
             self.units.append(_Unit(m.name, slice(column, column + AXES * len(parts)), m.sampling, sensors.seed,
                                     self.fs))
             insts += [inst for inst in parts for _ in range(AXES)]
             column += AXES * len(parts)
+        # each mount's columns of the channel matrix: its acceleration's, its angular rate's (-1: no gyro)
+        self.force_at, self.rate_at = np.array(self.force_at, dtype=np.int64), np.array(self.rate_at, dtype=np.int64)
         self.springs = None
         if sensors.air_springs is not None:
             if model is None or speed_table is None:
@@ -102,12 +107,13 @@ class SensorStream:
             self.spring_bogies = np.array([s.bogie for s in self.springs], dtype=np.int64)
             self.spring_stiffness = np.array([s.vertical_stiffness for s in self.springs])
             self.spring_preload = np.array([s.preload for s in self.springs])
+            self.spring_scratch = np.zeros(N_STATE), np.zeros((N_BODY, K_COLS))    # the state, the kinematics
             n = len(self.springs)
+            self.deflection_at, self.pressure_at = slice(column, column + n), slice(column + n, column + 2 * n)
             self.units.append(_Unit("air_springs", slice(column, column + 2 * n), a.sampling, sensors.seed, self.fs))
             insts += [a.deflection] * n + [a.pressure] * n
             column += 2 * n
-        self.instruments = insts
-        cols = np.arange(column)
+        self.instruments, self.channels = insts, column
         self.white = np.array([i.noise_density * np.sqrt(self.fs / 2.0) for i in insts])
         self.walk_step = np.array([i.bias_random_walk / np.sqrt(self.fs) for i in insts])
         self.low = np.array([i.range_low for i in insts])
@@ -129,15 +135,30 @@ class SensorStream:
                 turn = np.eye(width) if m is None else np.kron(np.eye(width // AXES), misaligned_axes(*angles))
                 self.sensing.append((np.arange(u.columns.start, u.columns.stop), scale[:, None] * turn))
         self.walk = np.zeros(column)
-        # the filters, one sosfilt call per distinct design; their states start settled on the first row
-        sampling = {c: u.sampling for u in self.units for c in range(u.columns.start, u.columns.stop)}
-        designs, groups = {}, {}
-        for c in cols:
-            key = (insts[c], sampling[c].sample_rate_hz)
-            if key not in designs:
-                designs[key] = filter_sections(insts[c], sampling[c], self.fs)
-            groups.setdefault(designs[key].tobytes(), (designs[key], []))[1].append(c)
-        self.filters = [(sos, np.array(c), None) for sos, c in groups.values()]
+        # the filters: each channel's sections, padded to the longest cascade, and their steady state per unit
+        # input (the states start settled on the first row)
+        designs, design = {}, []
+        for u in self.units:
+            for c in range(u.columns.start, u.columns.stop):
+                key = (insts[c], u.sampling.sample_rate_hz)
+                if key not in designs:
+                    designs[key] = filter_sections(insts[c], u.sampling, self.fs)
+                design.append(designs[key])
+        depth = max((len(sos) for sos in design), default=0)
+        self.sos = np.zeros((column, depth, 6))
+        self.settled = np.zeros((column, depth, 2))
+        self.sections = np.zeros(column, dtype=np.int64)
+        for c, sos in enumerate(design):
+            self.sos[c, :len(sos)], self.settled[c, :len(sos)] = sos, signal.sosfilt_zi(sos)
+            self.sections[c] = len(sos)
+        self.filter_state, self.settle = np.zeros_like(self.settled), True
+        # each channel's unit (its first channel and width: where its draws are), each unit's signals' channels
+        self.first = np.zeros(column, dtype=np.int64)
+        self.width = np.zeros(column, dtype=np.int64)
+        for u in self.units:
+            self.first[u.columns], self.width[u.columns] = u.columns.start, u.columns.stop - u.columns.start
+        self.signals = [(u, (u.every, u.sampling.latency_s), self.unit_signals(u)) for u in self.units]
+        self.draws = self.blocks = None     # the draws' buffer and each unit's block of it, for a chunk's rows
         self.odometer = sensors.odometer
         if self.odometer is not None:
             o = self.odometer
@@ -148,20 +169,28 @@ class SensorStream:
             self.last_count = None
         self.row = 0
 
+    @staticmethod
+    def unit_signals(u):
+        """((signal name, its columns (a slice)), ...) of a unit."""
+        start, stop = u.columns.start, u.columns.stop
+        if u.name == "air_springs":
+            half = (start + stop) // 2
+            return ("deflection", slice(start, half)), ("pressure", slice(half, stop))
+        gyro = (("angular_rate", slice(start + AXES, stop)),) if stop - start > AXES else ()
+        return (("acceleration", slice(start, start + AXES)),) + gyro
+
     # --- the ideal signals ----------------------------------------------------------------------
 
     def ideal(self, a):
         """(n, channels) ideal readings of the output arrays `a` (vehicle.simulate.output_arrays)."""
-        n = len(a["time"])
-        parts = []
+        y = np.empty((len(a["time"]), self.channels))
         if len(self.sensors.mounts):
-            force, rate = points_motion(a, self.mount_bodies, self.mount_points)
-            for k, m in enumerate(self.sensors.mounts):
-                parts += [force[:, k]] + ([rate[:, k]] if m.gyro is not None else [])
+            points_motion_into(a, self.mount_bodies, self.mount_points, self.force_at, self.rate_at, y)
         if self.springs is not None:
             deflection, force = self.spring_states(a)
-            parts += [deflection, force / self.sensors.air_springs.effective_area_m2]
-        return np.concatenate(parts, axis=1) if parts else np.zeros((n, 0))
+            y[:, self.deflection_at] = deflection
+            y[:, self.pressure_at] = force / self.sensors.air_springs.effective_area_m2
+        return y
 
     def spring_states(self, a):
         """(deflection (n, 4) m, compression +, elastic force (n, 4) N) of the air springs: the car body's
@@ -170,7 +199,7 @@ class SensorStream:
         rise = np.zeros((n, len(self.springs)))
         spring_rise(np.ascontiguousarray(np.reshape(a["body_states"], (n, -1))), np.ascontiguousarray(a["position"]),
                     self.model.bodies, self.model.track, self.speed_table, self.spring_bogies, self.spring_local,
-                    np.zeros(N_STATE), np.zeros((N_BODY, K_COLS)), rise)
+                    *self.spring_scratch, rise)
         return -rise, self.spring_preload - self.spring_stiffness * rise
 
     # --- the sensor models ----------------------------------------------------------------------
@@ -185,45 +214,32 @@ class SensorStream:
         out = {}
         if n == 0:
             return out
-        y = self.ideal(a) if ideal is None else np.array(ideal)
+        y = self.ideal(a) if ideal is None else np.array(ideal, dtype=np.float64)
         for cols, sensed in self.sensing:
             y[:, cols] = y[:, cols] @ sensed.T
-        y = y + self.constant_bias
-        if self.units:
-            # each unit draws from its own generator; the arithmetic then runs once over all the columns (the
-            # same operations on each element as unit by unit: the same signals, fewer calls per chunk)
-            draws = [u.noise.standard_normal((n, 2 * (u.columns.stop - u.columns.start))) for u in self.units]
-            white = np.concatenate([d[:, :d.shape[1] // 2] for d in draws], axis=1)
-            steps = np.concatenate([d[:, d.shape[1] // 2:] for d in draws], axis=1) * self.walk_step
-            y += white * self.white
-            walk = np.cumsum(np.concatenate([self.walk[None, :], steps]), axis=0)[1:]
-            self.walk = walk[-1].copy()
-            y += walk
-        # the sensing element saturates before the filters (a reading beyond the range does not come back
-        # within it through the anti-alias filter, as clipping only after it would let it)
-        np.minimum(np.maximum(y, self.low, out=y), self.high, out=y)
-        for k, (sos, cols, state) in enumerate(self.filters):
-            if state is None:
-                state = signal.sosfilt_zi(sos)[..., None] * y[0, cols]
-            y[:, cols], state = signal.sosfilt(sos, y[:, cols], axis=0, zi=state)
-            self.filters[k] = (sos, cols, state)
-        rows = self.row + np.arange(n)
-        y = self.quantised(y, slice(None))
-        takes = {}
-        for u in self.units:
-            if u.every not in takes:
-                takes[u.every] = np.flatnonzero(rows % u.every == 0)
-            take = takes[u.every]
-            time, samples = self.kept(u, a["time"][take] + u.sampling.latency_s, y[take, u.columns])
-            if u.name == "air_springs":
-                half = (u.columns.stop - u.columns.start) // 2
-                out[u.name] = dict(time=time, deflection=samples[:, :half], pressure=samples[:, half:])
-            else:
-                out[u.name] = dict(time=time, acceleration=samples[:, :AXES])
-                if u.columns.stop - u.columns.start > AXES:
-                    out[u.name]["angular_rate"] = samples[:, AXES:]
+        if self.draws is None or len(self.draws) != 2 * n * self.channels:
+            self.draws = np.empty(2 * n * self.channels)
+            self.blocks = [self.draws[2 * n * u.columns.start:2 * n * u.columns.stop].reshape(n, -1)
+                           for u in self.units]
+        for u, block in zip(self.units, self.blocks):
+            u.noise.standard_normal(out=block)      # each unit from its own generator
+        # the sensing element saturates before the filters in the chain (a reading beyond the range does not
+        # come back within it through the anti-alias filter, as clipping only after it would let it)
+        instrument_chain(y, self.constant_bias, self.draws, self.first, self.width, self.white, self.walk_step,
+                         self.walk, self.low, self.high, self.sos, self.sections, self.settled, self.filter_state,
+                         self.settle, self.lsb, self.codes)
+        self.settle = False
+        taken = {}      # the units' samples: views of the readings, the rows of their phase
+        for u, key, signals in self.signals:
+            if key not in taken:
+                take = slice((-self.row) % u.every, n, u.every)
+                taken[key] = a["time"][take] + u.sampling.latency_s, y[take]
+            time, samples = self.kept(u, *taken[key])
+            got = out[u.name] = {"time": time}
+            for name, cols in signals:
+                got[name] = samples[:, cols]
         if self.odometer is not None:
-            out[ODOMETER] = self.odometer_samples(a, rows)
+            out[ODOMETER] = self.odometer_samples(a)
         self.row += n
         return out
 
@@ -236,34 +252,19 @@ class SensorStream:
         kept = unit.lost.random(len(taken[0])) >= unit.sampling.dropout
         return tuple(x[kept] for x in taken)
 
-    def quantised(self, x, cols):
-        """Readings clipped to each channel's range and rounded to its resolution."""
-        low, lsb = self.low[cols], self.lsb[cols]
-        clipped = np.minimum(np.maximum(x, low), self.high[cols])      # (np.clip is slower on small arrays)
-        if not np.any(lsb):
-            return clipped
-        step = np.where(lsb > 0.0, lsb, 1.0)
-        # in place on one buffer: a whole run's readings are large (a 30 km line at 200 Hz, 10^7 of them)
-        codes = clipped - low
-        codes /= step
-        np.minimum(np.maximum(np.round(codes, out=codes), 0.0, out=codes), self.codes[cols], out=codes)
-        codes *= step
-        codes += low
-        np.copyto(clipped, codes, where=lsb > 0.0)
-        return clipped
-
-    def odometer_samples(self, a, rows):
+    def odometer_samples(self, a):
         """The odometer's speed: the pulses counted since its last sample times the nominal pulse length,
         over the sample period (its first sample one period after the run's start)."""
         u, o = self.odometer_unit, self.odometer
-        counts = np.floor(a["position"] / self.pulse_true)
         if self.last_count is None:
-            self.last_count = counts[0]
-        take = np.flatnonzero((rows % u.every == 0) & (rows > 0))
-        previous = np.concatenate([[self.last_count], counts[take][:-1]])
-        speed = (counts[take] - previous) * self.pulse_nominal * o.sampling.sample_rate_hz
+            self.last_count = np.floor(a["position"][0] / self.pulse_true)
+        first = (-self.row) % u.every
+        take = np.arange(u.every if self.row + first == 0 else first, len(a["time"]), u.every)
+        counts = np.floor(a["position"][take] / self.pulse_true)
+        previous = np.concatenate([[self.last_count], counts[:-1]])
+        speed = (counts - previous) * self.pulse_nominal * o.sampling.sample_rate_hz
         if len(take):
-            self.last_count = counts[take][-1]
+            self.last_count = counts[-1]
         time, speed = self.kept(u, a["time"][take] + o.sampling.latency_s, speed)
         return dict(time=time, speed=speed)
 

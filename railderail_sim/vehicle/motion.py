@@ -14,46 +14,72 @@ accelerometer at rest on level track reads +g along z.
 """
 import numpy as np
 
+from ..jit import core
 from .layout import Body, BodyMotion, Dof
 
-
-def relative_rotation(angles):
-    """(..., 3, 3) rotations track <- body from (..., 5) body states (roll, pitch, yaw of `layout.Dof`)."""
-    roll, pitch, yaw = (np.asarray(angles[..., d], dtype=float) for d in (Dof.roll, Dof.pitch, Dof.yaw))
-    cr, sr, cp, sp, cy, sy = np.cos(roll), np.sin(roll), np.cos(pitch), np.sin(pitch), np.cos(yaw), np.sin(yaw)
-    return np.stack([np.stack([cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr], -1),
-                     np.stack([sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr], -1),
-                     np.stack([-sp, cp * sr, cp * cr], -1)], -2)
+ANGLES = np.array([Dof.roll, Dof.pitch, Dof.yaw])
+SPECIFIC_FORCE, ANGULAR_VELOCITY, ANGULAR_ACCELERATION = (int(BodyMotion[name]) for name in (
+    "specific_force", "angular_velocity", "angular_acceleration"))
 
 
 def points_motion(arrays, bodies, points):
     """(specific force (n, m, 3) m/s^2, angular rate (n, m, 3) rad/s), both in each body's axes, of m points:
     `points` (m, 3) (m, body axes from the body's reference point: x forward, y left, z up) of `bodies` (m
     `layout.Body` indices)."""
-    b = np.asarray(bodies, dtype=int)
-    motion = BodyMotion.split(np.asarray(arrays["body_motion"])[:, b])
-    rotation = relative_rotation(np.asarray(arrays["body_states"])[:, b])
-    p = np.asarray(points, dtype=float)
-    r = rotation[..., 0] * p[:, None, 0] + rotation[..., 1] * p[:, None, 1] + rotation[..., 2] * p[:, None, 2]
-    omega, alpha = motion["angular_velocity"], motion["angular_acceleration"]
-    force = motion["specific_force"] + _cross(alpha, r) + _cross(omega, _cross(omega, r))
-    return _to_body(rotation, force), _to_body(rotation, omega)
+    n, m = len(arrays["body_states"]), len(bodies)
+    out = np.empty((n, 2 * m * 3))
+    at = 3 * np.arange(m)
+    points_motion_into(arrays, bodies, points, at, 3 * m + at, out)
+    return out[:, :3 * m].reshape(n, m, 3), out[:, 3 * m:].reshape(n, m, 3)
 
 
-# Written out component by component, each term in the order np.cross and np.sum take them (the same
-# numbers to the bit): numpy's general functions cost more in their calls than in their arithmetic on the
-# small arrays of a sensor chunk (one row in the simulator node).
+def points_motion_into(arrays, bodies, points, force_at, rate_at, out):
+    """`points_motion`'s readings written into the columns of out (n, ...): point k's specific force into
+    out[:, force_at[k]:force_at[k] + 3], its angular rate likewise at rate_at[k] (none where it is -1). The
+    sensors' channel matrix is filled so, without the arrays of each mount's reading and their concatenation
+    (a row in the simulator node: the calls, not the arithmetic, cost)."""
+    b = np.asarray(bodies, dtype=np.int64)
+    angles = np.asarray(arrays["body_states"])[:, b[:, None], ANGLES]
+    _points_into(np.cos(angles), np.sin(angles), np.asarray(arrays["body_motion"])[:, b],
+                 np.asarray(points, dtype=float), np.asarray(force_at, dtype=np.int64),
+                 np.asarray(rate_at, dtype=np.int64), out)
 
-def _cross(a, b):
-    """a x b over the last axis."""
-    return np.stack([a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1], a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
-                     a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]], -1)
 
-
-def _to_body(rotation, v):
-    """R^T v: track axes (..., 3) into the body's."""
-    return (rotation[..., 0, :] * v[..., 0, None] + rotation[..., 1, :] * v[..., 1, None]
-            + rotation[..., 2, :] * v[..., 2, None])
+@core
+def _points_into(cos, sin, motion, points, force_at, rate_at, out):
+    """f = R^T (f_ref + alpha x r + omega x (omega x r)), r = R p, and R^T omega, R = Rz(yaw) Ry(pitch) Rx(roll)
+    from the cosines and sines (n, m, 3) of (roll, pitch, yaw); each term in the order numpy took them when
+    this was written with whole-array operations and np.cross (the same numbers to the bit)."""
+    for i in range(cos.shape[0]):
+        for k in range(cos.shape[1]):
+            cr, cp, cy = cos[i, k, 0], cos[i, k, 1], cos[i, k, 2]
+            sr, sp, sy = sin[i, k, 0], sin[i, k, 1], sin[i, k, 2]
+            r00, r01, r02 = cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr
+            r10, r11, r12 = sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr
+            r20, r21, r22 = -sp, cp * sr, cp * cr
+            p0, p1, p2 = points[k, 0], points[k, 1], points[k, 2]
+            x = r00 * p0 + r01 * p1 + r02 * p2
+            y = r10 * p0 + r11 * p1 + r12 * p2
+            z = r20 * p0 + r21 * p1 + r22 * p2
+            w0 = motion[i, k, ANGULAR_VELOCITY]
+            w1 = motion[i, k, ANGULAR_VELOCITY + 1]
+            w2 = motion[i, k, ANGULAR_VELOCITY + 2]
+            a0 = motion[i, k, ANGULAR_ACCELERATION]
+            a1 = motion[i, k, ANGULAR_ACCELERATION + 1]
+            a2 = motion[i, k, ANGULAR_ACCELERATION + 2]
+            u0, u1, u2 = w1 * z - w2 * y, w2 * x - w0 * z, w0 * y - w1 * x      # omega x r
+            f0 = motion[i, k, SPECIFIC_FORCE] + (a1 * z - a2 * y) + (w1 * u2 - w2 * u1)
+            f1 = motion[i, k, SPECIFIC_FORCE + 1] + (a2 * x - a0 * z) + (w2 * u0 - w0 * u2)
+            f2 = motion[i, k, SPECIFIC_FORCE + 2] + (a0 * y - a1 * x) + (w0 * u1 - w1 * u0)
+            c = force_at[k]
+            out[i, c] = r00 * f0 + r10 * f1 + r20 * f2
+            out[i, c + 1] = r01 * f0 + r11 * f1 + r21 * f2
+            out[i, c + 2] = r02 * f0 + r12 * f1 + r22 * f2
+            c = rate_at[k]
+            if c >= 0:
+                out[i, c] = r00 * w0 + r10 * w1 + r20 * w2
+                out[i, c + 1] = r01 * w0 + r11 * w1 + r21 * w2
+                out[i, c + 2] = r02 * w0 + r12 * w1 + r22 * w2
 
 
 def point_motion(arrays, body, point):
