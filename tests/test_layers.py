@@ -19,6 +19,7 @@ LAYERS = [  # module name prefix -> layer (the first prefix that matches)
     ("railderail_sim.track.irregularity", MODEL), ("railderail_sim.track.spectra", MODEL), ("railderail_sim.track", CORE),
     ("railderail_sim.loads.wind", MODEL), ("railderail_sim.loads", CORE), ("railderail_sim.vehicle.layout", CORE),
     ("railderail_sim.vehicle.dynamics", CORE), ("railderail_sim.vehicle.integrator", CORE),
+    ("railderail_sim.vehicle.run_end", CORE),
     ("railderail_sim.parameters", MODEL), ("railderail_sim.profiles", MODEL), ("railderail_sim.vehicle", MODEL),
     ("railderail_sim.sensors", MODEL), ("railderail_sim.line", MODEL), ("railderail_sim.methods", METHODS),
     ("railderail_sim.assessment", METHODS), ("railderail_sim.supervision", METHODS),

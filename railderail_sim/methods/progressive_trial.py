@@ -3,7 +3,7 @@
 Staircase: the car enters the curve at a safe speed, then on the circular curve repeatedly accelerates by
 a step and holds the new speed over a distance (Yu 2022, Fig. 3), until a wheel derails by the
 geometric criterion of the paper (the wheel lift hp reaches the flange height and the wheel is off its
-rail; see `vehicle.integrator._check_derailment`). The circular curve of the Table 2 line is lengthened
+rail; see `vehicle.run_end.check_derailment`). The circular curve of the Table 2 line is lengthened
 so that the whole staircase fits on it; everything else is the paper's alignment. The critical
 derailment speed is the speed at the derailment instant.
 

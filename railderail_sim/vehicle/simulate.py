@@ -27,14 +27,16 @@ from ..track.layout import N_RAIL_DOF, ElasticTrack, RailDof
 from ..track.rails import rail_deviation
 from . import integrator as itg
 from .assemble import build_model, failed_elements, static_contact
-from .integrator import Event, StepControl, Stepper
+from .integrator import StepControl, Stepper
+from . import run_end
+from .run_end import Event
 from .layout import N_DOF, N_OUT, N_STATE, N_WHEEL, WHEELSETS, Body, BodyTable, Dof, OutputRow, State, WheelsetOutput
 
 RTOL = 1.0e-7                            # relative error per step; see docs/vehicle-model.md (tolerance study)
 ATOL_DISPLACEMENT = 1.0e-8               # m and rad per step; velocities and rates get 100x this in 1/s
 MAX_STEP = 2.0e-3                        # s, below the stability limit of the 200 Hz contact modes
 MIN_STEP = 1.0e-8                        # s; a step below this means the run has diverged
-MECHANISMS = {itg.MECH_FLANGE_CLIMBING: "flange_climbing", itg.MECH_WHEEL_UNLOADING: "wheel_unloading"}
+MECHANISMS = {run_end.MECH_FLANGE_CLIMBING: "flange_climbing", run_end.MECH_WHEEL_UNLOADING: "wheel_unloading"}
 STATUS = {itg.RUNNING: "running", itg.DERAILED: "derailed", itg.DIVERGED: "diverged",
           itg.END_OF_LINE: "finished"}
 
@@ -93,7 +95,7 @@ class Scenario:
     start_position: float = 0.0             # m, car-body centre
     end_position: float = math.nan          # m, default: end of the line
     stop_on_derailment: bool = True
-    lift_tolerance: float = 1.0e-3          # m, see integrator._check_derailment
+    lift_tolerance: float = 1.0e-3          # m, see run_end.check_derailment
 
     def validated(self):
         if not math.isinf(self.track.radius):
@@ -286,7 +288,7 @@ class Simulation:
         if idx < 0:
             return where + f"the step size fell to {e[Event.state_value]:.3g} s (below {MIN_STEP:g} s)"
         return (where + f"{state_name(idx)} = {e[Event.state_value]:.4g} ran away (limits: displacement "
-                f"{itg.LIMIT_DISPLACEMENT} m, angle {itg.LIMIT_ANGLE} rad, velocity {itg.LIMIT_VELOCITY} m/s)")
+                f"{run_end.LIMIT_DISPLACEMENT} m, angle {run_end.LIMIT_ANGLE} rad, velocity {run_end.LIMIT_VELOCITY} m/s)")
 
     def derailment(self):
         """The derailment event as a dict (None if the run did not derail)."""
