@@ -33,7 +33,7 @@ import math
 import numpy as np
 
 from .. import scalarmath
-from ..jit import core
+from ..jit import core, core_inline
 from .layout import H_SIZE, MAX_CANDIDATES, MAX_PATCHES, Candidates, GeometryHeader, HertzShape, Patch
 
 
@@ -196,15 +196,25 @@ def pose_constants(cg, y, z, phi, psi):
             -spsi * cphi * inv_rho)
 
 
+@core_inline
+def trace_offset(r, eta, slope, an, bn, k1, cphi, sphi):
+    """(qx, qy, qz): the contact trace line's point of the wheel profile point of radius r, slope r' and
+    lateral coordinate eta from the wheelset centre, from the wheelset centre in its yawed, unrolled axes
+    (turned by the yaw: X = cpsi qx - spsi qy, Y = y + spsi qx + cpsi qy; Z = zc + qz). The trace angle theta
+    has sin(theta) = bn cos(b) + an sin(b), cos(theta) = an cos(b) - bn sin(b), sin(b) = r' k1 (the module
+    docstring's trace-line equation; an, bn, k1 from `pose_constants`). Inlined: `_scan`'s and the Kik-
+    Piotrowski strips' inner loops take it per profile point."""
+    c = min(1.0, max(-1.0, slope * k1))
+    cb = math.sqrt(1.0 - c * c)
+    rct = r * (an * cb - bn * c)
+    qx = r * (bn * cb + an * c)
+    return qx, eta * cphi + rct * sphi, eta * sphi - rct * cphi
+
+
 @core
 def _scan(cg, pose, j0, j1, stride, gap, ys):
-    """Vertical gap along the contact trace line at wheel grid points j0, j0+stride, ... < j1.
-
-    For wheel profile point y_p (radius r, slope r') the trace angle theta has
-    sin(theta) = bn cos(b) + an sin(b), cos(theta) = an cos(b) - bn sin(b), sin(b) = r' k1 (closed form of
-    the trace-line equation in the module docstring; an, bn, k1 from `pose_constants`). The rail height
-    is a cubic Hermite interpolation of the tabulated height and slope.
-    """
+    """Vertical gap along the contact trace line (`trace_offset`) at wheel grid points j0, j0+stride, ... < j1.
+    The rail height is a cubic Hermite interpolation of the tabulated height and slope."""
     nw = int(cg[GeometryHeader.wheel_points])
     wy0 = cg[GeometryHeader.wheel_y0]
     dw = cg[GeometryHeader.wheel_step]
@@ -221,13 +231,7 @@ def _scan(cg, pose, j0, j1, stride, gap, ys):
     umax = nr - 1.0
     for j in range(j0, j1, stride):
         eta = lw + wy0 + j * dw
-        r = r0 + cg[ow + j]
-        c = min(1.0, max(-1.0, cg[ow + nw + j] * k1))
-        cb = math.sqrt(1.0 - c * c)
-        rct = r * (an * cb - bn * c)
-        qx = r * (bn * cb + an * c)
-        qy = eta * cphi + rct * sphi
-        qz = eta * sphi - rct * cphi
+        qx, qy, qz = trace_offset(r0 + cg[ow + j], eta, cg[ow + nw + j], an, bn, k1, cphi, sphi)
         Y = y + spsi * qx + cpsi * qy
         u = (Y - ry0) * inv_dr
         if u < 0.0 or u >= umax:
@@ -250,13 +254,7 @@ def _trace_point(cg, pose, yp):
     y, zc, cphi, sphi, cpsi, spsi, an, bn, k1 = pose
     zw, sw, kw = _wheel_at(cg, yp)
     r = cg[GeometryHeader.nominal_radius] + zw
-    eta = cg[GeometryHeader.rolling_circle_distance] + yp
-    c = min(1.0, max(-1.0, sw * k1))
-    cb = math.sqrt(1.0 - c * c)
-    rct = r * (an * cb - bn * c)
-    qx = r * (bn * cb + an * c)
-    qy = eta * cphi + rct * sphi
-    qz = eta * sphi - rct * cphi
+    qx, qy, qz = trace_offset(r, cg[GeometryHeader.rolling_circle_distance] + yp, sw, an, bn, k1, cphi, sphi)
     return cpsi * qx - spsi * qy, y + spsi * qx + cpsi * qy, zc + qz, r, sw, kw
 
 

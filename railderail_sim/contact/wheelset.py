@@ -318,13 +318,7 @@ def _trace_gap(cg, u, nw, nr, wy0, dw, lw, r0, ry0, inv_dr, y, zc, cphi, sphi, c
     zw = cg[ow + i] + t * (cg[ow + i + 1] - cg[ow + i])
     sw = cg[ow + nw + i] + t * (cg[ow + nw + i + 1] - cg[ow + nw + i])
     r = r0 + zw
-    eta = lw + wy0 + u * dw
-    c = min(1.0, max(-1.0, sw * k1))
-    cb = math.sqrt(1.0 - c * c)
-    rct = r * (an * cb - bn * c)
-    qx = r * (bn * cb + an * c)
-    qy = eta * cphi + rct * sphi
-    qz = eta * sphi - rct * cphi
+    qx, qy, qz = geo.trace_offset(r, lw + wy0 + u * dw, sw, an, bn, k1, cphi, sphi)
     Y = y + spsi * qx + cpsi * qy
     v = (Y - ry0) * inv_dr
     if v < 0.0 or v >= nr - 1.0:
