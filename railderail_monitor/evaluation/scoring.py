@@ -81,7 +81,7 @@ def in_alarm(values, position, threshold, held, rearm_fraction, rearm_m, clock=N
     return mask
 
 
-def episode_start(alarm, k, opening=0):
+def episode_start(alarm, k, opening):
     """The first sample of the alarm episode of one channel (n,) bool that is on at sample k, or `opening` if
     the episode started before it (only the samples from `opening` on are searched: a run is long, a window
     short)."""
