@@ -14,6 +14,7 @@ from railderail_sim.line.data import Curve, Defect, Line
 from railderail_sim.line.file import line_as_dict
 from railderail_sim.methods import survey as sv, survey_profile
 from railderail_sim.methods.progressive_trial import Staircase, progressive_trial
+from railderail_sim.methods.survey_cache import case_key
 from railderail_sim.supervision.margin import SafetyMargin
 from railderail_sim.vehicle.simulate import KMH, Scenario
 
@@ -109,6 +110,33 @@ def test_survey_is_cached(table2_survey, capsys):
     assert any(cache.rglob("*.json"))
     assert main(ARGS + ["--cache", str(cache)]) == 0            # every case from the cache: seconds
     assert capsys.readouterr().out == text
+
+
+def test_a_curve_s_case_is_shared_by_every_line_with_that_curve(table2_survey, tmp_path, capsys):
+    """Another line with Table 2's curve placed elsewhere and a civil limit of its own: its case comes from
+    table2's cache (no case computed, no file written) and gives the same rows; another shape is another case."""
+    _, cache = table2_survey
+    before = sorted(cache.rglob("*.json"))
+    moved = ("name: moved\nsource: test\nsureness: C\nlength_m: 3000\nline_speed_kmh: 300\ncurves:\n"
+             "  - {start_m: 900, transition_in_m: 200, arc_m: 1000, transition_out_m: 200, radius_m: 1000, "
+             "cant_mm: 175, direction: left, permitted_speed_kmh: 250}\n")
+    (tmp_path / "moved.yaml").write_text(moved)
+    assert main(["survey", str(tmp_path / "moved.yaml")] + ARGS[2:] + ["--cache", str(cache)]) == 0
+    curve, = json.loads(capsys.readouterr().out)["curves"]
+    table2, = json.loads(table2_survey[0])["curves"]
+    assert sorted(cache.rglob("*.json")) == before
+    assert (curve["start_m"], curve["cases"]) == (900.0, table2["cases"])
+    # the key reads the curve's shape: another cant or radius is another case
+    data = line_as_dict(Line("two", "test", "C", 10000.0, 300.0, (Curve(2000.0, 250.0, 500.0, 250.0, 1200.0, 0.15, 1),
+                                                                 Curve(5000.0, 250.0, 500.0, 250.0, 7000.0, 0.15)),
+                             (), (Defect(5500.0, "kink", 0.02, 10.0),)).validated())
+    settings = sv.Settings()
+    key = functools.partial(case_key, line_data=data, base=Scenario(), settings=settings)
+    other = dict(data, curves=[dict(data["curves"][1], start_m=100.0)])
+    assert key(("curve", 1, "hs19", 0.3)) == key(("curve", 0, "hs19", 0.3), line_data=other)
+    assert key(("curve", 0, "hs19", 0.3)) != key(("curve", 1, "hs19", 0.3))
+    assert key(("curve", 1, "hs19", 0.3)) != key(("curve", 0, "hs19", 0.3),
+                                                 line_data=dict(other, curves=[dict(other["curves"][0], cant_mm=160)]))
 
 
 def test_bad_line_file_is_one_line(tmp_path, capsys):

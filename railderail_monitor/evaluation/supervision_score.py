@@ -176,10 +176,14 @@ def surveys(entries, cache=None, workers=None, scheduler=None, progress=True):
     from railderail_sim.line.file import line_from_dict
     from railderail_sim.methods.parallel import run_all
     from railderail_sim.methods.survey import COST, cases, survey
+    from railderail_sim.methods.survey_cache import case_key
+    from railderail_sim.vehicle.simulate import Scenario
     keys = {key: json.loads(key) for key in needed(entries)}
     lines = {key: line_from_dict(data["line"]) for key, data in keys.items()}
     settings = {key: survey_settings(data["friction"], data["vehicle_set"]) for key, data in keys.items()}
-    jobs = [(key, item) for key in keys for item in cases(lines[key], settings[key])]
+    # a case shared by several surveys (a curve's, `case_key`) run once
+    jobs = list({case_key(item, data["line"], Scenario(), settings[key]): (key, item)
+                 for key, data in keys.items() for item in cases(lines[key], settings[key])}.values())
     with tempfile.TemporaryDirectory() as scratch:
         folder = str(Path(cache or scratch, "survey"))
         cpu = sum(run_all(functools.partial(survey_case, folder=folder), jobs, workers=workers, scheduler=scheduler,

@@ -38,12 +38,12 @@ to supervise the car against its own limits rather than against fixed civil ones
   the change against the reference case without them (run on its own when it is not among the cases).
 
 Every case is one item of `parallel.run_all` (processes or Dask), cached on disk under the SHA-256 of its
-inputs and of railderail_sim's sources, so a second survey of the same line returns at once and an
-interrupted one resumes. The speed profile along the line the supervisor consumes is survey_profile.py's.
+inputs and of railderail_sim's sources (`survey_cache`; a curve's case by the curve's shape, shared by every
+line with that curve), so a second survey of the same line returns at once and an interrupted one resumes.
+The speed profile along the line the supervisor consumes is survey_profile.py's.
 """
 from dataclasses import asdict, dataclass, field, replace
 import functools
-import hashlib
 import json
 import math
 from pathlib import Path
@@ -61,6 +61,7 @@ from ..vehicle.simulate import (KMH, Scenario, constant_speed, curve_extent, out
                                 straight_track)
 from .parallel import run_all
 from .progressive_trial import SPEED_RANGE_KMH, Staircase, bisect_constant_speeds, constant_run, progressive_trial
+from .survey_cache import case_key
 
 DEFAULT_FRICTIONS = (0.2, 0.3, 0.4, 0.6)
 DEFAULT_WIND_SPEEDS_M_S = (10.0, 20.0, 30.0)
@@ -148,15 +149,6 @@ class Settings:
 
 QUICK = dict(frictions=(0.2, 0.6), vehicle_sets=("hs19",), wind_speeds_m_s=(20.0,), cwc_speeds_kmh=(300.0,),
              tolerance_kmh=4.0, cwc_tolerance_m_s=1.0)
-
-
-@functools.lru_cache(maxsize=1)
-def source_hash():
-    """SHA-256 of railderail_sim's Python sources: a cached case is valid for these only."""
-    digest = hashlib.sha256()
-    for path in sorted(Path(__file__).resolve().parents[1].rglob("*.py")):
-        digest.update(path.read_bytes())
-    return digest.hexdigest()
 
 
 # --- the cases -------------------------------------------------------------------------------------------
@@ -422,10 +414,8 @@ def run_case(item, line_data, base: Scenario, settings: Settings, cache=None):
     """One case (kind, index, *arguments) of a survey, from the cache when it holds it (a module-level
     function for the process pool and Dask)."""
     kind, index, *arguments = item
-    key = None
     if cache:
-        key = hashlib.sha256(jsonout.dumps(dict(item=list(item), line=line_data, base=_base_key(base),
-                                                settings=asdict(settings), code=source_hash())).encode()).hexdigest()
+        key = case_key(item, line_data, base, settings)
         path = Path(cache, key[:2], key + ".json")
         if path.exists():
             return json.loads(path.read_text())
@@ -435,13 +425,6 @@ def run_case(item, line_data, base: Scenario, settings: Settings, cache=None):
         jsonout.write(path, out)
         out = json.loads(path.read_text())     # the cached form, so that a first and a second survey agree
     return out
-
-
-def _base_key(base: Scenario):
-    """What a survey's runs take from the base scenario, as plain data."""
-    return dict(contact=asdict(base.contact), rail_profile=base.track.rail_profile, track_model=base.track_model,
-                wind=None if base.wind is None else asdict(base.wind), faults=list(base.faults),
-                elastic_track=asdict(base.elastic_track), aerodynamics=asdict(base.aerodynamics))
 
 
 def cases(line: Line, settings: Settings):
