@@ -490,6 +490,34 @@ def test_the_shipped_results_false_alarms_cannot_fall_as_a_threshold_falls():
             assert row["test"]["false_alarms_per_1000_km_ci95"][1] <= row["budget_per_1000_km"]
 
 
+@pytest.mark.skipif(not SHIPPED_RESULT.exists(), reason="the shipped evaluation is made by railderail warnings "
+                    "--catalogue --out docs/report")
+def test_the_shipped_recommendation_holds_on_the_runs_it_was_not_chosen_on():
+    """The shipped monitor-recommended.yaml judged on the test part's scores (runs it was not chosen on) with
+    the real budgets: its levels are the evaluation's recommended rows; an enabled level keeps its budget and
+    usefully warns the minimum share there; a disabled one is disabled on the held-out runs too: no threshold
+    of the test part both keeps that level's budget and usefully warns the minimum share (else the two parts
+    disagree and the catalogue is too small to choose on)."""
+    from railderail_monitor.warning.limits import critical_name, read_limits
+    result = json.loads(SHIPPED_RESULT.read_text())
+    assert result["budgets_per_1000_km"] == recommendation.BUDGETS
+    assert result["min_useful_share"] == recommendation.MIN_USEFUL_SHARE
+    limits = read_limits(SHIPPED_RESULT.parent / "monitor-recommended.yaml")
+    share = result["min_useful_share"]
+    for row in result["recommended"]:
+        budget = result["budgets_per_1000_km"][row["level"]]
+        held_out = [r for r in result["criteria"] if r["criterion"] == row["criterion"]]
+        keeps = [r for r in held_out if r["false_alarms_per_1000_km_ci95"][1] <= budget
+                 and r["derailments"] and r["usefully_warned"] >= share * r["derailments"]]
+        if row["signals"] == "ground_truth":
+            level = getattr(limits, row["criterion"] if row["level"] == "warning" else critical_name(row["criterion"]))
+            assert (math.isnan(level) if row["threshold"] is None else level == row["threshold"]), row
+        if row["threshold"] is None:
+            assert not keeps, (row["criterion"], row["level"], [r["threshold"] for r in keeps])
+        else:
+            assert row["threshold"] in [r["threshold"] for r in keeps], row
+
+
 @pytest.mark.parametrize("name", ["line-r1000-erri-low-160", "staircase-r1000-erri-low", "line-r7000-wind-15-210",
                                   "line-r2000-air-spring-deflated-160"])
 def test_a_catalogue_scenario_becomes_the_simulator_node_s_parameters(name):
