@@ -3,7 +3,9 @@
 Each group is a function returning {key: value} (this package's groups are in `railderail_sim.bench`);
 groups are run in the order of `groups()` (or those named with --only) and their figures printed as a
 table, or as one JSON object with --json. Timings are taken after compilation (numba's first call is
-timed separately as `compile_s`).
+timed separately as `compile_s`). A group's module may hold the project's targets for its figures,
+`TARGETS = {key: (at least, why a figure falls short)}`: the table prints each figure against its target
+and, where it falls short, by how much and why (docs/performance.md); the JSON holds the figures only.
 """
 from __future__ import annotations
 
@@ -32,6 +34,14 @@ def groups():
     return found
 
 
+def against(value, target, why):
+    """A figure's column beside its target (at least `target`): met, or short by how much and why."""
+    if not value >= target:          # NaN (not measured here) is not met either
+        return f"   target {target:g}: short by {target / value:.2f} x ({why})" if value > 0.0 else \
+            f"   target {target:g}: not measured ({why})"
+    return f"   target {target:g}: met"
+
+
 def command(parser: argparse.ArgumentParser):
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     known = groups()
@@ -54,16 +64,18 @@ def command(parser: argparse.ArgumentParser):
         for name in names:
             module, _, function = known[name].partition(":")
             try:
-                run_group = getattr(importlib.import_module(module), function)
+                group = importlib.import_module(module)
             except ModuleNotFoundError as error:
                 print(f"bench: group {name} is not available ({error})", file=sys.stderr)
                 continue
             if not args.json:
                 print(f"[{name}]", file=sys.stderr)
-            for key, value in run_group().items():
+            targets = getattr(group, "TARGETS", {})
+            for key, value in getattr(group, function)().items():
                 figures[key] = value
                 if not args.json:
-                    print(f"  {key:32s} {value:.6g}" if isinstance(value, float) else f"  {key:32s} {value}")
+                    print(f"  {key:32s} {value:.6g}{against(value, *targets[key]) if key in targets else ''}"
+                          if isinstance(value, float) else f"  {key:32s} {value}")
         if args.json:
             print(jsonout.dumps(figures, indent=1))
     return run
