@@ -74,8 +74,8 @@ def command(parser: argparse.ArgumentParser):
             for key, value in getattr(group, function)().items():
                 figures[key] = value
                 if not args.json:
-                    print(f"  {key:32s} {value:.6g}{against(value, *targets[key]) if key in targets else ''}"
-                          if isinstance(value, float) else f"  {key:32s} {value}")
+                    print(f"  {key:40s} {value:.6g}{against(value, *targets[key]) if key in targets else ''}"
+                          if isinstance(value, float) else f"  {key:40s} {value}")
         if args.json:
             print(jsonout.dumps(figures, indent=1))
     return run
