@@ -431,9 +431,6 @@ def run_demo(args, say=print):
         linger = time.monotonic() + 1.0             # what the monitors published as they stopped
         while time.monotonic() < linger:
             listener.spin_once(0.1)
-        # the recorder, too, behind a simulator that two cores cannot all keep up with, may still be working
-        # through its queues: stopping it now would lose their messages (its file holds every one it wrote)
-        wait_idle(nodes["recorder"].process.pid, quiet_s=1.0, pause=listener.spin_once)
         codes["recorder"] = nodes.pop("recorder").stop()
         if any(codes.values()):
             raise RuntimeError("exit status " + ", ".join(f"{k} {v}" for k, v in codes.items())
