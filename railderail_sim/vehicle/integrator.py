@@ -276,17 +276,17 @@ def _start_rate_kept(x, sp, work):
     for i in range(x.shape[0]):
         if not x[i] == seen[i]:
             return False
-    seen_sp = work.seen_speeds
-    if sp.shape[0] != seen_sp.shape[0] or sp.shape[1] != seen_sp.shape[1]:
+    return _same_rows(sp, work.seen_speeds) and _same_rows(work.rhs.cands, work.seen_candidates)
+
+
+@core
+def _same_rows(a, b):
+    """True if the 2-D arrays a and b have one shape and equal elements (NaN equals nothing)."""
+    if a.shape[0] != b.shape[0] or a.shape[1] != b.shape[1]:
         return False
-    for i in range(sp.shape[0]):
-        for j in range(sp.shape[1]):
-            if not sp[i, j] == seen_sp[i, j]:
-                return False
-    cands, seen_c = work.rhs.cands, work.seen_candidates
-    for i in range(cands.shape[0]):
-        for j in range(cands.shape[1]):
-            if not cands[i, j] == seen_c[i, j]:
+    for i in range(a.shape[0]):
+        for j in range(a.shape[1]):
+            if not a[i, j] == b[i, j]:
                 return False
     return True
 
@@ -300,9 +300,7 @@ def _keep_start_rate(x, sp, work):
     if sp.shape[0] != seen_sp.shape[0] or sp.shape[1] != seen_sp.shape[1]:
         stepper[Stepper.start_rate_time] = math.nan
         return
-    for i in range(sp.shape[0]):
-        for j in range(sp.shape[1]):
-            seen_sp[i, j] = sp[i, j]
+    _copy_rows(sp, seen_sp)
     for i in range(x.shape[0]):
         work.seen_state[i] = x[i]
     _copy_rows(work.rhs.cands, work.seen_candidates)
