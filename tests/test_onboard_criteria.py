@@ -63,6 +63,19 @@ def test_the_peak_count_within_a_window_drops_the_peaks_older_than_it():
     assert list(oc.consecutive_peaks(x, 8.0, 3)) == [1, 2, 3, 2, 2, 1, 1, 0, 0]
 
 
+@pytest.mark.parametrize("window", [None, 1, 7, 40])
+def test_the_peak_count_is_the_same_whatever_the_chunks(window):
+    rng = np.random.default_rng(3)
+    x = np.round(rng.normal(0.0, 6.0, 600))           # zeros and signed zeros, repeated values
+    x[::37] = -0.0
+    whole = oc.consecutive_peaks(x, 8.0, window)
+    assert oc.consecutive_peaks(x, 8.0).max() >= 3     # runs of several peaks, broken and started again
+    cuts = np.sort(rng.choice(np.arange(1, 600), 25, replace=False))
+    counter = oc.PeakCounter(8.0, window)
+    chunked = np.concatenate([counter(part) for part in np.split(x, cuts)])
+    assert chunked.tolist() == whole.tolist()
+
+
 @pytest.mark.parametrize("hz, cycles, alarms", [(7.5, 2.5, False), (7.5, 4.5, True), (4.5, 10.0, False)])
 def test_the_bids_rule_alarms_on_more_than_six_peaks_within_500_ms(hz, cycles, alarms):
     # in the 4-8 Hz band, amplitude 14 (over the 8 m/s^2 limit after the band's gain): at 7.5 Hz 2.5 cycles

@@ -12,7 +12,7 @@ from scipy import signal
 from railderail_sim.parameters import GRAVITY as G, TrackParameters
 from railderail_sim.sensors import config
 from railderail_sim.sensors.instruments import INSTRUMENTS, Instrument
-from railderail_sim.sensors.measure import SensorLog, SensorStream, noise_bandwidth, filter_sections
+from railderail_sim.sensors.measure import Readings, SensorLog, SensorStream, noise_bandwidth, filter_sections
 from railderail_sim.sensors.sensor_set import AIR_SPRING_EFFECTIVE_AREA, MOUNTS, Mount, Odometer, Sampling, SensorSet
 from railderail_sim.vehicle.layout import N_BODY, Body, BodyMotion, Dof
 from railderail_sim.vehicle.simulate import Scenario, constant_speed, scenario, simulate
@@ -169,6 +169,34 @@ def test_the_same_seed_gives_the_same_signals_bit_for_bit_whatever_the_chunks():
     other = SensorStream(replace(sensors, seed=8), sc).process(arrays)
     assert not np.array_equal(other["car_body_centre"]["acceleration"][:100],
                               whole["car_body_centre"]["acceleration"][:100])
+
+
+def test_a_variant_over_its_set_s_shared_readings_reads_what_it_draws_alone():
+    """The warning evaluation's sensor variants share the run's ideal readings and noise draws: a variant with
+    other noise and bias scales and another rate reads, bit for bit, what its own stream draws; readings
+    drawn for another seed or another length are refused, as is a stream that has already taken rows."""
+    sc = replace(Scenario(), output_rate=200.0)
+    t = np.arange(2001) / 200.0
+    arrays = _synthetic(2001, 200.0, lateral=0.5 * np.sin(2 * math.pi * 1.3 * t), position=55.0 * t)
+    accelerometer = replace(INSTRUMENTS["adxl355"], bits=0, bias_random_walk=0.01)
+    gyro = INSTRUMENTS["adis16470"]
+    sensors = replace(_one_mount(accelerometer, gyro, seed=7), instruments={i.name: i for i in (accelerometer, gyro)})
+    stream = SensorStream(sensors, sc)
+    shared = Readings(stream.ideal(arrays), stream.noise_draws(2001), stream.draw_units)
+    variant = sensors.scaled(3.0, 0.5).resampled(100.0)
+    alone = SensorStream(variant, sc).process(arrays)
+    over_shared = SensorStream(variant, sc).process(arrays, shared)
+    for name, values in alone["car_body_centre"].items():
+        assert over_shared["car_body_centre"][name].tobytes() == values.tobytes(), name
+    other_seed = SensorStream(replace(sensors, seed=8), sc)
+    with pytest.raises(ValueError, match="units"):
+        other_seed.process(arrays, shared)
+    with pytest.raises(ValueError, match="rows"):
+        SensorStream(sensors, sc).process({k: v[:2000] for k, v in arrays.items()}, shared)
+    started = SensorStream(sensors, sc)
+    started.process({k: v[:10] for k, v in arrays.items()})
+    with pytest.raises(ValueError, match="at row 10"):
+        started.process(arrays, shared)
 
 
 def test_readings_are_clipped_to_the_range_and_quantised_to_the_resolution():

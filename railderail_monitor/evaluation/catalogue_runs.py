@@ -48,7 +48,15 @@ def source_hash():
 def rows_in_alarm(sample_time, sample_alarm, row_time):
     """(n rows,) bool: a row is in alarm when the last sample stamped at or before it is; no sample yet, no
     alarm. The alarm of a sample stamped t (its latency included) starts at the first row at or after t."""
-    k = np.searchsorted(sample_time, row_time, "right") - 1
+    return _held(last_sample(sample_time, row_time), sample_alarm)
+
+
+def last_sample(sample_time, row_time):
+    """(n rows,) the index of the last sample stamped at or before each row, -1 before the first."""
+    return np.searchsorted(sample_time, row_time, "right") - 1
+
+
+def _held(k, sample_alarm):
     return (k >= 0) & np.asarray(sample_alarm)[np.maximum(k, 0)]
 
 
@@ -66,19 +74,20 @@ def measured_alarms(results, row_time, sweep):
             continue
         m = results[criterion]
         values = m.value if np.ndim(m.value) == 2 else m.value[:, None]
-        out[criterion] = {thr: np.array([rows_in_alarm(m.time, in_alarm(values[:, k], m.position, thr, m.debounce,
-                                                                         limits.rearm_fraction, limits.rearm_m),
-                                                       row_time) for k in range(values.shape[1])])
+        k = last_sample(m.time, row_time)          # one criterion's samples, the same stamps at every level
+        out[criterion] = {thr: np.array([_held(k, in_alarm(values[:, c], m.position, thr, m.debounce,
+                                                           limits.rearm_fraction, limits.rearm_m))
+                                         for c in range(values.shape[1])])
                           for thr in sweep(criterion)}
     return out
 
 
-def measured_results(sensors, sim, arrays, ideal=None):
+def measured_results(sensors, sim, arrays, shared=None):
     """`measured.evaluate` of a run seen through a sensor set, the monitor switched on after the simulation's
-    start-up (`sensors.measure.START_UP_S`: a train in service never sees it); `ideal` the run's ideal
-    readings (`sensors.measure.ideal_readings`) when already known."""
+    start-up (`sensors.measure.START_UP_S`: a train in service never sees it); `shared` the readings the set's
+    variants share (`sensors.measure.shared_readings`) when already known."""
     from railderail_sim.sensors.measure import START_UP_S, after, run_signals
-    seen = after(run_signals(sensors, sim, arrays, ideal), START_UP_S)
+    seen = after(run_signals(sensors, sim, arrays, shared), START_UP_S)
     if any(len(v) < 2 for k, v in seen.items() if k.endswith("_time")):
         return {}           # a run ending before every sensor has given the monitor two samples: nothing said
     return measured.evaluate(seen, sim.scenario.vehicle, shipped_measured_limits(), measured.sample_rates(sensors))
@@ -137,15 +146,16 @@ def score_run(arrays, found, limits, rules, measured_found=None, beyond=None):
 
 
 def sensor_sensitivity_run(sensors, sim, arrays, found, rules, variants=SENSOR_VARIANTS[1:], beyond=None,
-                           ideal=None):
+                           shared=None):
     """{variant name: {criterion: [its row at the shipped level]}} at the window of the recommendation: the
     measured criteria of one run seen through each of `variants` (by default SENSOR_VARIANTS but the first,
     the shipped set, scored with the run itself), over the same rows: no re-simulation, and the ideal
-    readings (`ideal`, or computed here) shared by the variants, whose mounts are the set's."""
-    from railderail_sim.sensors.measure import ideal_readings
+    readings and noise draws (`shared`, or computed here) shared by the variants, whose mounts, units and seed
+    are the set's."""
+    from railderail_sim.sensors.measure import shared_readings
     shipped = lambda criterion: [shipped_level(criterion)]
-    ideal = ideal_readings(sensors, sim, arrays) if ideal is None else ideal
-    return {variant_name(v): scores(measured_alarms(measured_results(sensor_variant(sensors, v), sim, arrays, ideal),
+    shared = shared_readings(sensors, sim, arrays) if shared is None else shared
+    return {variant_name(v): scores(measured_alarms(measured_results(sensor_variant(sensors, v), sim, arrays, shared),
                                                     arrays["time"], shipped), arrays, found, rules.window_s, beyond)
             for v in variants}
 
@@ -163,7 +173,7 @@ def run_one(item, cache=None, surveys=None):
     from dataclasses import replace
 
     from railderail_sim.sensors.config import load as load_sensors
-    from railderail_sim.sensors.measure import ideal_readings
+    from railderail_sim.sensors.measure import shared_readings
     from railderail_sim.vehicle.simulate import run_to_stop
 
     started = time.process_time()
@@ -180,8 +190,8 @@ def run_one(item, cache=None, surveys=None):
     deficiency = cant_deficiency(arrays, sc.track.rail_spacing)
     s, t = arrays["position"], arrays["time"]
     sensors = replace(load_sensors(), seed=seed)          # the shipped sensor set, its noise from the run's seed
-    ideal = ideal_readings(sensors, sim, arrays)
-    sensed = measured_results(sensors, sim, arrays, ideal)
+    shared = shared_readings(sensors, sim, arrays)
+    sensed = measured_results(sensors, sim, arrays, shared)
     result = dict(scenario=entry.name, family=entry.family, seed=seed, part=entry.part_of(seed), line=line,
                   expected_mechanism=entry.mechanism, expect_derailment=entry.expect_derailment,
                   derailed=event is not None, diverged=error, derailment=None if event is None else dict(
@@ -195,7 +205,8 @@ def run_one(item, cache=None, surveys=None):
                   | {c: float(np.max(np.nan_to_num(m.value, nan=0.0), initial=0.0)) for c, m in sensed.items()},
                   windows=score_run(arrays, found, limits, rules, sensed, beyond))
     scored = time.process_time()
-    result["sensor_variants"] = (sensor_sensitivity_run(sensors, sim, arrays, found, rules, beyond=beyond, ideal=ideal)
+    result["sensor_variants"] = (sensor_sensitivity_run(sensors, sim, arrays, found, rules, beyond=beyond,
+                                                          shared=shared)
                                  if result["part"] == "test" else None)
     varied = time.process_time()
     result["supervision"] = supervision_of_run(entry, seed, sc, sim, arrays, found, rules, beyond, surveys)

@@ -14,6 +14,7 @@ walk, the constant bias and the lost samples; the draws, the filters (scipy.sign
 compiled in chain.py, their state carried) and the walk's running sum are the same whatever the chunks, so a
 run gives the same signals bit for bit from the same seed, processed at once or row by row (the simulator
 node)."""
+from dataclasses import dataclass
 import zlib
 
 import numpy as np
@@ -159,6 +160,8 @@ class SensorStream:
             self.first[u.columns], self.width[u.columns] = u.columns.start, u.columns.stop - u.columns.start
         self.signals = [(u, (u.every, u.sampling.latency_s), self.unit_signals(u)) for u in self.units]
         self.draws = self.blocks = None     # the draws' buffer and each unit's block of it, for a chunk's rows
+        # what the draws depend on: the seed, and each unit's name and channels
+        self.draw_units = (sensors.seed, tuple((u.name, u.columns.start, u.columns.stop) for u in self.units))
         self.odometer = sensors.odometer
         if self.odometer is not None:
             o = self.odometer
@@ -204,28 +207,27 @@ class SensorStream:
 
     # --- the sensor models ----------------------------------------------------------------------
 
-    def process(self, a, ideal=None):
+    def process(self, a, shared=None):
         """The new samples of the output arrays `a` of the next rows: {unit name: {signal: array}}, the
         mounts' `time` (s), `acceleration` (m, 3) m/s^2 and `angular_rate` (m, 3) rad/s; the air springs'
         `time`, `deflection` (m, 4) m and `pressure` (m, 4) Pa; the odometer's `time` and `speed` (m/s).
-        `ideal`: `ideal(a)` when already known (a set's variants over the same rows share it: it depends on
-        the mounts' places only, not on the instruments nor the rates)."""
+        `shared`: the `Readings` of these rows when already known (a set's variants over a whole run share
+        them: the ideal readings depend on the mounts' places only, the noise draws on the units and the seed,
+        not on the instruments nor the rates); a stream given them has not drawn, so takes no further chunk."""
         n = len(a["time"])
         out = {}
         if n == 0:
             return out
-        y = self.ideal(a) if ideal is None else np.array(ideal, dtype=np.float64)
+        if shared is not None and (self.row or shared.units != self.draw_units or shared.draws.size != 2 * n * self.channels):
+            raise ValueError(f"shared readings are for a whole run's {len(shared.ideal)} rows from row 0 and the units "
+                             f"{shared.units}; this stream is at row {self.row}, {n} rows, units {self.draw_units}")
+        y = self.ideal(a) if shared is None else np.array(shared.ideal, dtype=np.float64)
         for cols, sensed in self.sensing:
             y[:, cols] = y[:, cols] @ sensed.T
-        if self.draws is None or len(self.draws) != 2 * n * self.channels:
-            self.draws = np.empty(2 * n * self.channels)
-            self.blocks = [self.draws[2 * n * u.columns.start:2 * n * u.columns.stop].reshape(n, -1)
-                           for u in self.units]
-        for u, block in zip(self.units, self.blocks):
-            u.noise.standard_normal(out=block)      # each unit from its own generator
+        draws = self.noise_draws(n) if shared is None else shared.draws
         # the sensing element saturates before the filters in the chain (a reading beyond the range does not
         # come back within it through the anti-alias filter, as clipping only after it would let it)
-        instrument_chain(y, self.constant_bias, self.draws, self.first, self.width, self.white, self.walk_step,
+        instrument_chain(y, self.constant_bias, draws, self.first, self.width, self.white, self.walk_step,
                          self.walk, self.low, self.high, self.sos, self.sections, self.settled, self.filter_state,
                          self.settle, self.lsb, self.codes)
         self.settle = False
@@ -242,6 +244,17 @@ class SensorStream:
             out[ODOMETER] = self.odometer_samples(a)
         self.row += n
         return out
+
+    def noise_draws(self, n):
+        """The standard normal draws of n rows (`instrument_chain`'s `draws`): unit after unit, each unit's
+        block from its own generator in one call."""
+        if self.draws is None or len(self.draws) != 2 * n * self.channels:
+            self.draws = np.empty(2 * n * self.channels)
+            self.blocks = [self.draws[2 * n * u.columns.start:2 * n * u.columns.stop].reshape(n, -1)
+                           for u in self.units]
+        for u, block in zip(self.units, self.blocks):
+            u.noise.standard_normal(out=block)      # each unit from its own generator
+        return self.draws
 
     @staticmethod
     def kept(unit, *taken):
@@ -285,22 +298,34 @@ def after(signals, start_s):
     """`sensor_<unit>_<signal>` arrays from start_s on: every unit's samples stamped at or after it."""
     out = {}
     for unit in (k[len("sensor_"):-len("_time")] for k in signals if k.endswith("_time")):
-        keep = np.asarray(signals[f"sensor_{unit}_time"]) >= start_s
-        out.update({k: np.asarray(v)[keep] for k, v in signals.items() if k.startswith(f"sensor_{unit}_")})
+        # a unit's stamps rise with the rows: its samples from start_s on are a tail (a view, no copy)
+        first = int(np.searchsorted(signals[f"sensor_{unit}_time"], start_s, "left"))
+        out.update({k: np.asarray(v)[first:] for k, v in signals.items() if k.startswith(f"sensor_{unit}_")})
     return out
 
 
-def run_signals(sensors: SensorSet, sim, arrays, ideal=None):
+def run_signals(sensors: SensorSet, sim, arrays, shared=None):
     """The `sensor_<unit>_<signal>` arrays of a whole run already simulated: a Simulation (its scenario,
     model and speed table) and its output arrays; any sensor set over the same arrays, no re-simulation.
-    `ideal`: the run's `ideal_readings` for a set with the same mounts, when already known."""
-    return named(SensorStream(sensors, sim.scenario, sim.model, sim.speed_table).process(arrays, ideal))
+    `shared`: the run's `shared_readings` of a set with the same mounts, units and seed, when already known."""
+    return named(SensorStream(sensors, sim.scenario, sim.model, sim.speed_table).process(arrays, shared))
 
 
-def ideal_readings(sensors: SensorSet, sim, arrays):
-    """(n, channels) the ideal readings of a set's mounts and air springs over a whole run (what every
-    variant of the set with the same mounts reads before its instruments: `run_signals`' `ideal`)."""
-    return SensorStream(sensors, sim.scenario, sim.model, sim.speed_table).ideal(arrays)
+@dataclass(frozen=True)
+class Readings:
+    """What the variants of a sensor set (its instruments' scales, its rates) over one whole run share
+    (`run_signals`' `shared`): the ideal readings (n, channels) of its mounts and air springs, and its noise
+    draws (`SensorStream.noise_draws`) with the seed and units they were drawn for (`SensorStream.draw_units`).
+    Each variant drawing them anew drew the same numbers: a third of the catalogue's sensor variants' time."""
+    ideal: np.ndarray
+    draws: np.ndarray
+    units: tuple
+
+
+def shared_readings(sensors: SensorSet, sim, arrays):
+    """The `Readings` of a set over a whole run."""
+    stream = SensorStream(sensors, sim.scenario, sim.model, sim.speed_table)
+    return Readings(stream.ideal(arrays), stream.noise_draws(len(arrays["time"])), stream.draw_units)
 
 
 class SensorLog:
