@@ -186,6 +186,21 @@ def test_a_run_in_5_ms_calls_gives_the_rows_of_one_call():
     assert chunked.steps == whole.steps and np.array_equal(chunked.x, whole.x)
 
 
+def test_a_run_to_its_stop_in_one_buffer_gives_the_rows_of_its_chunks(monkeypatch):
+    """`run_to_stop` writes the chunks into one buffer sized for the run (grown when the run outlasts it): the
+    rows of the chunks one by one, bit for bit, to the derailment; a buffer too short is refused."""
+    from railderail_sim.vehicle.simulate import N_OUT, output_arrays, run_in_pieces, run_to_stop
+    sc = replace(scenario(radius=1000.0, speed_kmh=300.0), end_position=500.0)
+    pieces = np.concatenate([rows for _, rows, _ in run_in_pieces(sc, 0.25)])
+    for duration in (sc.simulated_duration(), 0.01):         # the buffer as sized, and grown from 104 rows
+        monkeypatch.setattr(Scenario, "simulated_duration", lambda self, d=duration: d)
+        sim, arrays, error = run_to_stop(sc, 0.25)
+        assert error == "" and sim.derailment() is not None
+        assert all(np.array_equal(a, output_arrays(pieces)[k]) for k, a in arrays.items())
+    with pytest.raises(ValueError, match="at least 51"):
+        Simulation(sc).advance(0.25, np.zeros((50, N_OUT)))
+
+
 def test_the_first_stage_is_evaluated_afresh_when_the_caller_changes_the_state_or_the_speeds():
     """integrator.advance reuses the first stage's derivative the last call left only while the state, the speed
     table (replaced, as closed_loop.apply_brake does, changed in place, or of another length) and the contact
