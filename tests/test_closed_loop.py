@@ -16,7 +16,7 @@ from railderail_sim.cli import main
 from railderail_sim.sensors import config as sensor_config
 from railderail_sim.supervision.braking import BrakingModel
 from railderail_sim.supervision.closed_loop import BrakeCommand, braked_table, run_closed_loop
-from railderail_sim.vehicle.simulate import curve_extent, scenario, simulate
+from railderail_sim.vehicle.simulate import Checkpoints, curve_extent, run_to_stop, scenario, simulate
 
 LIMITS = SupervisionLimits()
 BRAKING = BrakingModel()
@@ -55,6 +55,25 @@ def test_the_closed_loop_is_deterministic_and_its_swap_leaves_no_trace(runs):
     _, (a, _), (b, _) = runs
     assert np.array_equal(a.result.rows, b.result.rows)
     assert np.array_equal(a.result.rows, simulate(a.result.scenario).rows)
+
+
+def test_a_closed_loop_going_on_from_its_open_run_is_the_loop_run_from_the_start(runs):
+    """The warning evaluation's closed loops read their approach from the open run's rows and go on from its
+    state there (`Checkpoints`, one per second of the open run here): the same rows and commands bit for bit;
+    a supervisor that never brakes gives the open run itself; another scenario's checkpoints are refused."""
+    (open_run, _), (closed, _), _ = runs
+    checkpoints = Checkpoints()
+    run_to_stop(SCENARIO, 1.0, checkpoints)
+    assert len(checkpoints.forks) > 10 and np.array_equal(checkpoints.rows, open_run.result.rows)
+    followed = run_closed_loop(SCENARIO, Controller(Supervisor(scenario_targets(SCENARIO.track, 270 * KMH, LIMITS),
+                                                               BRAKING, LIMITS), None, seed=3),
+                               BRAKING, checkpoints=checkpoints)
+    assert followed.commands == closed.commands and followed.result.rows.tobytes() == closed.result.rows.tobytes()
+    watched = watching(Controller(Supervisor(scenario_targets(SCENARIO.track, 270 * KMH, LIMITS), BRAKING, LIMITS)))
+    unbraked = run_closed_loop(SCENARIO, watched, BRAKING, checkpoints=checkpoints)
+    assert unbraked.commands == [] and unbraked.result.rows.tobytes() == open_run.result.rows.tobytes()
+    with pytest.raises(ValueError, match="another run"):
+        run_closed_loop(replace(SCENARIO), watched, BRAKING, checkpoints=checkpoints)
 
 
 def test_the_speed_follows_the_braking_model(runs):

@@ -201,6 +201,19 @@ def test_a_run_to_its_stop_in_one_buffer_gives_the_rows_of_its_chunks(monkeypatc
         Simulation(sc).advance(0.25, np.zeros((50, N_OUT)))
 
 
+def test_a_fork_goes_on_as_the_run_it_was_taken_from():
+    """`Simulation.fork` (the closed loops' checkpoints): the fork, advanced first, gives the rows and the state
+    the original then gives, bit for bit, and advancing it leaves the original as it was."""
+    sim = Simulation(scenario(radius=1000.0, speed_kmh=300.0))
+    sim.advance(0.2)
+    twin = sim.fork()
+    x = sim.x.copy()
+    ahead = twin.advance(0.3)
+    assert np.array_equal(sim.x, x) and sim.t == pytest.approx(0.2)
+    assert ahead.tobytes() == sim.advance(0.3).tobytes() and twin.x.tobytes() == sim.x.tobytes()
+    assert twin.steps == sim.steps and twin.model is sim.model
+
+
 def test_the_first_stage_is_evaluated_afresh_when_the_caller_changes_the_state_or_the_speeds():
     """integrator.advance reuses the first stage's derivative the last call left only while the state, the speed
     table (replaced, as closed_loop.apply_brake does, changed in place, or of another length) and the contact

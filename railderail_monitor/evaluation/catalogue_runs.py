@@ -174,11 +174,12 @@ def run_one(item, cache=None, surveys=None):
 
     from railderail_sim.sensors.config import load as load_sensors
     from railderail_sim.sensors.measure import shared_readings
-    from railderail_sim.vehicle.simulate import run_to_stop
+    from railderail_sim.vehicle.simulate import Checkpoints, run_to_stop
 
     started = time.process_time()
     sc = replace(entry.scenario(seed), output_rate=RATE)
-    sim, arrays, error = run_to_stop(sc)
+    checkpoints = Checkpoints()     # where the supervision's closed loops go on from (their approach is this run)
+    sim, arrays, error = run_to_stop(sc, checkpoints=checkpoints)
     simulated = time.process_time()
     limits, rules = default_limits(), HazardRules()     # every run swept over the same thresholds: the shipped car
     basis = model_basis(sim.model)
@@ -209,7 +210,8 @@ def run_one(item, cache=None, surveys=None):
                                                           shared=shared)
                                  if result["part"] == "test" else None)
     varied = time.process_time()
-    result["supervision"] = supervision_of_run(entry, seed, sc, sim, arrays, found, rules, beyond, surveys)
+    result["supervision"] = supervision_of_run(entry, seed, sc, sim, arrays, found, rules, beyond, surveys,
+                                               checkpoints)
     for w, rows in result["supervision"]["windows"].items():
         result["windows"][w]["criteria"][SUPERVISION] = rows
     done = time.process_time()

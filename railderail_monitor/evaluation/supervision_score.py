@@ -247,9 +247,10 @@ def _short_controller(share):
     return ShortOdometer
 
 
-def closed_loop_derails(sc, survey, friction, odometer=None, short_share=0.0, seed=0):
+def closed_loop_derails(sc, survey, friction, odometer=None, short_share=0.0, seed=0, checkpoints=None):
     """True when the run `sc` derails with the supervisor over `survey` braking it (the braking model dry);
-    `odometer` (a sensors Odometer) supervises the measured mode, `short_share` an odometer reading short."""
+    `odometer` (a sensors Odometer) supervises the measured mode, `short_share` an odometer reading short;
+    `checkpoints` the open run's (`run_closed_loop`: its approach not simulated again)."""
     from railderail_sim.supervision.braking import BrakingModel
     from railderail_sim.supervision.closed_loop import run_closed_loop
 
@@ -257,14 +258,14 @@ def closed_loop_derails(sc, survey, friction, odometer=None, short_share=0.0, se
     # in the measured mode the friction is not known: the survey's lowest
     sup = supervisor(survey, None if odometer is not None else friction)
     controller = (_short_controller(short_share) if short_share else Controller)(sup, odometer, seed=seed)
-    run = run_closed_loop(sc, controller, BrakingModel(adhesion=ADHESION))
+    run = run_closed_loop(sc, controller, BrakingModel(adhesion=ADHESION), checkpoints=checkpoints)
     return run.result.derailment is not None
 
 
-def supervision_of_run(entry, seed, sc, sim, arrays, found, rules, beyond, survey_by_key):
+def supervision_of_run(entry, seed, sc, sim, arrays, found, rules, beyond, survey_by_key, checkpoints=None):
     """{windows: {W: [the criterion's rows]}, rows_at: {level name: rows at or above it}, prevented, sensitivity}
     of one run (`catalogue_runs.run_one`): the supervisor beside it, and, if it derailed, the closed-loop
-    re-run (and on the test part its variants)."""
+    re-run (and on the test part its variants), each going on from the run's `checkpoints` if given."""
     from .hazards import windows
     from railderail_sim.vehicle.layout import WHEELSETS, BodyTable
     front = float(sim.model.bodies[WHEELSETS[0], BodyTable.station])
@@ -276,20 +277,21 @@ def supervision_of_run(entry, seed, sc, sim, arrays, found, rules, beyond, surve
                prevented=None, sensitivity=None)
     if sim.derailment() is None:
         return out
-    out["prevented"] = not closed_loop_derails(sc, survey, entry.friction)
+    out["prevented"] = not closed_loop_derails(sc, survey, entry.friction, checkpoints=checkpoints)
     # the variants take information away from the supervisor: asked only of what it prevents as shipped
     if entry.part_of(seed) == "test" and out["prevented"]:
-        out["sensitivity"] = sensitivity_of_run(entry, seed, sc, survey, survey_by_key, out["prevented"])
+        out["sensitivity"] = sensitivity_of_run(entry, seed, sc, survey, survey_by_key, out["prevented"],
+                                                checkpoints)
     return out
 
 
-def sensitivity_of_run(entry, seed, sc, survey, survey_by_key, prevented):
+def sensitivity_of_run(entry, seed, sc, survey, survey_by_key, prevented, checkpoints=None):
     """{variant: prevented (bool) or None where it does not apply} of a derailed test-part run (`VARIANTS`)."""
     from railderail_sim.sensors import config as sensor_config
     out = dict.fromkeys(VARIANTS)
     if entry.defect:
         bare = survey_for(run_line(entry, seed, with_defect=False), entry.friction, entry.vehicle_set, survey_by_key)
-        out[VARIANTS[0]] = not closed_loop_derails(sc, bare, entry.friction)
+        out[VARIANTS[0]] = not closed_loop_derails(sc, bare, entry.friction, checkpoints=checkpoints)
     if entry.gust != "none":
         # the scenario's line has no wind site: the supervisor is given no wind at all (not even the mean), so
         # the gust's run is supervised as it was (its curve alone)
@@ -297,11 +299,13 @@ def sensitivity_of_run(entry, seed, sc, survey, survey_by_key, prevented):
     above = friction_above(entry.friction)
     if above > entry.friction:
         out[VARIANTS[2]] = not closed_loop_derails(
-            sc, survey_for(run_line(entry, seed), above, entry.vehicle_set, survey_by_key), above)
+            sc, survey_for(run_line(entry, seed), above, entry.vehicle_set, survey_by_key), above,
+            checkpoints=checkpoints)
     shipped = sensor_config.load(None)
     out[VARIANTS[3]] = not closed_loop_derails(sc, survey, entry.friction, odometer=shipped.odometer,
-                                               seed=shipped.seed)
-    out[VARIANTS[4]] = not closed_loop_derails(sc, survey, entry.friction, short_share=ODOMETER_SHORT_SHARE)
+                                               seed=shipped.seed, checkpoints=checkpoints)
+    out[VARIANTS[4]] = not closed_loop_derails(sc, survey, entry.friction, short_share=ODOMETER_SHORT_SHARE,
+                                               checkpoints=checkpoints)
     return out
 
 

@@ -73,25 +73,38 @@ def floor_of(command):
     return max(command.release_speed_m_s, min(SPEED_RANGE_KMH[0] * KMH, command.speed_m_s))
 
 
-def run_closed_loop(sc, controller, braking, chunk_s=CHUNK_S, progress=None):
+def run_closed_loop(sc, controller, braking, chunk_s=CHUNK_S, progress=None, checkpoints=None):
     """Run a scenario in chunks of chunk_s; after each, `controller(sim, rows)` sees the new output rows and
     returns a BrakeCommand or None. A command is applied unless a brake is still on (the speed above its
     release speed); the run goes on to its end (or derailment) at the braked speeds, or, braked to a stop, to
     the stopping point (`floor_of`: the last metres at the simulator's slowest speed, faster than the train
-    would be)."""
+    would be). `checkpoints`: the open run of the same scenario (`simulate.run_to_stop`'s Checkpoints): up to
+    the first command the loop is that run, so its chunks are read from its rows (the controller given the
+    run's first state as `sim`: it reads the rows, the model and the scenario only) and the loop goes on from
+    its state there; the same run, bit for bit (tested), without simulating the approach again."""
     braking = braking.validated()
     check_range("supervision chunk", chunk_s, 1.0 / sc.output_rate, braking.buildup_s - MAX_STEP, "s", hi_open=True)
-    sim = Simulation(sc)
-    parts, commands, release_at, stopped_at, end = [], [], -np.inf, None, sim.control.s_end
-    while sim.status == itg.RUNNING:
-        rows = sim.advance(chunk_s)
-        parts.append(rows)
-        command = controller(sim, rows)
+    commands, release_at, stopped_at = [], -np.inf, None
+
+    def obey(sim, command):
+        nonlocal release_at, stopped_at
         if command is not None and command.position_m >= release_at:
             stop = apply_brake(sim, command, braking)
             stopped_at = stopped_at if stop is None else stop
             release_at = sim.speed_table[-2, 0]
             commands.append(command)
+
+    if checkpoints is None:
+        sim, parts, command = Simulation(sc), [], None
+    else:
+        sim, followed, command = _follow(sc, checkpoints, controller, chunk_s)
+        parts = [followed]
+    end = sim.control.s_end
+    obey(sim, command)
+    while sim.status == itg.RUNNING:
+        rows = sim.advance(chunk_s)
+        parts.append(rows)
+        obey(sim, controller(sim, rows))
         if progress is not None:
             progress(sim)
     rows = np.concatenate(parts) if parts else np.zeros((0, N_OUT))
@@ -99,3 +112,19 @@ def run_closed_loop(sc, controller, braking, chunk_s=CHUNK_S, progress=None):
                     derailment=sim.derailment(), flange_height=sim.model.flange_height)
     return ClosedLoopRun(result=result, commands=commands,
                          stopped_at_m=stopped_at if stopped_at is not None and stopped_at < end else None)
+
+
+def _follow(sc, checkpoints, controller, chunk_s):
+    """(the Simulation after the chunk of the first command, or after the open run's last row; the rows up to
+    there; the command or None) of a closed loop read from its open run's checkpoints, chunk by chunk as the
+    loop would have simulated them (the first chunk with the start row)."""
+    first = checkpoints.forks.get(0)
+    if first is None or first.scenario is not sc:
+        raise ValueError("checkpoints of another run: a closed loop goes on only from its own scenario's open run")
+    rows, per = checkpoints.rows, int(round(chunk_s / first.output_dt))      # as Simulation.advance counts
+    done, command = 0, None
+    while done < len(rows) and command is None:
+        chunk = rows[done:done + per + (done == 0)]
+        command = controller(first, chunk)
+        done += len(chunk)
+    return checkpoints.at(done), rows[:done], command

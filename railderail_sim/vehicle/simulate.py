@@ -7,6 +7,7 @@
 `Simulation` is the stepper: `Simulation(scenario).advance(duration)` runs the numba core for a given
 simulated time into preallocated buffers; `simulate` is the same stepper run to the end of the line.
 """
+import copy
 from dataclasses import dataclass, field
 import math
 import operator
@@ -234,6 +235,17 @@ class Simulation:
         self._entry = None
         self._entry_args = self._model_fields = self._arrays = ()
 
+    def fork(self):
+        """An independent Simulation at this one's state, to go on from here another way (a closed loop going
+        on from its open run, supervision.closed_loop): its own state, stepper, speed table and controls, the
+        model and the scenario shared (the core never writes into them); it goes on as this one would, bit for
+        bit (tested)."""
+        twin = copy.copy(self)
+        mine = {k: v for k, v in vars(self).items() if k not in ("scenario", "model") and not k.startswith("_")}
+        vars(twin).update(copy.deepcopy(mine))        # one deepcopy: `event` stays the stepper's own record
+        twin._entry, twin._entry_args, twin._model_fields, twin._arrays = None, (), (), ()
+        return twin
+
     @property
     def output_dt(self):
         return 1.0 / self.scenario.output_rate
@@ -386,13 +398,34 @@ def run_in_pieces(sc: Scenario, piece_s):
         yield sim, rows, ""
 
 
-def run_to_stop(sc: Scenario, chunk_s=10.0):
+@dataclass
+class Checkpoints:
+    """A run's state at the start of each of `run_to_stop`'s chunks ({rows written: Simulation.fork()}) and its
+    rows: where another run of the same scenario that follows it for a while goes on from, without simulating
+    that stretch again (the closed loops of supervision.closed_loop, up to their first command)."""
+    forks: dict = field(default_factory=dict)
+    rows: np.ndarray = None
+
+    def at(self, rows):
+        """A Simulation that has written `rows` output rows of the run (0 < rows <= the run's): a fork of the
+        last checkpoint at or before it, advanced to it."""
+        if not 0 < rows <= len(self.rows):
+            raise ValueError(f"a run of {len(self.rows)} rows has no state after row {rows}")
+        start = max(k for k in self.forks if k <= rows)
+        sim = self.forks[start].fork()
+        if rows > start:
+            sim.advance((rows - start - (start == 0)) * sim.output_dt)     # the first call writes the start too
+        return sim
+
+
+def run_to_stop(sc: Scenario, chunk_s=10.0, checkpoints=None):
     """(the Simulation, its output arrays, the divergence message or '') of a scenario run until it stops,
     `chunk_s` of simulated time at a time: a diverging run keeps the rows before its last chunk (the
     evaluations that must score every run to its end: the warning evaluations). The chunks are written into
     one buffer sized for the whole run (`Scenario.simulated_duration`; zeroed pages cost nothing until
     written), doubled if a run outlasts it: a 30 km line's 300 MB of rows were copied once more, from the
-    chunks into the whole, in about a second."""
+    chunks into the whole, in about a second. `checkpoints` (a Checkpoints) is given the run's state at each
+    chunk's start and its rows."""
     sim = Simulation(sc)
     chunk = int(round(chunk_s / sim.output_dt)) + 1
     rows = np.zeros((int(sc.simulated_duration() / sim.output_dt) + 2 * chunk, N_OUT))
@@ -400,10 +433,14 @@ def run_to_stop(sc: Scenario, chunk_s=10.0):
     while sim.status == itg.RUNNING:
         if written + chunk > len(rows):
             rows = np.concatenate([rows, np.zeros_like(rows)])
+        if checkpoints is not None:
+            checkpoints.forks[written] = sim.fork()
         try:
             written += len(sim.advance(chunk_s, rows[written:]))
         except SimulationDiverged as exc:
             error = str(exc)
+    if checkpoints is not None:
+        checkpoints.rows = rows[:written]
     return sim, output_arrays(rows[:written]), error
 
 
