@@ -126,7 +126,11 @@ def test_a_measured_alarm_holds_from_the_first_row_at_or_after_its_sample_s_stam
     stamps = np.array([0.002, 0.012, 0.022, 0.032])      # 100 Hz samples, 2 ms late
     alarm = np.array([False, True, True, False])
     # the sample stamped 0.012 s alarms the rows from 0.015 s, the one at 0.032 s re-arms from 0.035 s
-    assert catalogue_runs.rows_in_alarm(stamps, alarm, rows).tolist() == [False] * 3 + [True] * 4 + [False] * 3
+    last = catalogue_runs.last_sample(stamps, rows)
+    assert catalogue_runs.rows_in_alarm(last, alarm).tolist() == [False] * 3 + [True] * 4 + [False] * 3
+    # a sample stamped at a row's own instant alarms that row
+    at_row = catalogue_runs.last_sample(rows[2:3], rows)
+    assert catalogue_runs.rows_in_alarm(at_row, [True]).tolist() == [False] * 2 + [True] * 8
 
 
 def _hunting_front_bogie(seconds=30.0, rate=200.0, speed=80.0, start_s=8.0):

@@ -45,19 +45,16 @@ def source_hash():
     return digest.hexdigest()
 
 
-def rows_in_alarm(sample_time, sample_alarm, row_time):
-    """(n rows,) bool: a row is in alarm when the last sample stamped at or before it is; no sample yet, no
-    alarm. The alarm of a sample stamped t (its latency included) starts at the first row at or after t."""
-    return _held(last_sample(sample_time, row_time), sample_alarm)
-
-
 def last_sample(sample_time, row_time):
     """(n rows,) the index of the last sample stamped at or before each row, -1 before the first."""
     return np.searchsorted(sample_time, row_time, "right") - 1
 
 
-def _held(k, sample_alarm):
-    return (k >= 0) & np.asarray(sample_alarm)[np.maximum(k, 0)]
+def rows_in_alarm(last, sample_alarm):
+    """(n rows,) bool: a row is in alarm when the last sample stamped at or before it is (`last`, from
+    `last_sample`: one search serves every level and channel of a criterion); no sample yet, no alarm. The
+    alarm of a sample stamped t (its latency included) starts at the first row at or after t."""
+    return (last >= 0) & np.asarray(sample_alarm)[np.maximum(last, 0)]
 
 
 def measured_alarms(results, row_time, sweep):
@@ -74,9 +71,9 @@ def measured_alarms(results, row_time, sweep):
             continue
         m = results[criterion]
         values = m.value if np.ndim(m.value) == 2 else m.value[:, None]
-        k = last_sample(m.time, row_time)          # one criterion's samples, the same stamps at every level
-        out[criterion] = {thr: np.array([_held(k, in_alarm(values[:, c], m.position, thr, m.debounce,
-                                                           limits.rearm_fraction, limits.rearm_m))
+        last = last_sample(m.time, row_time)
+        out[criterion] = {thr: np.array([rows_in_alarm(last, in_alarm(values[:, c], m.position, thr, m.debounce,
+                                                                      limits.rearm_fraction, limits.rearm_m))
                                          for c in range(values.shape[1])])
                           for thr in sweep(criterion)}
     return out
