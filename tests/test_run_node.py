@@ -62,3 +62,52 @@ def test_ctrl_c_during_the_teardown_does_not_cut_it_short(spawn, read_until):
     assert child.wait(timeout=30) == 0, child.stderr.read()
     err = child.stderr.read()
     assert "[probe] summary" in err and "KeyboardInterrupt" not in err
+
+
+RECORDER = """
+import os, signal, sys, time
+import rclpy.duration
+from railderail_sim.ros import interface as m
+from railderail_monitor.recording import recorder
+
+write = recorder.McapRecording.write
+
+
+def interrupted(self, topic, data):      # Ctrl-C as the recorder writes the first message
+    write(self, topic, data)
+    if self.messages == 1:
+        os.kill(os.getpid(), signal.SIGINT)
+
+
+recorder.McapRecording.write = interrupted
+
+
+def make():
+    node = recorder.RecorderNode(sys.argv[1], log=lambda text: print(text, file=sys.stderr, flush=True))
+    type_name, cls, qos, _ = m.TOPICS[m.STATES]
+    pub = node.create_publisher(cls, m.STATES, qos)
+    while pub.get_subscription_count() < 1:
+        time.sleep(0.01)
+    for k in range(500):                 # sent and acknowledged, not yet taken: the recorder has not spun
+        msg = cls()
+        msg.header.stamp.nanosec = k
+        pub.publish(msg)
+    assert pub.wait_for_all_acked(rclpy.duration.Duration(seconds=10))
+    return node
+
+
+sys.exit(m.run_node("probe", make))
+"""
+
+
+def test_a_recorder_stopped_writes_what_its_queues_hold(spawn, tmp_path):
+    """Stopped while its queues hold messages the transport delivered (a recorder behind the simulator at the run's
+    end), the recorder writes them all before it closes the file and says so: stopped at once, it lost them."""
+    from mcap.reader import make_reader
+    out = tmp_path / "run.mcap"
+    child = spawn([sys.executable, "-c", RECORDER, str(out)])
+    assert child.wait(timeout=60) == 0, child.stderr.read()
+    assert "(499 of them still queued at the stop)" in child.stderr.read()
+    with open(out, "rb") as f:
+        stamps = [m.log_time for _, channel, m in make_reader(f).iter_messages() if channel.topic.endswith("states")]
+    assert stamps == list(range(500))

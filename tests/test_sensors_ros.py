@@ -73,7 +73,8 @@ def test_the_simulator_publishes_the_sensors_on_standard_messages_that_rosbags_d
     read_until(recorder, "recording", timeout=STARTUP_S)
     simulator = spawn(SIMULATOR)
     # the recorder's process held still for 1.5 s mid-run, as on a busy machine a process waits for a core: with
-    # best-effort topics the transport lost about a tenth of what was sent meanwhile; reliable ones send it again
+    # best-effort topics the transport lost about a tenth of what was sent meanwhile; reliable ones send it again.
+    # Stopped at once after the run, the recorder still writes what its queues hold (test_run_node.py)
     read_until(simulator, "starting the run", timeout=300)
     time.sleep(0.5)
     recorder.send_signal(signal.SIGSTOP)

@@ -17,7 +17,8 @@ decoding. The file is a standard MCAP with ROS 2 conventions, so the mcap CLI, F
 
 Durability: the file is written in place as OUT.mcap (no `.partial` name). Chunks are closed and
 the file flushed every `--flush-period` s (0.5): Ctrl-C or SIGTERM finish the file (summary and
-footer); after a SIGKILL or a power cut the messages up to the last flushed chunk are readable
+footer), once the recorder has written what its queues held at the stop, so that a recorder behind the
+simulator at the run's end keeps the run's last part; after a SIGKILL or a power cut the messages up to the last flushed chunk are readable
 with a streaming reader (`railderail replay --allow-truncated`), and `railderail recover` makes a
 complete file of them. The recorder does not overwrite such a cut-off file: it names the recover command.
 """
@@ -414,11 +415,33 @@ class RecorderNode(Node):
             except (FileNotFoundError, ImportError, AttributeError, ValueError) as error:
                 self.get_logger().warning(f"cannot record {topic}: {error}")
 
+    def take_queued(self):
+        """Write what the subscriptions' queues held when the node stopped: messages the transport delivered and
+        acknowledged that no callback had taken yet. A recorder behind the simulator at the run's end (its
+        process waiting for a core) lost them when Ctrl-C came (the last tenth of some sensor topics). Taken
+        here without the executor, each queue until it is empty or holds a message received after the stop, so
+        that a publisher still going cannot hold the recorder up. Returns the number written."""
+        stop, taken = time.time_ns(), 0
+        for topic, subscription in self.subscriptions_by_topic.items():
+            while True:
+                with subscription.handle:
+                    message = subscription.handle.take_message(subscription.msg_type, subscription.raw)
+                if message is None:
+                    break
+                data, info = message
+                self.recording.write(topic, data)
+                taken += 1
+                if info["received_timestamp"] > stop:
+                    break
+        return taken
+
     def destroy_node(self):
         r = self.recording
+        queued = self.take_queued()
         r.close()
         self.log(f"[railderail_recorder] wrote {r.messages} messages ({r.bytes / 1e6:.2f} MB of CDR) "
-                 f"on {len(r.channels)} topics to {r.path}")
+                 f"on {len(r.channels)} topics to {r.path}"
+                 + (f" ({queued} of them still queued at the stop)" if queued else ""))
         if self.bag:
             self.log(f"[railderail_recorder] wrote {write_bag_metadata(r.path)} (rosbag2)")
         super().destroy_node()
