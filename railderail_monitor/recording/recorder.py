@@ -18,9 +18,9 @@ decoding. The file is a standard MCAP with ROS 2 conventions, so the mcap CLI, F
 Durability: the file is written in place as OUT.mcap (no `.partial` name). Chunks are closed and
 the file flushed every `--flush-period` s (0.5): Ctrl-C or SIGTERM finish the file (summary and
 footer), once the recorder has written what its queues held at the stop, so that a recorder behind the
-simulator at the run's end keeps the run's last part; after a SIGKILL or a power cut the messages up to the last flushed chunk are readable
-with a streaming reader (`railderail replay --allow-truncated`), and `railderail recover` makes a
-complete file of them. The recorder does not overwrite such a cut-off file: it names the recover command.
+simulator at the run's end keeps the run's last part; after a SIGKILL or a power cut the messages up to
+the last flushed chunk are readable with a streaming reader (`railderail replay --allow-truncated`), and
+`railderail recover` makes a complete file of them. The recorder does not overwrite such a cut-off file: it names the recover command.
 """
 from __future__ import annotations
 
@@ -418,7 +418,7 @@ class RecorderNode(Node):
     def take_queued(self):
         """Write what the subscriptions' queues held when the node stopped: messages the transport delivered and
         acknowledged that no callback had taken yet. A recorder behind the simulator at the run's end (its
-        process waiting for a core) lost them when Ctrl-C came (the last tenth of some sensor topics). Taken
+        process waiting for a core) lost them when Ctrl-C came (up to a quarter of a sensor topic's run). Taken
         here without the executor, each queue until it is empty or holds a message received after the stop, so
         that a publisher still going cannot hold the recorder up. Returns the number written."""
         stop, taken = time.time_ns(), 0
