@@ -20,7 +20,8 @@ the file flushed every `--flush-period` s (0.5): Ctrl-C or SIGTERM finish the fi
 footer), once the recorder has written what its queues held at the stop, so that a recorder behind the
 simulator at the run's end keeps the run's last part; after a SIGKILL or a power cut the messages up to
 the last flushed chunk are readable with a streaming reader (`railderail replay --allow-truncated`), and
-`railderail recover` makes a complete file of them. The recorder does not overwrite such a cut-off file: it names the recover command.
+`railderail recover` makes a complete file of them. The recorder does not overwrite such a cut-off file:
+it names the recover command.
 """
 from __future__ import annotations
 
