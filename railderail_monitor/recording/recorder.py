@@ -494,7 +494,8 @@ def command(parser: argparse.ArgumentParser):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="python -m railderail_monitor.recording.recorder", description=__doc__.split("\n")[0])
+    parser = argparse.ArgumentParser(prog="python -m railderail_monitor.recording.recorder",
+                                     description=__doc__.split("\n")[0])
     run = command(parser)
     # ROS arguments (`--ros-args -r __node:=NAME`, which `ros2 launch` adds) are for rclpy.init, which
     # reads them from sys.argv
