@@ -48,7 +48,7 @@ from . import supervision_score as supervision
 from .tables import first_true_alerts, hazard_of, mechanism_counts, mechanism_of, split, summarize
 
 # issue 44's target for `bench` (on 2 cores) and why the figure falls short (docs/performance.md)
-TARGETS = {"warnings_catalogue_km_per_min": (100.0, "the runs' simulation is two thirds of the process time, the "
+TARGETS = {"warnings_catalogue_km_per_min": (100.0, "the runs' simulation is three quarters of the process time, the "
                                                      "ordinary runs on irregular track most of it: the core's "
                                                      "right-hand side, as real_time_factor_rigid_irregular")}
 SPLIT = ("by scenario and track: each entry's runs in one part (its `part`, else alternating train and test "
