@@ -84,7 +84,7 @@ recorder.McapRecording.write = interrupted
 
 def make():
     node = recorder.RecorderNode(sys.argv[1], log=lambda text: print(text, file=sys.stderr, flush=True))
-    type_name, cls, qos, _ = m.TOPICS[m.STATES]
+    _, cls, qos, _ = m.TOPICS[m.STATES]
     pub = node.create_publisher(cls, m.STATES, qos)
     while pub.get_subscription_count() < 1:
         time.sleep(0.01)
@@ -109,5 +109,6 @@ def test_a_recorder_stopped_writes_what_its_queues_hold(spawn, tmp_path):
     assert child.wait(timeout=60) == 0, child.stderr.read()
     assert "(499 of them still queued at the stop)" in child.stderr.read()
     with open(out, "rb") as f:
-        stamps = [m.log_time for _, channel, m in make_reader(f).iter_messages() if channel.topic.endswith("states")]
+        stamps = [message.log_time for _, channel, message in make_reader(f).iter_messages()
+                  if channel.topic.endswith("states")]
     assert stamps == list(range(500))
