@@ -19,6 +19,8 @@ import math
 import numpy as np
 from scipy.interpolate import UnivariateSpline
 
+from .. import scalarmath
+
 __all__ = ["Arc", "Line", "ArcChain", "SplineShape"]
 
 
@@ -45,7 +47,7 @@ class Arc:
             if nu == 1:
                 return -self.branch * u / w
             if nu == 2:
-                return -self.branch * self.r * self.r / w ** 3
+                return -self.branch * self.r * self.r / scalarmath.power(w, 3.0)   # libm's, as on any CPU
         raise ValueError(f"derivative order nu={nu} is not supported; use 0, 1 or 2")
 
     def describe(self, scale: float = 1e3) -> str:
