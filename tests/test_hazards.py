@@ -127,14 +127,14 @@ def test_only_an_alarm_at_the_hazards_place_and_in_its_window_warns_it():
     label = windows(a["time"], found, 5.0)[1]
     places = scoring.channel_places("wheel_lift", 8)
     # the other wheel of the derailing wheelset, 15 ms before: no warning; false, inside the window (apart)
-    left = scoring.score(_alarms(4000, (0, 2997, 3000)), places, a, found, 5.0, label)
+    left = scoring.score(_alarms(4000, (0, 2997, 3000)), places, scoring.Samples.of(a), found, 5.0, label)
     assert left["warnings"] == [None] and left["false_episodes"] == 0 and left["window_false_episodes"] == 1
     # the rear wheelset of the same bogie on the same side, 2 s before: a true warning, no false alarm
-    same = scoring.score(_alarms(4000, (3, 2600, 3000)), places, a, found, 5.0, label)
+    same = scoring.score(_alarms(4000, (3, 2600, 3000)), places, scoring.Samples.of(a), found, 5.0, label)
     assert same["warnings"] == [(pytest.approx(2.0), 50.0)] and same["false_episodes"] == 0
     assert same["window_false_episodes"] == 0
     # raised 8 s before and still on: its lead counts from the window's start, its first 3 s are false
-    early = scoring.score(_alarms(4000, (1, 1400, 3000)), places, a, found, 5.0, label)
+    early = scoring.score(_alarms(4000, (1, 1400, 3000)), places, scoring.Samples.of(a), found, 5.0, label)
     assert early["warnings"] == [(pytest.approx(5.0), 50.0)]
     assert early["false_time_s"] == pytest.approx(3.0, abs=0.01) and early["false_episodes"] == 1
     # the lead of 5 s at 180 km/h is not enough for braking 10 %: 3 s, then 180 -> 170 km/h at 1.05 m/s^2 and
@@ -154,17 +154,17 @@ def test_only_an_alarm_standing_at_the_hazard_warns_it():
                  mechanism="flange_climbing")
     found = hazards(a, event, CAR, RULES)
     label = windows(a["time"], found, 5.0)[1]
-    places = scoring.channel_places("wheel_lift", 8)
+    places, rows = scoring.channel_places("wheel_lift", 8), scoring.Samples.of(a)
     # on from 4 s to 2 s before the derailment (samples 2200-2600), then off: unwarned
-    ended = scoring.score(_alarms(4000, (1, 2200, 2600)), places, a, found, 5.0, label)
+    ended = scoring.score(_alarms(4000, (1, 2200, 2600)), places, rows, found, 5.0, label)
     assert ended["warnings"] == [None] and ended["window_false_episodes"] == 1 and ended["false_episodes"] == 0
     # on until the derailment's own sample but off at the last sample before it: unwarned
-    assert scoring.score(_alarms(4000, (1, 2200, 2999)), places, a, found, 5.0, label)["warnings"] == [None]
+    assert scoring.score(_alarms(4000, (1, 2200, 2999)), places, rows, found, 5.0, label)["warnings"] == [None]
     # the ended one and a later one standing from 1 s before: warned 1 s ahead; the ended one stays false
-    later = scoring.score(_alarms(4000, (1, 2200, 2600), (3, 2800, 3000)), places, a, found, 5.0, label)
+    later = scoring.score(_alarms(4000, (1, 2200, 2600), (3, 2800, 3000)), places, rows, found, 5.0, label)
     assert later["warnings"] == [(pytest.approx(1.0), 50.0)] and later["window_false_episodes"] == 1
     # two standing: from 3 s and from 1 s before; the lead is the earlier start's
-    two = scoring.score(_alarms(4000, (1, 2400, 3000), (3, 2800, 3000)), places, a, found, 5.0, label)
+    two = scoring.score(_alarms(4000, (1, 2400, 3000), (3, 2800, 3000)), places, rows, found, 5.0, label)
     assert two["warnings"] == [(pytest.approx(3.0), 50.0)] and two["window_false_episodes"] == 0
 
 
@@ -182,13 +182,13 @@ def test_a_hazard_s_window_is_at_least_the_lead_its_cure_needs():
     assert cured["cure_lead_s"] == pytest.approx(3.0 + 10 / 3.6 / 0.8 + 170 / 3.6 / 0.9)
     assert window_of(cured, 5.0) == cured["cure_lead_s"] and window_of(plain[0], 5.0) == 5.0
     assert window_of(cured, 80.0) == 80.0
-    places = scoring.channel_places("wheel_lift", 8)
+    places, rows = scoring.channel_places("wheel_lift", 8), scoring.Samples.of(a)
     standing = _alarms(4000, (1, 1000, 3000))              # from 10 s before the derailment
     label = windows(a["time"], [cured], 5.0)[1]
     assert not np.any(label[:3000] == scoring.NORMAL)      # 58.9 s reach back past the run's start
-    assert scoring.score(standing, places, a, [cured], 5.0, label)["warnings"] == [(pytest.approx(10.0), 50.0)]
+    assert scoring.score(standing, places, rows, [cured], 5.0, label)["warnings"] == [(pytest.approx(10.0), 50.0)]
     label = windows(a["time"], plain, 5.0)[1]
-    assert scoring.score(standing, places, a, plain, 5.0, label)["warnings"] == [(pytest.approx(5.0), 50.0)]
+    assert scoring.score(standing, places, rows, plain, 5.0, label)["warnings"] == [(pytest.approx(5.0), 50.0)]
 
 
 def test_false_alarms_are_counted_over_normal_running_only():
@@ -201,12 +201,12 @@ def test_false_alarms_are_counted_over_normal_running_only():
     label = windows(a["time"], [near], 5.0, beyond)[1]
     assert np.array_equal(label == BEYOND_PERMITTED, beyond)
     assert scoring.exposure(a, label)[0] == pytest.approx((40.0 - 10.0 - 6.0) * 50.0 / 1000.0, abs=1e-3)
-    places = scoring.channel_places("wheel_lift", 8)
+    places, rows = scoring.channel_places("wheel_lift", 8), scoring.Samples.of(a)
     # wheelset 0 (front bogie) in alarm in the rear bogie's near-miss window and in the beyond-permitted part
-    out = scoring.score(_alarms(8000, (0, 1600, 2200), (0, 7000, 7200)), places, a, [near], 5.0, label)
+    out = scoring.score(_alarms(8000, (0, 1600, 2200), (0, 7000, 7200)), places, rows, [near], 5.0, label)
     assert out["false_episodes"] == 0 and out["false_time_s"] == 0.0 and out["window_false_episodes"] == 1
     # the same alarm in normal running (2 s to 5 s) is a counted episode of 3 s
-    out = scoring.score(_alarms(8000, (0, 400, 1000)), places, a, [near], 5.0, label)
+    out = scoring.score(_alarms(8000, (0, 400, 1000)), places, rows, [near], 5.0, label)
     assert out["false_episodes"] == 1 and out["false_time_s"] == pytest.approx(3.0, abs=0.01)
 
 
@@ -228,7 +228,7 @@ def test_the_scored_episodes_cannot_fall_as_the_threshold_falls_over_random_runs
         rows = []
         for thr in np.linspace(0.2, 2.0, 10):
             mask = np.array([scoring.in_alarm(values[:, k], a["position"], thr, 2.0, 0.9, 20.0) for k in range(8)])
-            rows.append(scoring.score(mask, places, a, found, 5.0, label))
+            rows.append(scoring.score(mask, places, scoring.Samples.of(a), found, 5.0, label))
         for low, high in zip(rows, rows[1:]):
             assert low["false_episodes"] >= high["false_episodes"], case
             assert low["false_time_s"] >= high["false_time_s"] - 1e-12, case
@@ -311,7 +311,7 @@ def test_false_alarm_episodes_cannot_fall_as_the_threshold_falls_where_onsets_do
     for thr in (0.8, 1.0):
         mask = np.zeros((8, len(s)), dtype=bool)
         mask[0] = scoring.in_alarm(v, s, thr, 2.0, 0.9, 20.0)
-        out[thr] = scoring.score(mask, scoring.channel_places("wheel_lift", 8), a, [], 5.0, label)
+        out[thr] = scoring.score(mask, scoring.channel_places("wheel_lift", 8), scoring.Samples.of(a), [], 5.0, label)
     assert out[0.8]["false_episodes"] >= out[1.0]["false_episodes"] >= 1
     assert out[0.8]["false_time_s"] > out[1.0]["false_time_s"] > 0.0
     # a lower threshold's alarm contains the higher one's, sample for sample

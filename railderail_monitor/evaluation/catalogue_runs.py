@@ -22,7 +22,7 @@ from ..warning.limits import TIMED, debounce, default_limits, model_basis
 from ..warning.quantities import front_attack_angle, running_gear_unloading, sliding_mean, unloading_ratio
 from .hazards import (BEYOND_PERMITTED, Car, HazardRules, beyond_permitted, cant_deficiency, hazards, margin_peaks,
                       windows, with_cure_leads)
-from .scoring import channel_places, exposure, in_alarm, score
+from .scoring import Samples, channel_places, exposure, in_alarm, score
 from .supervision_score import CRITERION as SUPERVISION, supervision_of_run
 from .sweeps import shipped_level, shipped_measured_limits, sensor_variant, thresholds, variant_name, SENSOR_VARIANTS
 
@@ -111,7 +111,8 @@ def scores(alarms, arrays, found, window_s, beyond=None):
     alarms {criterion: {threshold: (channels, n) bool}} at the window W = window_s; `beyond` (n,) bool the
     samples beyond permitted running (`hazards.beyond_permitted`)."""
     label = windows(arrays["time"], found, window_s, beyond)[1]
-    return {criterion: [dict(threshold=thr, **score(mask, channel_places(criterion, mask.shape[0]), arrays, found,
+    samples = Samples.of(arrays)
+    return {criterion: [dict(threshold=thr, **score(mask, channel_places(criterion, mask.shape[0]), samples, found,
                                                     window_s, label))
                         for thr, mask in by_threshold.items()]
             for criterion, by_threshold in alarms.items()}

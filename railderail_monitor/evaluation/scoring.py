@@ -35,6 +35,7 @@ until it re-arms (`warning.alarms.alarm_intervals`): what an operator sees. Then
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -89,12 +90,29 @@ def episode_start(alarm, k, opening):
     return opening + int(off[-1]) + 1 if len(off) else opening
 
 
-def score(alarms, places, arrays, found, window_s, label):
-    """One criterion at one threshold in one run: alarms (channels, n) bool, their places, the run's hazards
-    and each sample's label at the window W = window_s (`hazards.windows`). Returns {warnings: [(lead_s,
-    speed at the credited start) or None per hazard], false_episodes, false_time_s, false_km (over normal
-    running), window_false_episodes (inside hazard windows)}."""
-    t, s, v = (np.asarray(arrays[k], dtype=float) for k in ("time", "position", "speed"))
+class Samples(NamedTuple):
+    """A run's output rows as the scoring reads them, made once per run (`of`) for its hundreds of `score`
+    calls."""
+    time: np.ndarray            # s
+    position: np.ndarray        # m
+    speed: np.ndarray           # m/s
+    dt: np.ndarray              # s: each row's time since the row before (0 at the first)
+    ds: np.ndarray              # m: likewise its distance
+    episode: np.ndarray         # int: the row's cell of the false-alarm grid (EPISODE_M from the run's start)
+
+    @classmethod
+    def of(cls, arrays):
+        t, s, v = (np.asarray(arrays[k], dtype=float) for k in ("time", "position", "speed"))
+        return cls(t, s, v, np.diff(t, prepend=t[0]), np.diff(s, prepend=s[0]),
+                   np.floor((s - s[0]) / EPISODE_M).astype(np.int64))
+
+
+def score(alarms, places, samples, found, window_s, label):
+    """One criterion at one threshold in one run: alarms (channels, n) bool, their places, the run's rows
+    (`Samples`), its hazards and each sample's label at the window W = window_s (`hazards.windows`). Returns
+    {warnings: [(lead_s, speed at the credited start) or None per hazard], false_episodes, false_time_s,
+    false_km (over normal running), window_false_episodes (inside hazard windows)}."""
+    t, v = samples.time, samples.speed
     true = np.zeros_like(alarms, dtype=bool)
     warnings = []
     for h in found:
@@ -113,12 +131,10 @@ def score(alarms, places, arrays, found, window_s, label):
     false = np.any(alarms & ~true, axis=0)
     normal = label == NORMAL
     inside = (label != NORMAL) & (label != BEYOND_PERMITTED)
-    dt = np.diff(t, prepend=t[0])
-    ds = np.diff(s, prepend=s[0])
-    bins = np.floor((s - s[0]) / EPISODE_M).astype(np.int64)
-    return dict(warnings=warnings, false_episodes=int(len(np.unique(bins[false & normal]))),
-                false_time_s=float(np.sum(dt[false & normal])), false_km=float(np.sum(ds[false & normal])) / 1e3,
-                window_false_episodes=int(len(np.unique(bins[false & inside]))))
+    counted = false & normal
+    return dict(warnings=warnings, false_episodes=int(len(np.unique(samples.episode[counted]))),
+                false_time_s=float(np.sum(samples.dt[counted])), false_km=float(np.sum(samples.ds[counted])) / 1e3,
+                window_false_episodes=int(len(np.unique(samples.episode[false & inside]))))
 
 
 def exposure(arrays, label, which=NORMAL):

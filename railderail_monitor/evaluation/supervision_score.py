@@ -30,7 +30,7 @@ from railderail_sim import jsonout
 
 from ..supervision.curves import INTERVENTION, WARNING, SupervisionLimits
 from .hazards import PLACES
-from .scoring import score
+from .scoring import Samples, score
 
 CRITERION = "speed_supervision"
 SIGNALS = "line_data"          # what it reads: the front's position and speed against the line data
@@ -222,7 +222,8 @@ def alarms(levels):
 
 def scores(levels, arrays, found, window_s, label):
     """The criterion's rows at the window W (as `catalogue_runs.scores` gives the others'): one per level."""
-    return [dict(threshold=code, **score(mask, [list(PLACES)], arrays, found, window_s, label))
+    samples = Samples.of(arrays)
+    return [dict(threshold=code, **score(mask, [list(PLACES)], samples, found, window_s, label))
             for code, mask in alarms(levels).items()]
 
 

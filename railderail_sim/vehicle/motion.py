@@ -38,22 +38,26 @@ def points_motion_into(arrays, bodies, points, force_at, rate_at, out):
     out[:, force_at[k]:force_at[k] + 3], its angular rate likewise at rate_at[k] (none where it is -1). The
     sensors' channel matrix is filled so, without the arrays of each mount's reading and their concatenation
     (a row in the simulator node: the calls, not the arithmetic, cost)."""
-    b = np.asarray(bodies, dtype=np.int64)
-    angles = np.asarray(arrays["body_states"])[:, b[:, None], ANGLES]
-    _points_into(np.cos(angles), np.sin(angles), np.asarray(arrays["body_motion"])[:, b],
+    # each body's angles' cosines and sines once, not once per point on it (the shipped set's 17 mounts are on
+    # the 7 bodies), and the motion read in place: gathered per point, (rows, points, 3 + 9) values cost
+    # more than the arithmetic
+    angles = np.asarray(arrays["body_states"])[:, :, ANGLES]
+    _points_into(np.cos(angles), np.sin(angles), np.asarray(arrays["body_motion"]), np.asarray(bodies, dtype=np.int64),
                  np.asarray(points, dtype=float), np.asarray(force_at, dtype=np.int64),
                  np.asarray(rate_at, dtype=np.int64), out)
 
 
 @core
-def _points_into(cos, sin, motion, points, force_at, rate_at, out):
+def _points_into(cos, sin, motion, bodies, points, force_at, rate_at, out):
     """f = R^T (f_ref + alpha x r + omega x (omega x r)), r = R p, and R^T omega, R = Rz(yaw) Ry(pitch) Rx(roll)
-    from the cosines and sines (n, m, 3) of (roll, pitch, yaw); each term in the order numpy took them when
-    this was written with whole-array operations and np.cross (the same numbers to the bit)."""
+    from the cosines and sines (n, bodies, 3) of (roll, pitch, yaw) and the motion (n, bodies, ...) of each
+    point's body bodies[k]; each term in the order numpy took them when this was written with whole-array
+    operations and np.cross (the same numbers to the bit)."""
     for i in range(cos.shape[0]):
-        for k in range(cos.shape[1]):
-            cr, cp, cy = cos[i, k, 0], cos[i, k, 1], cos[i, k, 2]
-            sr, sp, sy = sin[i, k, 0], sin[i, k, 1], sin[i, k, 2]
+        for k in range(points.shape[0]):
+            q = bodies[k]
+            cr, cp, cy = cos[i, q, 0], cos[i, q, 1], cos[i, q, 2]
+            sr, sp, sy = sin[i, q, 0], sin[i, q, 1], sin[i, q, 2]
             r00, r01, r02 = cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr
             r10, r11, r12 = sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr
             r20, r21, r22 = -sp, cp * sr, cp * cr
@@ -61,16 +65,16 @@ def _points_into(cos, sin, motion, points, force_at, rate_at, out):
             x = r00 * p0 + r01 * p1 + r02 * p2
             y = r10 * p0 + r11 * p1 + r12 * p2
             z = r20 * p0 + r21 * p1 + r22 * p2
-            w0 = motion[i, k, ANGULAR_VELOCITY]
-            w1 = motion[i, k, ANGULAR_VELOCITY + 1]
-            w2 = motion[i, k, ANGULAR_VELOCITY + 2]
-            a0 = motion[i, k, ANGULAR_ACCELERATION]
-            a1 = motion[i, k, ANGULAR_ACCELERATION + 1]
-            a2 = motion[i, k, ANGULAR_ACCELERATION + 2]
+            w0 = motion[i, q, ANGULAR_VELOCITY]
+            w1 = motion[i, q, ANGULAR_VELOCITY + 1]
+            w2 = motion[i, q, ANGULAR_VELOCITY + 2]
+            a0 = motion[i, q, ANGULAR_ACCELERATION]
+            a1 = motion[i, q, ANGULAR_ACCELERATION + 1]
+            a2 = motion[i, q, ANGULAR_ACCELERATION + 2]
             u0, u1, u2 = w1 * z - w2 * y, w2 * x - w0 * z, w0 * y - w1 * x      # omega x r
-            f0 = motion[i, k, SPECIFIC_FORCE] + (a1 * z - a2 * y) + (w1 * u2 - w2 * u1)
-            f1 = motion[i, k, SPECIFIC_FORCE + 1] + (a2 * x - a0 * z) + (w2 * u0 - w0 * u2)
-            f2 = motion[i, k, SPECIFIC_FORCE + 2] + (a0 * y - a1 * x) + (w0 * u1 - w1 * u0)
+            f0 = motion[i, q, SPECIFIC_FORCE] + (a1 * z - a2 * y) + (w1 * u2 - w2 * u1)
+            f1 = motion[i, q, SPECIFIC_FORCE + 1] + (a2 * x - a0 * z) + (w2 * u0 - w0 * u2)
+            f2 = motion[i, q, SPECIFIC_FORCE + 2] + (a0 * y - a1 * x) + (w0 * u1 - w1 * u0)
             c = force_at[k]
             out[i, c] = r00 * f0 + r10 * f1 + r20 * f2
             out[i, c + 1] = r01 * f0 + r11 * f1 + r21 * f2
