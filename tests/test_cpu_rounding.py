@@ -1,8 +1,9 @@
 """The model building rounds the same whatever numpy's CPU dispatch (docs/performance.md, "Determinism
 across CPUs").
 
-Every array the core is fed (the contact geometry with its table, the track, the rails' irregularity, the
-wind, the vehicle and contact constants) is built in child processes and compared bit for bit:
+Every array the core is fed (the contact geometry with its table, the track, the rails' irregularity and
+defects, the wind, the vehicle with its faults and the contact constants) is built in child processes and
+compared bit for bit:
 
 - under numpy's default dispatch and with its AVX-512 targets disabled (NPY_DISABLE_CPU_FEATURES), the two
   kinds of CPU the golden files must hold on; on a CPU without AVX-512 the two are the same dispatch;
@@ -25,9 +26,16 @@ MOVED = ("arctan", "tan", "arcsin", "arcsinh", "exp", "log", "power", "cbrt")
 ONE_ULP = "one-ulp"
 
 
+# runs of the warning catalogue whose scenarios feed the core what the two above do not: a kink and a twist
+# on the rails, failed yaw dampers, a broken spring, a measured line's curves and cant at line speed
+CATALOGUE_RUNS = (("kink-45mm-5m", 101), ("twist-20mm-friction-0.4", 115), ("hunting-yaw-dampers-failed-250", 129),
+                  ("primary-spring-broken-r150-30", 155), ("line-r1400-fra-6-175", 47))
+
+
 def model_digests():
-    """{scenario.array: sha256 of its bytes} of every array the core is fed, for the default scenario and
-    one with every optional input (irregularity, crosswind gust, elastic track)."""
+    """{scenario.array: sha256 of its bytes} of every array the core is fed, for the default scenario, one
+    with every optional input (irregularity, crosswind gust, elastic track) and CATALOGUE_RUNS'."""
+    from railderail_monitor.evaluation import catalogue
     from railderail_sim.loads.wind import Wind
     from railderail_sim.parameters import TrackParameters
     from railderail_sim.track.irregularity import resolve
@@ -35,8 +43,10 @@ def model_digests():
     default = scenario(radius=1000.0, speed_kmh=300.0)
     features = replace(default, irregularity=resolve("erri-high", 1, TrackParameters().line_length),
                        wind=Wind(speed=25.0, gust="chinese-hat"), track_model="elastic")
+    entries = {e.name: e for e in catalogue.load()}
+    runs = [(f"{name}:{seed}", entries[name].scenario(seed)) for name, seed in CATALOGUE_RUNS]
     out = {}
-    for name, sc in (("default", default), ("features", features)):
+    for name, sc in (("default", default), ("features", features), *runs):
         sim = Simulation(sc)
         for key, value in sim.model.arrays._asdict().items():
             out[f"{name}.{key}"] = hashlib.sha256(np.ascontiguousarray(value).tobytes()).hexdigest()
