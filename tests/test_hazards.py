@@ -200,8 +200,8 @@ def test_false_alarms_are_counted_over_normal_running_only():
                 position_m=600.0, places=[(1, 0)])
     label = windows(a["time"], [near], 5.0, beyond)[1]
     assert np.array_equal(label == BEYOND_PERMITTED, beyond)
-    assert scoring.exposure(a, label)[0] == pytest.approx((40.0 - 10.0 - 6.0) * 50.0 / 1000.0, abs=1e-3)
     places, rows = scoring.channel_places("wheel_lift", 8), scoring.Samples.of(a)
+    assert scoring.exposure(rows, label)[0] == pytest.approx((40.0 - 10.0 - 6.0) * 50.0 / 1000.0, abs=1e-3)
     # wheelset 0 (front bogie) in alarm in the rear bogie's near-miss window and in the beyond-permitted part
     out = scoring.score(_alarms(8000, (0, 1600, 2200), (0, 7000, 7200)), places, rows, [near], 5.0, label)
     assert out["false_episodes"] == 0 and out["false_time_s"] == 0.0 and out["window_false_episodes"] == 1

@@ -134,11 +134,11 @@ def score_run(arrays, found, limits, rules, measured_found=None, beyond=None):
                              for thr in thresholds(criterion, limits)}
     if measured_found is not None:
         alarms.update(measured_alarms(measured_found, arrays["time"], thresholds))
-    out = {}
+    out, samples = {}, Samples.of(arrays)
     for w in rules.windows_s:
         label = windows(arrays["time"], found, w, beyond)[1]
-        km, h = exposure(arrays, label)
-        out[str(w)] = dict(normal_km=km, normal_h=h, beyond_km=exposure(arrays, label, BEYOND_PERMITTED)[0],
+        km, h = exposure(samples, label)
+        out[str(w)] = dict(normal_km=km, normal_h=h, beyond_km=exposure(samples, label, BEYOND_PERMITTED)[0],
                            criteria=scores(alarms, arrays, found, w, beyond))
     return out
 

@@ -91,10 +91,9 @@ def episode_start(alarm, k, opening):
 
 
 class Samples(NamedTuple):
-    """A run's output rows as the scoring reads them, made once per run (`of`) for its hundreds of `score`
-    calls."""
+    """A run's output rows as the scoring reads them, made once (`of`) for the many `score` calls of one
+    criteria table and for the exposure."""
     time: np.ndarray            # s
-    position: np.ndarray        # m
     speed: np.ndarray           # m/s
     dt: np.ndarray              # s: each row's time since the row before (0 at the first)
     ds: np.ndarray              # m: likewise its distance
@@ -103,7 +102,7 @@ class Samples(NamedTuple):
     @classmethod
     def of(cls, arrays):
         t, s, v = (np.asarray(arrays[k], dtype=float) for k in ("time", "position", "speed"))
-        return cls(t, s, v, np.diff(t, prepend=t[0]), np.diff(s, prepend=s[0]),
+        return cls(t, v, np.diff(t, prepend=t[0]), np.diff(s, prepend=s[0]),
                    np.floor((s - s[0]) / EPISODE_M).astype(np.int64))
 
 
@@ -137,11 +136,10 @@ def score(alarms, places, samples, found, window_s, label):
                 window_false_episodes=int(len(np.unique(samples.episode[false & inside]))))
 
 
-def exposure(arrays, label, which=NORMAL):
-    """(km, h) of a run's samples labelled `which` (normal running by default)."""
-    t, s = np.asarray(arrays["time"], dtype=float), np.asarray(arrays["position"], dtype=float)
+def exposure(samples, label, which=NORMAL):
+    """(km, h) of a run's rows (`Samples`) labelled `which` (normal running by default)."""
     mine = label == which
-    return float(np.sum(np.diff(s, prepend=s[0])[mine])) / 1e3, float(np.sum(np.diff(t, prepend=t[0])[mine])) / 3600.0
+    return float(np.sum(samples.ds[mine])) / 1e3, float(np.sum(samples.dt[mine])) / 3600.0
 
 
 def share_interval(k, n, confidence=CONFIDENCE):
